@@ -1,0 +1,19 @@
+#pragma once
+// Each subcommand registers its options on the CLI11 app and returns what to run once parsed.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace bouguer::cli {
+
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;  // returns the exit code; throws bouguer::Error for bad input
+};
+
+Command add_color_command(CLI::App& parent);
+
+// Validators shared by subcommands.
+extern const CLI::Validator kFiniteNonNegative;
+
+}  // namespace bouguer::cli

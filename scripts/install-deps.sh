@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs the Debian packages Bouguer needs to build, test and render.
+# Idempotent: packages already present are skipped, and `apt-get update` runs only
+# when something is missing. Runs as root, or through sudo when that is available.
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++ pkg-config make
+  libembree-dev        # BVH and ray queries (Embree 3)
+  libtbb-dev           # threads (oneTBB)
+  libopenexr-dev       # EXR read/write
+  libpng-dev           # PNG write
+  nlohmann-json3-dev   # scene files, --json output
+  libcli11-dev         # command line
+  libfmt-dev           # formatting
+  libtinyobjloader-dev # OBJ meshes
+  libgtest-dev         # tests
+  libbenchmark-dev     # micro-benchmarks
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then sudo_cmd=(sudo); else
+    echo "install-deps: missing packages (${missing[*]}) and not root; install them or run as root" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

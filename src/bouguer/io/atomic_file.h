@@ -1,0 +1,15 @@
+#pragma once
+// Writes go to a temporary file in the target's folder and are renamed into place only when the
+// writer finished: a failed or interrupted run never leaves a half-written file, and an earlier
+// file of the same name survives any failure.
+#include <filesystem>
+#include <functional>
+
+namespace bouguer {
+
+// Calls write(temp_path); on success renames temp_path to target, on any exception removes
+// temp_path and rethrows. Errors (folder missing, rename refused) name the target.
+void write_atomically(const std::filesystem::path& target,
+                      const std::function<void(const std::filesystem::path& temp_path)>& write);
+
+}  // namespace bouguer

@@ -1,0 +1,31 @@
+#pragma once
+// Image files. Every writer goes through write_atomically (io/atomic_file.h); every reader and
+// writer reports problems as one-line Errors naming the file.
+//   PNG  8-bit sRGB-encoded, clamped to [0, 1]
+//   EXR  32-bit float linear Rec.709 with a chromaticities attribute (Rec.709 primaries, D65)
+//   PFM  32-bit float linear Rec.709 (no colour metadata in the format)
+//   spectral EXR: Fichet, Pacanowski, Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3),
+//        2021: one channel per wavelength named S0.<nm with comma decimal>nm plus R, G, B preview.
+#include <filesystem>
+
+#include "bouguer/render/film.h"
+
+namespace bouguer {
+
+void write_png(const std::filesystem::path& path, const Film& film);
+void write_exr(const std::filesystem::path& path, const Film& film);
+void write_pfm(const std::filesystem::path& path, const Film& film);
+void write_spectral_exr(const std::filesystem::path& path, const Film& film);  // film must keep spectra
+
+// Chooses the writer by extension (.png, .exr, .pfm); an unknown extension is an Error.
+void write_image(const std::filesystem::path& path, const Film& film);
+
+// EXR reading keeps spectral channels (S0.*nm) when the file has them.
+Film read_exr(const std::filesystem::path& path);
+Film read_pfm(const std::filesystem::path& path);
+Film read_image(const std::filesystem::path& path);  // by extension: .exr or .pfm
+
+// Channel name of one wavelength in the spectral layout, e.g. 550 -> "S0.550,000000nm".
+std::string spectral_channel_name(double wavelength_nm);
+
+}  // namespace bouguer

@@ -1,0 +1,80 @@
+#pragma once
+// The values of a spectral quantity at the N wavelengths one path carries (N is fixed per
+// spectral mode: a dense set of bins for `full`, 3 for `rgb3`). A plain float array whose
+// element-wise loops the compiler vectorises; no virtual calls, no heap.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace bouguer {
+
+template <std::size_t N>
+struct SampledSpectrum {
+  static constexpr std::size_t size() { return N; }
+
+  alignas(16) std::array<float, N> v{};
+
+  static SampledSpectrum constant(float c) {
+    SampledSpectrum s;
+    s.v.fill(c);
+    return s;
+  }
+
+  float& operator[](std::size_t i) { return v[i]; }
+  float operator[](std::size_t i) const { return v[i]; }
+
+#define BOUGUER_SAMPLED_OP(op)                                                     \
+  SampledSpectrum& operator op##=(const SampledSpectrum& o) {                     \
+    for (std::size_t i = 0; i < N; ++i) v[i] op## = o.v[i];                        \
+    return *this;                                                                  \
+  }                                                                                \
+  SampledSpectrum& operator op##=(float s) {                                      \
+    for (std::size_t i = 0; i < N; ++i) v[i] op## = s;                             \
+    return *this;                                                                  \
+  }                                                                                \
+  friend SampledSpectrum operator op(SampledSpectrum a, const SampledSpectrum& b) { \
+    return a op## = b;                                                             \
+  }                                                                                \
+  friend SampledSpectrum operator op(SampledSpectrum a, float s) { return a op## = s; }
+  BOUGUER_SAMPLED_OP(+)
+  BOUGUER_SAMPLED_OP(-)
+  BOUGUER_SAMPLED_OP(*)
+  BOUGUER_SAMPLED_OP(/)
+#undef BOUGUER_SAMPLED_OP
+
+  friend SampledSpectrum operator*(float s, SampledSpectrum a) { return a *= s; }
+  bool operator==(const SampledSpectrum&) const = default;
+
+  float average() const {
+    float sum = 0.0f;
+    for (float x : v) sum += x;
+    return sum / static_cast<float>(N);
+  }
+  float max_value() const { return *std::max_element(v.begin(), v.end()); }
+  float min_value() const { return *std::min_element(v.begin(), v.end()); }
+  bool is_zero() const {
+    return std::all_of(v.begin(), v.end(), [](float x) { return x == 0.0f; });
+  }
+};
+
+template <std::size_t N>
+SampledSpectrum<N> exp(SampledSpectrum<N> s) {
+  for (float& x : s.v) x = std::exp(x);
+  return s;
+}
+
+// exp(-sigma·l) for every wavelength: Bouguer-Lambert transmittance of a path of length_m through
+// a medium whose natural-log attenuation coefficient is sigma_a_per_m.
+template <std::size_t N>
+SampledSpectrum<N> beer_lambert_transmittance(const SampledSpectrum<N>& sigma_a_per_m, float length_m) {
+  return exp(sigma_a_per_m * -length_m);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> clamp_zero(SampledSpectrum<N> s) {
+  for (float& x : s.v) x = std::max(x, 0.0f);
+  return s;
+}
+
+}  // namespace bouguer

@@ -1,0 +1,28 @@
+#pragma once
+// Helpers shared by the tests: scratch folders, running the bouguer binary.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace bouguer::test {
+
+// A fresh, empty folder under the build tree for one test.
+std::filesystem::path scratch_dir(const std::string& test_name);
+
+void write_file(const std::filesystem::path& path, const std::string& text);
+std::string read_file(const std::filesystem::path& path);
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs build/bouguer with the given arguments (each shell-quoted), capturing stdout and stderr.
+RunResult run_bouguer(const std::vector<std::string>& args);
+
+// Number of lines in text (a trailing newline does not start a new line).
+int line_count(const std::string& text);
+
+std::filesystem::path shared_data(const std::string& relative);
+
+}  // namespace bouguer::test
