@@ -87,5 +87,145 @@ def main():
                            "10.25039/CIE.DS.54hy6srn", column=n)
 
 
+
+
+# ---------------------------------------------------------------------------------------------
+# Library materials: absorption as sigma_a_per_m (natural log, per metre) at 1 nm, 360-830 nm.
+
+MATERIAL_LICENCE_APHALO = ("Licence: GPL (>= 2), as the photobiologyFilters R package that carries the "
+                           "measurement (P. J. Aphalo).")
+LN10 = 2.302585092994046
+
+
+def read_aphalo(name):
+    rows = {}
+    for line in open(SHARED / "photobiologyFilters-aphalo" / "measured" / name, encoding="latin-1"):
+        parts = line.strip().split(";")
+        try:
+            rows[int(round(float(parts[0])))] = float(parts[1]) / 100.0
+        except (ValueError, IndexError):
+            continue
+    return rows
+
+
+def glass_sigma(name, thickness_mm, floor):
+    """Total transmittance of a plate -> internal transmittance -> sigma_a.
+
+    The two surface losses are removed by dividing by the maximum transmittance in 380-830 nm (the
+    plateau away from the absorption band). Readings below `floor` are instrument stray light /
+    noise and carry no information: they are raised to `floor`, which caps sigma_a."""
+    t = read_aphalo(name)
+    plateau = max(v for w, v in t.items() if 380 <= w <= 830)
+    out = []
+    for w in range(DOMAIN_NM[0], DOMAIN_NM[1] + 1):
+        t_int = min(1.0, max(t[w], floor) / plateau)
+        out.append((w, -__import__("math").log(t_int) / (thickness_mm * 1e-3)))
+    return out, plateau
+
+
+def write_material(out_name, comments, rows):
+    write_table(ROOT / "data" / "materials" / out_name, comments, ["wavelength_nm", "sigma_a_per_m"],
+                [[str(w), f"{v:.6g}"] for w, v in rows])
+
+
+def convert_glasses():
+    rows, plateau = glass_sigma("Hoya-25A-HMC-2.3mm-52mm-ABS.csv", 2.3, 0.003)
+    write_material("red-glass.csv", [
+        "red-glass: Hoya 25A red sharp-cut (long-pass) filter glass, multicoated, 2.3 mm plate;",
+        "half-maximum edge near 603 nm. The paper's 'red glass with an abrupt absorption edge' (its Fig. 1)",
+        "is only a picture; this is the nearest real measurement available.",
+        "Measured: total spectral transmittance (%), Agilent 8453 diode-array spectrophotometer, 1 nm,",
+        "single sample, by P. J. Aphalo; file Hoya-25A-HMC-2.3mm-52mm-ABS.csv of the photobiologyFilters",
+        "R package (github.com/aphalo/photobiologyfilters, commit f881fb17), staged in",
+        "shared/data/photobiologyFilters-aphalo. Cite: Aphalo, P. J. (2015) UV4Plants Bulletin 2015:1, 21-29.",
+        f"Conversion: T_internal = T_total / {plateau:.4f} (plateau at 657 nm, removes the coated surfaces),",
+        "readings below 0.3 % (the instrument's stray-light plateau at 400-560 nm) raised to 0.3 %, so",
+        "sigma_a is capped near 2.5e3 per m there; sigma_a = -ln(T_internal) / 2.3 mm.",
+        MATERIAL_LICENCE_APHALO], rows)
+    rows, plateau = glass_sigma("Heliopan-BG38-2.3mm-46mm-ABS.CSV", 2.3, 0.0005)
+    write_material("light-blue-glass.csv", [
+        "light-blue-glass: Heliopan BG38 filter (Schott BG38-type copper phosphate glass), 2.3 mm plate;",
+        "a smooth light blue-green absorber rising toward the red, as the paper's 'light blue glass'",
+        "(its Fig. 1, only a picture) - the nearest real measurement available.",
+        "Measured: total spectral transmittance (%), Agilent 8453, 1 nm, single sample, by P. J. Aphalo;",
+        "file Heliopan-BG38-2.3mm-46mm-ABS.CSV of the photobiologyFilters R package (commit f881fb17),",
+        "staged in shared/data/photobiologyFilters-aphalo. Cite: Aphalo, P. J. (2015) UV4Plants Bulletin 2015:1.",
+        f"Conversion: T_internal = T_total / {plateau:.4f} (maximum, at 504 nm), readings below 0.05 %",
+        "(noise floor) raised to 0.05 %; sigma_a = -ln(T_internal) / 2.3 mm.",
+        MATERIAL_LICENCE_APHALO], rows)
+
+
+def read_drink_mix():
+    band = {}
+    for line in open(SHARED / "phet-beers-law-lab" / "molar_absorptivity_380_780nm.csv"):
+        if line.startswith("#") or line.startswith("wavelength"):
+            continue
+        parts = line.strip().split(",")
+        band[int(parts[0])] = float(parts[1])
+    peak = max(band.values())
+    return {w: v / peak for w, v in band.items()}
+
+
+def fit_wine(targets):
+    """A(lambda) per cm (decadic) = c1 * band(lambda) + c2 * exp(-(lambda - 420) / s).
+
+    band = the measured drink-mix (red dye) molar absorptivity of PhET's Beer's Law Lab, normalised
+    to its peak; c1, c2, s solved exactly so that A(420), A(520), A(620) equal the targets."""
+    import math
+    band = read_drink_mix()
+
+    def solve(s):
+        e = lambda w: math.exp(-(w - 420) / s)
+        # Two equations (420, 520) in c1, c2.
+        a11, a12, b1 = band[420], e(420), targets[420]
+        a21, a22, b2 = band[520], e(520), targets[520]
+        det = a11 * a22 - a12 * a21
+        c1 = (b1 * a22 - a12 * b2) / det
+        c2 = (a11 * b2 - b1 * a21) / det
+        return c1, c2, c1 * band[620] + c2 * e(620) - targets[620]
+
+    lo, hi = 5.0, 2000.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if (solve(lo)[2] > 0) == (solve(mid)[2] > 0):
+            lo = mid
+        else:
+            hi = mid
+    s = 0.5 * (lo + hi)
+    c1, c2, residual = solve(s)
+    assert abs(residual) < 1e-9 and c1 >= 0 and c2 >= 0, (c1, c2, residual)
+
+    def absorbance(w):
+        wb = min(max(w, 380), 780)  # the band is measured 380-780 nm; held at its end values outside
+        return c1 * band[wb] + c2 * math.exp(-(w - 420) / s)
+    rows = [(w, absorbance(w) * LN10 * 100.0) for w in range(DOMAIN_NM[0], DOMAIN_NM[1] + 1)]
+    return rows, (c1, c2, s)
+
+
+def convert_wines():
+    common = [
+        "Fitted model, not a measured spectrum (no measured wine spectrum is available): decadic",
+        "absorbance per cm A(l) = c1*band(l) + c2*exp(-(l - 420 nm)/s), where band(l) is the measured",
+        "molar absorptivity of the red 'drink mix' dye of PhET Beer's Law Lab (phetsims/beers-law-lab,",
+        "doc/wavelength-to-molarAbsorptivity.csv, GPL-3.0; staged in shared/data/phet-beers-law-lab),",
+        "normalised to its peak at 510 nm, standing in for the anthocyanin band near 520 nm; the",
+        "exponential is the yellow-brown (tannin/browning) term. c1, c2, s solve A(420), A(520), A(620)",
+        "exactly for the targets below: median Glories absorbances of commercial muscadine wines",
+        "(maryserviss/commercial_muscadine_wines, final_ordered_wine_data_rf.csv, commit 77b126a4;",
+        "staged in shared/data/wine-muscadine-glories), reported per 1 cm as the OIV method specifies.",
+        "Outside 380-780 nm the band is held at its end values. sigma_a = A * ln(10) * 100 per m.",
+    ]
+    for name, label, targets in (("red-wine", "red wine", {420: 1.94, 520: 1.90, 620: 0.33}),
+                                 ("white-wine", "white wine", {420: 0.17, 520: 0.033, 620: 0.006})):
+        rows, (c1, c2, s) = fit_wine(targets)
+        write_material(f"{name}.csv", [
+            f"{name}: {label}."] + common + [
+            f"Targets (A per cm): A420 = {targets[420]}, A520 = {targets[520]}, A620 = {targets[620]} "
+            f"(medians of the {'15 red' if name == 'red-wine' else '11 white'} wines).",
+            f"Fit: c1 = {c1:.6g}, c2 = {c2:.6g}, s = {s:.6g} nm."], rows)
+
+
 if __name__ == "__main__":
     main()
+    convert_glasses()
+    convert_wines()

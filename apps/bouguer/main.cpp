@@ -37,7 +37,9 @@ int main(int argc, char** argv) {
   CLI::App app{"Bouguer: spectral rendering of transparent, absorbing matter (glass, gems, liquids).", "bouguer"};
   app.set_version_flag("--version", "bouguer " BOUGUER_VERSION);
   app.require_subcommand(1);
-  const std::vector<bouguer::cli::Command> commands = {bouguer::cli::add_color_command(app)};
+  const std::vector<bouguer::cli::Command> commands = {bouguer::cli::add_render_command(app),
+                                                       bouguer::cli::add_compare_command(app),
+                                                       bouguer::cli::add_color_command(app)};
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,35 @@
+#pragma once
+// Indexed triangle meshes. Winding convention: counter-clockwise seen from the side the
+// geometric normal cross(p1 − p0, p2 − p0) points to; for closed shapes that side is outside.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bouguer/core/math.h"
+
+namespace bouguer {
+
+struct Mesh {
+  std::vector<Vec3> positions;  // metres
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+void append(Mesh& dst, const Mesh& src);
+Mesh flipped(Mesh m);
+
+// Merges vertices closer than tolerance_m and drops triangles that become degenerate.
+Mesh welded(const Mesh& m, double tolerance_m);
+
+// Signed volume (m³): positive when the triangles face outward.
+double signed_volume(const Mesh& m);
+
+// Why a mesh cannot bound a medium: open boundary, inconsistent winding, non-manifold edges, or
+// facing inward. nullopt when it is closed, consistently oriented and outward-facing.
+std::optional<std::string> closed_surface_problem(const Mesh& m);
+
+// Largest absolute coordinate (m), the scale for welding and ray offsets.
+double max_extent(const Mesh& m);
+
+}  // namespace bouguer

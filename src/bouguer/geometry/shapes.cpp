@@ -1,0 +1,400 @@
+#include "bouguer/geometry/shapes.h"
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "bouguer/core/error.h"
+#include "bouguer/geometry/ply.h"
+
+namespace bouguer {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+double radians(double deg) { return deg * kPi / 180.0; }
+
+// ---- convex shapes as intersections of half-spaces dot(n, x) <= d ----------------------------
+
+struct Plane {
+  Vec3 n;  // unit, outward
+  double d;
+};
+
+Plane plane_through(const Vec3& normal, const Vec3& point) {
+  const Vec3 n = normalize(normal);
+  return {n, dot(n, point)};
+}
+
+std::vector<Vec3> clip(const std::vector<Vec3>& poly, const Plane& p) {
+  std::vector<Vec3> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec3& a = poly[i];
+    const Vec3& b = poly[(i + 1) % poly.size()];
+    const double da = dot(p.n, a) - p.d, db = dot(p.n, b) - p.d;
+    if (da <= 0.0) out.push_back(a);
+    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) out.push_back(a + (b - a) * (da / (da - db)));
+  }
+  return out;
+}
+
+double polygon_area(const std::vector<Vec3>& poly) {
+  Vec3 sum;
+  for (std::size_t i = 1; i + 1 < poly.size(); ++i) sum += cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
+  return 0.5 * length(sum);
+}
+
+// Each plane's face is a large square on the plane clipped by all other planes; faces that
+// shrink to nothing are dropped, so superfluous planes are harmless. `scale_m` bounds the shape.
+Mesh convex_from_planes(const std::vector<Plane>& planes, double scale_m) {
+  Mesh out;
+  const double tolerance = 1e-9 * scale_m;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const Vec3 n = planes[i].n;
+    const Vec3 u = normalize(cross(std::abs(n.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0}, n));
+    const Vec3 v = cross(n, u);  // u × v = n: the square below runs counter-clockwise about n
+    const Vec3 c = n * planes[i].d;
+    const double big = 4.0 * scale_m;
+    std::vector<Vec3> poly = {c - u * big - v * big, c + u * big - v * big, c + u * big + v * big,
+                              c - u * big + v * big};
+    for (std::size_t j = 0; j < planes.size() && poly.size() >= 3; ++j)
+      if (j != i) poly = clip(poly, planes[j]);
+    std::vector<Vec3> clean;
+    for (const Vec3& p : poly)
+      if (clean.empty() || length(p - clean.back()) > tolerance) clean.push_back(p);
+    while (clean.size() > 1 && length(clean.front() - clean.back()) <= tolerance) clean.pop_back();
+    if (clean.size() < 3 || polygon_area(clean) <= tolerance * tolerance) continue;
+    const auto base = static_cast<std::uint32_t>(out.positions.size());
+    out.positions.insert(out.positions.end(), clean.begin(), clean.end());
+    for (std::uint32_t k = 1; k + 1 < clean.size(); ++k) out.triangles.push_back({base, base + k, base + k + 1});
+  }
+  return welded(out, tolerance);
+}
+
+// ---- surfaces of revolution about +y ---------------------------------------------------------
+
+using Profile = std::vector<std::array<double, 2>>;
+
+// Revolves (r, y) points; a point with r = 0 becomes one vertex on the axis. A profile walked
+// with increasing y at the outside gives outward normals.
+Mesh revolve(const Profile& profile, int segments) {
+  Mesh m;
+  std::vector<std::vector<std::uint32_t>> rings;
+  for (const auto& [r, y] : profile) {
+    std::vector<std::uint32_t> ring;
+    const int count = r == 0.0 ? 1 : segments;
+    for (int k = 0; k < count; ++k) {
+      const double th = 2.0 * kPi * k / segments;
+      ring.push_back(static_cast<std::uint32_t>(m.positions.size()));
+      m.positions.push_back({r * std::cos(th), y, r * std::sin(th)});
+    }
+    rings.push_back(std::move(ring));
+  }
+  auto at = [](const std::vector<std::uint32_t>& ring, int k) { return ring[ring.size() == 1 ? 0 : k % ring.size()]; };
+  for (std::size_t i = 0; i + 1 < rings.size(); ++i) {
+    const auto &a = rings[i], &b = rings[i + 1];
+    if (a.size() == 1 && b.size() == 1) continue;
+    for (int k = 0; k < segments; ++k) {
+      if (a.size() > 1) m.triangles.push_back({at(a, k), at(b, k), at(a, k + 1)});
+      if (b.size() > 1) m.triangles.push_back({at(a, k + 1), at(b, k), at(b, k + 1)});
+    }
+  }
+  return m;
+}
+
+double profile_scale(const Profile& p) {
+  double s = 0.0;
+  for (const auto& [r, y] : p) s = std::max({s, std::abs(r), std::abs(y)});
+  return s;
+}
+
+Mesh regular_polygon_planes_shape(int sides, double radius, double height, bool apex, const std::string& what) {
+  if (sides < 3) fail("{}: 'sides' must be at least 3 (got {})", what, sides);
+  std::vector<Plane> planes = {{{0, -1, 0}, 0.0}};
+  if (!apex) planes.push_back({{0, 1, 0}, height});
+  const Vec3 top{0, height, 0};
+  for (int k = 0; k < sides; ++k) {
+    const double a0 = 2.0 * kPi * k / sides, a1 = 2.0 * kPi * (k + 1) / sides;
+    const Vec3 v0{radius * std::cos(a0), 0, radius * std::sin(a0)}, v1{radius * std::cos(a1), 0, radius * std::sin(a1)};
+    if (apex) {
+      planes.push_back(plane_through(cross(top - v0, v1 - v0), v0));
+    } else {
+      const double mid = 0.5 * (a0 + a1);
+      planes.push_back(plane_through({std::cos(mid), 0, std::sin(mid)}, v0));
+    }
+  }
+  return convex_from_planes(planes, std::max(radius, height));
+}
+
+// ---- one function per shape ------------------------------------------------------------------
+
+void require_positive(double v, const char* name, const std::string& what) {
+  if (!(v > 0.0) || !std::isfinite(v)) fail("{}: '{}' must be a positive length (got {} m)", what, name, v);
+}
+
+void require_segments(int segments, const std::string& what) {
+  if (segments < 3 || segments > 4096) fail("{}: 'segments' must be between 3 and 4096 (got {})", what, segments);
+}
+
+Mesh make_quad(const QuadShape& q, const std::string& what) {
+  require_positive(q.width_m, "size", what);
+  require_positive(q.height_m, "size", what);
+  const double w = q.width_m / 2, h = q.height_m / 2;
+  return {{{-w, -h, 0}, {w, -h, 0}, {w, h, 0}, {-w, h, 0}}, {{0, 1, 2}, {0, 2, 3}}};
+}
+
+Mesh make_disk(const DiskShape& d, const std::string& what) {
+  require_positive(d.radius_m, "radius", what);
+  require_segments(d.segments, what);
+  Mesh m;
+  m.positions.push_back({0, 0, 0});
+  for (int k = 0; k < d.segments; ++k) {
+    const double th = 2.0 * kPi * k / d.segments;
+    m.positions.push_back({d.radius_m * std::cos(th), d.radius_m * std::sin(th), 0});
+  }
+  for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(d.segments); ++k)
+    m.triangles.push_back({0, k + 1, (k + 1) % static_cast<std::uint32_t>(d.segments) + 1});
+  return m;
+}
+
+Mesh make_box(const BoxShape& b, const std::string& what) {
+  for (int i = 0; i < 3; ++i) require_positive(b.size_m[i], "size", what);
+  const Vec3 h = b.size_m * 0.5;
+  return convex_from_planes({{{1, 0, 0}, h.x}, {{-1, 0, 0}, h.x}, {{0, 1, 0}, h.y}, {{0, -1, 0}, h.y},
+                             {{0, 0, 1}, h.z}, {{0, 0, -1}, h.z}},
+                            std::max({h.x, h.y, h.z}));
+}
+
+Mesh make_sphere(const SphereShape& s, const std::string& what) {
+  require_positive(s.radius_m, "radius", what);
+  require_segments(s.segments, what);
+  Profile p;
+  const int rings = std::max(2, s.segments / 2);
+  for (int i = 0; i <= rings; ++i) {
+    const double phi = kPi * i / rings;  // from the south pole up
+    p.push_back({i == 0 || i == rings ? 0.0 : s.radius_m * std::sin(phi), -s.radius_m * std::cos(phi)});
+  }
+  return revolve(p, s.segments);
+}
+
+Mesh make_cylinder(const CylinderShape& c, const std::string& what) {
+  require_positive(c.radius_m, "radius", what);
+  require_positive(c.height_m, "height", what);
+  require_segments(c.segments, what);
+  return revolve({{0, 0}, {c.radius_m, 0}, {c.radius_m, c.height_m}, {0, c.height_m}}, c.segments);
+}
+
+Mesh make_truncated_cube(const TruncatedCubeShape& t, const std::string& what) {
+  require_positive(t.size_m, "size", what);
+  if (!(t.truncation > 0.0 && t.truncation < 0.5))
+    fail("{}: 'truncation' must be between 0 and 0.5 (fraction of each edge cut at each end; got {})", what,
+         t.truncation);
+  const double h = t.size_m / 2;
+  std::vector<Plane> planes = {{{1, 0, 0}, h}, {{-1, 0, 0}, h}, {{0, 1, 0}, h},
+                               {{0, -1, 0}, h}, {{0, 0, 1}, h}, {{0, 0, -1}, h}};
+  for (int sx : {-1, 1})
+    for (int sy : {-1, 1})
+      for (int sz : {-1, 1}) {
+        const Vec3 corner{sx * h, sy * h, sz * h};
+        planes.push_back(plane_through({double(sx), double(sy), double(sz)},
+                                       corner - Vec3{sx * t.truncation * t.size_m, 0, 0}));
+      }
+  return convex_from_planes(planes, h);
+}
+
+// Facets of a round brilliant (Tolkowsky-style): table, 8 bezels, 8 stars, 16 upper girdle
+// facets, a 32-sided girdle, 8 pavilion mains and 16 lower girdle facets.
+Mesh make_brilliant(const BrilliantShape& b, const std::string& what) {
+  require_positive(b.diameter_m, "diameter", what);
+  if (!(b.table > 0.2 && b.table < 0.9)) fail("{}: 'table' must be between 0.2 and 0.9 of the diameter", what);
+  if (!(b.crown_angle_deg > 10 && b.crown_angle_deg < 60)) fail("{}: 'crown_angle_deg' must be 10-60", what);
+  if (!(b.pavilion_angle_deg > 30 && b.pavilion_angle_deg < 60)) fail("{}: 'pavilion_angle_deg' must be 30-60", what);
+  if (!(b.girdle >= 0.0 && b.girdle < 0.2)) fail("{}: 'girdle' must be between 0 and 0.2 of the diameter", what);
+  const double r = b.diameter_m / 2, g = b.girdle * b.diameter_m / 2;
+  const double crown = radians(b.crown_angle_deg), pavilion = radians(b.pavilion_angle_deg);
+  const double table_y = g + (r - b.table * r) * std::tan(crown);
+  auto facet = [](double azimuth, double inclination, double sign_y) {
+    return Vec3{std::sin(inclination) * std::cos(azimuth), sign_y * std::cos(inclination),
+                std::sin(inclination) * std::sin(azimuth)};
+  };
+  auto rim = [&](double azimuth, double y, double radius) {
+    return Vec3{radius * std::cos(azimuth), y, radius * std::sin(azimuth)};
+  };
+  std::vector<Plane> planes = {{{0, 1, 0}, table_y}};
+  for (int k = 0; k < 32; ++k) {
+    const double a = 2.0 * kPi * (k + 0.5) / 32;
+    planes.push_back({{std::cos(a), 0, std::sin(a)}, r});
+  }
+  const double star = crown - radians(13.0), upper = crown + radians(7.0), lower = pavilion + radians(1.5);
+  const double table_corner = b.table * r / std::cos(kPi / 8);
+  for (int k = 0; k < 8; ++k) {
+    const double main = 2.0 * kPi * k / 8, between = main + kPi / 8;
+    planes.push_back(plane_through(facet(main, crown, 1), rim(main, g, r)));
+    planes.push_back(plane_through(facet(between, star, 1), rim(between, table_y, table_corner)));
+    planes.push_back(plane_through(facet(main, pavilion, -1), rim(main, -g, r)));
+  }
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2.0 * kPi * (k + 0.5) / 16;
+    planes.push_back(plane_through(facet(a, upper, 1), rim(a, g, r)));
+    planes.push_back(plane_through(facet(a, lower, -1), rim(a, -g, r)));
+  }
+  return convex_from_planes(planes, r * 2);
+}
+
+void validate_profile(const Profile& p, const std::string& what) {
+  if (p.size() < 2) fail("{}: 'profile' needs at least two [r, y] points", what);
+  for (const auto& [r, y] : p)
+    if (!(r >= 0.0) || !std::isfinite(r) || !std::isfinite(y))
+      fail("{}: 'profile' radii must be finite and >= 0 (got [{}, {}])", what, r, y);
+}
+
+Mesh make_lathe(const LatheShape& l, const std::string& what) {
+  validate_profile(l.profile_m, what);
+  require_segments(l.segments, what);
+  Mesh m = welded(revolve(l.profile_m, l.segments), 1e-9 * profile_scale(l.profile_m));
+  return signed_volume(m) < 0.0 ? flipped(std::move(m)) : m;
+}
+
+// Intersection of the lines p + s·d and q + t·e in the (r, y) plane.
+std::array<double, 2> line_intersection(std::array<double, 2> p, std::array<double, 2> d, std::array<double, 2> q,
+                                        std::array<double, 2> e) {
+  const double den = d[0] * e[1] - d[1] * e[0];
+  if (std::abs(den) < 1e-12) return q;  // parallel: consecutive offsets meet at the shared offset point
+  const double s = ((q[0] - p[0]) * e[1] - (q[1] - p[1]) * e[0]) / den;
+  return {p[0] + s * d[0], p[1] + s * d[1]};
+}
+
+// The inner wall: each outer segment moved inward (to its left, walking up) by the wall thickness.
+Profile inner_profile(const Profile& outer, double wall, const std::string& what) {
+  const std::size_t n = outer.size();
+  std::vector<std::array<double, 2>> dir(n - 1), start(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double dr = outer[i + 1][0] - outer[i][0], dy = outer[i + 1][1] - outer[i][1], len = std::hypot(dr, dy);
+    if (len == 0.0) fail("{}: 'profile' repeats the point [{}, {}]", what, outer[i][0], outer[i][1]);
+    dir[i] = {dr / len, dy / len};
+    start[i] = {outer[i][0] - dir[i][1] * wall, outer[i][1] + dir[i][0] * wall};
+  }
+  Profile inner = {line_intersection(start[0], dir[0], {0.0, 0.0}, {0.0, 1.0})};
+  for (std::size_t i = 1; i + 1 < n; ++i) inner.push_back(line_intersection(start[i - 1], dir[i - 1], start[i], dir[i]));
+  inner.push_back(line_intersection(start[n - 2], dir[n - 2], {0.0, outer.back()[1]}, {1.0, 0.0}));
+  for (std::size_t i = 0; i < inner.size(); ++i) {
+    if (inner[i][0] < -1e-12 || (i > 0 && inner[i][1] < inner[i - 1][1] - 1e-12))
+      fail("{}: the wall thickness does not fit the profile (the inner wall would cross itself near [{}, {}] m)", what,
+           outer[std::min(i, n - 1)][0], outer[std::min(i, n - 1)][1]);
+    inner[i][0] = std::max(inner[i][0], 0.0);
+  }
+  return inner;
+}
+
+std::vector<ShapePart> make_vessel(const VesselShape& v, const std::string& what) {
+  validate_profile(v.profile_m, what);
+  require_positive(v.wall_m, "wall", what);
+  require_segments(v.segments, what);
+  const Profile& outer = v.profile_m;
+  if (outer.front()[0] != 0.0) fail("{}: a vessel 'profile' starts at the bottom centre, r = 0", what);
+  if (outer.back()[0] <= v.wall_m) fail("{}: the rim radius must exceed the wall thickness", what);
+  if (!(v.fill >= 0.0 && v.fill <= 1.0)) fail("{}: 'fill' must be between 0 and 1 (got {})", what, v.fill);
+  const Profile inner = inner_profile(outer, v.wall_m, what);
+  const double y_bottom = inner.front()[1], y_top = inner.back()[1];
+  const double scale = profile_scale(outer), tolerance = 1e-9 * scale;
+
+  // Inner wall walked from the rim down, split at the fill level.
+  Profile dry = {inner.back()}, wet;
+  const double y_fill = y_bottom + v.fill * (y_top - y_bottom);
+  std::array<double, 2> fill_point = inner.back();
+  for (std::size_t i = inner.size() - 1; i-- > 0;) {
+    const auto &hi = inner[i + 1], &lo = inner[i];
+    if (v.fill > 0.0 && wet.empty() && lo[1] < y_fill && hi[1] >= y_fill) {
+      const double t = (y_fill - lo[1]) / (hi[1] - lo[1]);
+      fill_point = {lo[0] + t * (hi[0] - lo[0]), y_fill};
+      if (hi[1] > y_fill) dry.push_back(fill_point);
+      wet = {fill_point};
+    }
+    (wet.empty() ? dry : wet).push_back(lo);
+  }
+  Profile outside = outer;
+  outside.push_back(inner.back());  // the rim
+  std::vector<ShapePart> parts;
+  parts.push_back({revolve(outside, v.segments), Side::object, Side::surroundings});
+  if (dry.size() > 1) parts.push_back({revolve(dry, v.segments), Side::object, Side::surroundings});
+  if (v.fill > 0.0) {
+    parts.push_back({revolve(wet, v.segments), Side::object, Side::contents});
+    parts.push_back({revolve({fill_point, {0.0, y_fill}}, v.segments), Side::contents, Side::surroundings});
+  }
+  for (auto& p : parts) p.mesh = welded(p.mesh, tolerance);
+  return parts;
+}
+
+Mesh load_obj(const MeshShape& s, const std::string& what) {
+  std::error_code ec;
+  if (!std::filesystem::exists(s.path, ec)) fail("{}: mesh file '{}' not found", what, s.path.string());
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(s.path.string(), config))
+    fail("{}: cannot read '{}': {}", what, s.path.string(), reader.Error());
+  const auto& attrib = reader.GetAttrib();
+  Mesh m;
+  for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
+    m.positions.push_back({attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]});
+  for (const auto& shape : reader.GetShapes()) {
+    const auto& idx = shape.mesh.indices;
+    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+      std::array<std::uint32_t, 3> t;
+      for (int k = 0; k < 3; ++k) {
+        const int vi = idx[i + k].vertex_index;
+        if (vi < 0 || static_cast<std::size_t>(vi) >= m.positions.size())
+          fail("{}: '{}' has a face with a vertex index out of range", what, s.path.string());
+        t[k] = static_cast<std::uint32_t>(vi);
+      }
+      m.triangles.push_back(t);
+    }
+  }
+  if (m.triangles.empty()) fail("{}: '{}' has no faces", what, s.path.string());
+  return m;
+}
+
+Mesh load_mesh(const MeshShape& s, const std::string& what) {
+  std::string ext = s.path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".obj") return load_obj(s, what);
+  if (ext == ".ply") return load_ply(s.path, what);
+  fail("{}: mesh files must be .obj or .ply (got '{}')", what, s.path.string());
+}
+
+}  // namespace
+
+std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what) {
+  struct Visitor {
+    const std::string& what;
+    std::vector<ShapePart> one(Mesh m) const { return {ShapePart{std::move(m), Side::object, Side::surroundings}}; }
+    std::vector<ShapePart> operator()(const QuadShape& s) const { return one(make_quad(s, what)); }
+    std::vector<ShapePart> operator()(const DiskShape& s) const { return one(make_disk(s, what)); }
+    std::vector<ShapePart> operator()(const BoxShape& s) const { return one(make_box(s, what)); }
+    std::vector<ShapePart> operator()(const SphereShape& s) const { return one(make_sphere(s, what)); }
+    std::vector<ShapePart> operator()(const CylinderShape& s) const { return one(make_cylinder(s, what)); }
+    std::vector<ShapePart> operator()(const PrismShape& s) const {
+      require_positive(s.radius_m, "radius", what);
+      require_positive(s.height_m, "height", what);
+      return one(regular_polygon_planes_shape(s.sides, s.radius_m, s.height_m, false, what));
+    }
+    std::vector<ShapePart> operator()(const PyramidShape& s) const {
+      require_positive(s.radius_m, "radius", what);
+      require_positive(s.height_m, "height", what);
+      return one(regular_polygon_planes_shape(s.sides, s.radius_m, s.height_m, true, what));
+    }
+    std::vector<ShapePart> operator()(const TruncatedCubeShape& s) const { return one(make_truncated_cube(s, what)); }
+    std::vector<ShapePart> operator()(const BrilliantShape& s) const { return one(make_brilliant(s, what)); }
+    std::vector<ShapePart> operator()(const LatheShape& s) const { return one(make_lathe(s, what)); }
+    std::vector<ShapePart> operator()(const VesselShape& s) const { return make_vessel(s, what); }
+    std::vector<ShapePart> operator()(const MeshShape& s) const { return one(load_mesh(s, what)); }
+  };
+  return std::visit(Visitor{what}, shape);
+}
+
+bool shape_is_closed(const Shape& shape) {
+  return !std::holds_alternative<QuadShape>(shape) && !std::holds_alternative<DiskShape>(shape);
+}
+
+}  // namespace bouguer

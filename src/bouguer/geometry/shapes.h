@@ -1,0 +1,62 @@
+#pragma once
+// Shape generators: plain parameter structs (lengths in metres, angles in degrees) and
+// make_shape, which turns one into triangles in its local frame (documented per shape in
+// docs/scene-format.md). Convex cut shapes are built as intersections of half-spaces.
+#include <filesystem>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "bouguer/geometry/mesh.h"
+
+namespace bouguer {
+
+struct QuadShape { double width_m = 1, height_m = 1; };                 // xy-plane, normal +z
+struct DiskShape { double radius_m = 1; int segments = 128; };          // xy-plane, normal +z
+struct BoxShape { Vec3 size_m{1, 1, 1}; };                               // centred
+struct SphereShape { double radius_m = 1; int segments = 96; };         // centred
+struct CylinderShape { double radius_m = 1, height_m = 1; int segments = 128; };  // base y = 0, axis +y
+struct PrismShape { int sides = 6; double radius_m = 1, height_m = 1; };          // n-gon base on y = 0
+struct PyramidShape { int sides = 6; double radius_m = 1, height_m = 1; };        // n-gon base, apex on +y
+struct TruncatedCubeShape { double size_m = 1; double truncation = 0.29289321881345254; };  // centred
+// Round brilliant: girdle diameter, table as a fraction of it, crown and pavilion main-facet
+// angles, girdle thickness as a fraction of the diameter. Girdle centred on y = 0, table up.
+struct BrilliantShape {
+  double diameter_m = 0.01;
+  double table = 0.57;
+  double crown_angle_deg = 34.5;
+  double pavilion_angle_deg = 40.75;
+  double girdle = 0.03;
+};
+// Surface of revolution about +y of a profile of (r, y) points.
+struct LatheShape { std::vector<std::array<double, 2>> profile_m; int segments = 128; };
+// A bottle or glass: outer profile (r, y) from the bottom centre (r = 0) to the rim, wall
+// thickness, and the fill level as a fraction of the inner height (0 = empty).
+struct VesselShape {
+  std::vector<std::array<double, 2>> profile_m;
+  double wall_m = 0.002;
+  double fill = 0.0;
+  int segments = 128;
+};
+struct MeshShape { std::filesystem::path path; };
+
+using Shape = std::variant<QuadShape, DiskShape, BoxShape, SphereShape, CylinderShape, PrismShape, PyramidShape,
+                           TruncatedCubeShape, BrilliantShape, LatheShape, VesselShape, MeshShape>;
+
+// The media on the two sides of each part, relative to the object: the object's own medium
+// (`inside`), the medium around it (`outside`), or the vessel's contents.
+enum class Side { object, surroundings, contents };
+
+struct ShapePart {
+  Mesh mesh;
+  Side behind = Side::object;        // medium on the side opposite the normal
+  Side in_front = Side::surroundings;  // medium the normal points into
+};
+
+// A shape's parts, in its local frame. Errors name `what` (the object) and the problem.
+std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what);
+
+// Whether a shape can bound a medium (closed): quads and disks cannot.
+bool shape_is_closed(const Shape& shape);
+
+}  // namespace bouguer

@@ -1,0 +1,37 @@
+#include "bouguer/geometry/transform.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace bouguer {
+
+Transform Transform::scale(const Vec3& s) { return {Mat3::diagonal(s), {}}; }
+
+Transform Transform::rotate_deg(double angle_deg, const Vec3& axis) {
+  // Rodrigues' rotation formula.
+  const Vec3 a = normalize(axis);
+  const double th = angle_deg * std::numbers::pi / 180.0, c = std::cos(th), s = std::sin(th), t = 1.0 - c;
+  Mat3 r{{{{t * a.x * a.x + c, t * a.x * a.y - s * a.z, t * a.x * a.z + s * a.y},
+           {t * a.x * a.y + s * a.z, t * a.y * a.y + c, t * a.y * a.z - s * a.x},
+           {t * a.x * a.z - s * a.y, t * a.y * a.z + s * a.x, t * a.z * a.z + c}}}};
+  return {r, {}};
+}
+
+Transform Transform::translate(const Vec3& t) { return {Mat3::identity(), t}; }
+
+Transform Transform::then(const Transform& next) const {
+  return {next.linear * linear, next.linear * translation + next.translation};
+}
+
+double Transform::determinant() const {
+  const auto& m = linear.m;
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+Mesh transformed(Mesh m, const Transform& t) {
+  for (Vec3& p : m.positions) p = t.apply(p);
+  return t.determinant() < 0.0 ? flipped(std::move(m)) : m;
+}
+
+}  // namespace bouguer

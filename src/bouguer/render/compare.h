@@ -1,0 +1,22 @@
+#pragma once
+// Colour difference between two images of linear Rec.709: per-pixel CIEDE2000 with CIELAB
+// relative to D65 at Y = 1 (a D65 emitter of scale 1 is L* = 100), and summary statistics.
+#include <vector>
+
+#include "bouguer/render/film.h"
+
+namespace bouguer {
+
+struct ImageDifference {
+  int width = 0, height = 0;
+  std::vector<double> delta_e;  // per pixel, row-major from the top
+  double mean = 0, median = 0, p95 = 0, max = 0;
+  double rmse = 0;  // root mean square difference of the linear RGB values, all pixels and channels
+};
+
+ImageDifference compare_images(const Film& a, const Film& b);
+
+// ΔE00 from 0 (black) through blue, green, yellow, red to white at `max_delta_e` and above.
+Film delta_e_heatmap(const ImageDifference& d, double max_delta_e);
+
+}  // namespace bouguer

@@ -1,0 +1,66 @@
+#include "bouguer/render/spectral_sampling.h"
+
+#include <algorithm>
+
+#include "bouguer/spectra/cie.h"
+#include "bouguer/spectra/color_space.h"
+
+namespace bouguer {
+
+template <std::size_t N>
+SampledSpectrum<N> SpectralBasis<N>::emission(const Spectrum& s) const {
+  SampledSpectrum<N> out;
+  if (mode == SpectralMode::rgb3) {
+    const Vec3 rgb = xyz_to_linear_rgb(kRec709, spectrum_to_xyz(s));
+    for (std::size_t i = 0; i < N && i < 3; ++i) out[i] = static_cast<float>(rgb[i]);
+    return out;
+  }
+  for (std::size_t b = 0; b < N; ++b) {
+    double sum = 0.0;
+    for (int nm : bin_nm[b]) sum += eval(s, nm);
+    out[b] = static_cast<float>(sum / static_cast<double>(bin_nm[b].size()));
+  }
+  return out;
+}
+
+template <std::size_t N>
+SampledSpectrum<N> SpectralBasis<N>::at_wavelengths(const Spectrum& s) const {
+  SampledSpectrum<N> out;
+  for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<float>(eval(s, wavelength_nm[i]));
+  return out;
+}
+
+template <std::size_t N>
+Vec3 SpectralBasis<N>::to_linear_srgb(const SampledSpectrum<N>& v) const {
+  if (mode == SpectralMode::rgb3) return {v[0], v[1], v[2]};
+  Vec3 xyz;
+  for (std::size_t b = 0; b < N; ++b) xyz += xyz_weight[b] * double(v[b]);
+  return xyz_to_linear_rgb(kRec709, xyz);
+}
+
+template struct SpectralBasis<kFullBins>;
+template struct SpectralBasis<3>;
+
+SpectralBasis<kFullBins> make_full_basis() {
+  SpectralBasis<kFullBins> basis;
+  basis.mode = SpectralMode::full;
+  const double width = (kLambdaMaxNm - kLambdaMinNm + 1.0) / kFullBins;  // 471 one-nm samples
+  const ObserverTable& cmf = observer_table(Observer::cie1931_2deg);
+  for (int i = 0; i < kCmfCount; ++i) {
+    const auto b = std::min(static_cast<std::size_t>(i / width), kFullBins - 1);
+    basis.bin_nm[b].push_back(static_cast<int>(kLambdaMinNm) + i);
+    basis.xyz_weight[b] += Vec3{cmf.xbar[i], cmf.ybar[i], cmf.zbar[i]} / cmf.ybar_sum;
+  }
+  for (std::size_t b = 0; b < kFullBins; ++b)
+    basis.wavelength_nm[b] = 0.5 * (basis.bin_nm[b].front() + basis.bin_nm[b].back());
+  return basis;
+}
+
+SpectralBasis<3> make_rgb3_basis() {
+  SpectralBasis<3> basis;
+  basis.mode = SpectralMode::rgb3;
+  for (std::size_t i = 0; i < 3; ++i) basis.wavelength_nm[i] = kRgb3WavelengthsNm[i];
+  return basis;
+}
+
+}  // namespace bouguer

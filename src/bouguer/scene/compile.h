@@ -1,0 +1,48 @@
+#pragma once
+// compile: SceneDesc -> RenderScene, the immutable scene the integrators read. Shapes become
+// triangles in one RayScene; every geometry id maps to a Surface that says what it is and which
+// media lie on its two sides. Nothing here is looked up by name during rendering.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bouguer/geometry/ray_scene.h"
+#include "bouguer/scene/description.h"
+
+namespace bouguer {
+
+enum class SurfaceKind { interface, emitter, diffuse };
+
+struct Surface {
+  SurfaceKind kind = SurfaceKind::interface;
+  int medium_behind = -1;  // index into RenderScene::media, on the side opposite the normal
+  int medium_front = -1;   // on the side the normal points to
+  int emission = -1;       // index into emissions (emitters)
+  int material = -1;       // index into materials (diffuse surfaces)
+  std::string object;      // for messages
+};
+
+struct EmissiveTriangle {
+  std::uint32_t geometry = 0, primitive = 0;
+  double area_m2 = 0.0;
+};
+
+struct RenderScene {
+  std::filesystem::path file;
+  CameraDesc camera;
+  RenderSettings render;
+  RayScene rays;
+  std::vector<Surface> surfaces;  // by geometry id
+  std::vector<MediumDesc> media;
+  int world_medium = 0;
+  std::vector<EmissionDesc> emissions;
+  std::vector<DiffuseDesc> materials;
+  EmissionDesc background;
+  std::vector<EmissiveTriangle> lights;
+  std::vector<double> light_cdf;  // cumulative area fractions, last = 1
+  double light_area_m2 = 0.0;
+};
+
+RenderScene compile(const SceneDesc& desc);
+
+}  // namespace bouguer

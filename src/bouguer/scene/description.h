@@ -1,0 +1,79 @@
+#pragma once
+// The plain description a scene file parses into: values in SI units with their source
+// resolved (library names, CSV files, unit conversions), but nothing built yet. `compile`
+// (scene/compile.h) turns it into the render scene.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bouguer/geometry/shapes.h"
+#include "bouguer/geometry/transform.h"
+#include "bouguer/media/ior.h"
+#include "bouguer/spectra/spectrum.h"
+
+namespace bouguer {
+
+enum class CameraType { pinhole, orthographic };
+enum class SpectralMode { full, rgb3 };
+enum class IntegratorType { whitted };
+
+struct CameraDesc {
+  CameraType type = CameraType::pinhole;
+  Vec3 position_m{0, 0, 1};
+  Vec3 look_at_m{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  double fov_deg = 40.0;    // pinhole: full angle across the shorter image side
+  double width_m = 1.0;     // orthographic: extent across the shorter image side
+  int width_px = 640;
+  int height_px = 480;
+};
+
+struct RenderSettings {
+  IntegratorType integrator = IntegratorType::whitted;
+  SpectralMode spectral = SpectralMode::full;
+  int spp = 16;
+  int max_depth = 32;
+  std::uint64_t seed = 0;
+};
+
+struct MediumDesc {
+  std::string name;
+  IorModel ior = ConstantIor{1.0};
+  Spectrum sigma_a_per_m = ConstantSpectrum{0.0};  // natural log, 1/m, concentration applied
+  bool absorbing = false;
+};
+
+// Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
+struct EmissionDesc {
+  Spectrum radiance = ConstantSpectrum{0.0};
+  bool two_sided = false;
+};
+
+struct DiffuseDesc {
+  Spectrum reflectance = ConstantSpectrum{0.5};
+};
+
+struct ObjectDesc {
+  std::string name;
+  Shape shape;
+  Transform transform;
+  // Exactly one of: an interface (inside set), an emitter, a diffuse surface.
+  std::optional<std::string> inside, outside, contents;
+  std::optional<EmissionDesc> emission;
+  std::optional<DiffuseDesc> material;
+};
+
+struct SceneDesc {
+  std::filesystem::path file;
+  CameraDesc camera;
+  RenderSettings render;
+  std::string world_medium = "air";
+  std::map<std::string, MediumDesc> media;  // predefined vacuum and air included
+  std::vector<ObjectDesc> objects;
+  EmissionDesc background;
+};
+
+}  // namespace bouguer

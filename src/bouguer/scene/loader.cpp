@@ -1,0 +1,554 @@
+#include "bouguer/scene/loader.h"
+
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "bouguer/core/error.h"
+#include "bouguer/core/strings.h"
+#include "bouguer/io/csv.h"
+#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/media/absorption.h"
+#include "bouguer/media/library.h"
+#include "bouguer/spectra/cie.h"
+
+namespace bouguer {
+namespace {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+// Where a value sits in the file: the file name and the key path, for messages.
+struct Where {
+  const fs::path* file;
+  std::string path;
+
+  Where operator/(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
+  Where operator[](std::size_t i) const { return {file, fmt::format("{}[{}]", path, i)}; }
+  template <typename... Args>
+  [[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) const {
+    bouguer::fail("{}: {}: {}", file->string(), path.empty() ? "(top level)" : path,
+                  fmt::format(f, std::forward<Args>(args)...));
+  }
+  fs::path resolve(const std::string& relative) const {
+    const fs::path p(relative);
+    return p.is_absolute() ? p : file->parent_path() / p;
+  }
+};
+
+std::string type_name(const json& j) { return j.type_name(); }
+
+void expect_keys(const json& j, const Where& w, const std::vector<std::string>& allowed) {
+  if (!j.is_object()) w.fail("expected an object {{...}}, found {}", type_name(j));
+  for (const auto& [key, value] : j.items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    const auto near = nearest_name(key, allowed);
+    (w / key).fail("unknown key{}", near ? fmt::format(" (did you mean '{}'?)", *near)
+                                         : fmt::format(" (known here: {})", fmt::join(allowed, ", ")));
+  }
+}
+
+double number(const json& j, const Where& w) {
+  if (!j.is_number()) w.fail("expected a number, found {}", type_name(j));
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) w.fail("expected a finite number");
+  return v;
+}
+
+int integer(const json& j, const Where& w, int lo, int hi) {
+  if (!j.is_number_integer()) w.fail("expected a whole number, found {}", type_name(j));
+  const auto v = j.get<long long>();
+  if (v < lo || v > hi) w.fail("must be between {} and {} (got {})", lo, hi, v);
+  return static_cast<int>(v);
+}
+
+std::string text(const json& j, const Where& w) {
+  if (!j.is_string()) w.fail("expected a string, found {}", type_name(j));
+  return j.get<std::string>();
+}
+
+bool boolean(const json& j, const Where& w) {
+  if (!j.is_boolean()) w.fail("expected true or false, found {}", type_name(j));
+  return j.get<bool>();
+}
+
+const json& array(const json& j, const Where& w, std::size_t size = 0) {
+  if (!j.is_array()) w.fail("expected an array [...], found {}", type_name(j));
+  if (size && j.size() != size) w.fail("expected {} elements, found {}", size, j.size());
+  return j;
+}
+
+double length_m(const json& j, const Where& w) {
+  if (j.is_number()) return number(j, w);
+  if (!j.is_string()) w.fail("expected a length (metres, or a string such as \"5 mm\"), found {}", type_name(j));
+  try {
+    return parse_length_m(j.get<std::string>());
+  } catch (const Error& e) {
+    w.fail("{}", e.what());
+  }
+}
+
+double positive_length_m(const json& j, const Where& w) {
+  const double v = length_m(j, w);
+  if (!(v > 0.0)) w.fail("must be a positive length (got {} m)", v);
+  return v;
+}
+
+Vec3 vec3(const json& j, const Where& w) {
+  array(j, w, 3);
+  return {number(j[0], w[0]), number(j[1], w[1]), number(j[2], w[2])};
+}
+
+Vec3 length_vec3(const json& j, const Where& w) {
+  array(j, w, 3);
+  return {length_m(j[0], w[0]), length_m(j[1], w[1]), length_m(j[2], w[2])};
+}
+
+std::vector<double> numbers(const json& j, const Where& w) {
+  array(j, w);
+  std::vector<double> out;
+  for (std::size_t i = 0; i < j.size(); ++i) out.push_back(number(j[i], w[i]));
+  return out;
+}
+
+// {"wavelength_nm": [...], "value": [...]} or {"csv": "file.csv"}: the table form shared by
+// absorption, IOR, reflectance and emission data. `extra` lists the caller's other keys.
+TabulatedSpectrum table(const json& j, const Where& w, std::vector<std::string> extra, bool allow_negative = false) {
+  extra.insert(extra.end(), {"wavelength_nm", "value", "csv"});
+  expect_keys(j, w, extra);
+  if (j.contains("csv")) {
+    if (j.contains("wavelength_nm") || j.contains("value")) w.fail("give either 'csv' or 'wavelength_nm'/'value'");
+    return load_spectrum_csv(w.resolve(text(j["csv"], w / "csv")), {.allow_negative = allow_negative});
+  }
+  if (!j.contains("wavelength_nm") || !j.contains("value")) w.fail("needs 'wavelength_nm' and 'value' arrays (or 'csv')");
+  std::vector<double> nm = numbers(j["wavelength_nm"], w / "wavelength_nm");
+  std::vector<double> v = numbers(j["value"], w / "value");
+  try {
+    TabulatedSpectrum s = make_tabulated(std::move(nm), std::move(v), w.path);
+    if (!allow_negative)
+      for (double x : s.value)
+        if (x < 0.0) (w / "value").fail("values must not be negative (got {})", x);
+    return s;
+  } catch (const Error& e) {
+    bouguer::fail("{}: {}", w.file->string(), e.what());
+  }
+}
+
+// ---- spectra, media ---------------------------------------------------------------------------
+
+// Named illuminants are normalised to luminance Y = scale; tables are taken in their own units
+// times scale (normalised to Y = scale with "normalise": true).
+EmissionDesc emission(const json& j, const Where& w, bool allow_two_sided) {
+  std::vector<std::string> keys = {"spectrum", "scale", "normalise"};
+  if (allow_two_sided) keys.push_back("two_sided");
+  expect_keys(j, w, keys);
+  const double scale = j.contains("scale") ? number(j["scale"], w / "scale") : 1.0;
+  if (scale < 0.0) (w / "scale").fail("must not be negative (got {})", scale);
+  if (!j.contains("spectrum")) w.fail("needs 'spectrum' (a named illuminant such as \"D65\", or a table)");
+  const json& s = j["spectrum"];
+  EmissionDesc e;
+  if (s.is_string()) {
+    const auto spd = named_illuminant_spd(s.get<std::string>());
+    if (!spd)
+      (w / "spectrum").fail("unknown illuminant '{}' (known: {})", s.get<std::string>(), fmt::join(illuminant_names(), ", "));
+    e.radiance = normalised_to_luminance(*spd, scale);
+  } else {
+    const Spectrum t = table(s, w / "spectrum", {});
+    const bool normalise = j.contains("normalise") && boolean(j["normalise"], w / "normalise");
+    e.radiance = normalise ? normalised_to_luminance(t, scale) : scaled(t, scale);
+  }
+  if (j.contains("two_sided")) e.two_sided = boolean(j["two_sided"], w / "two_sided");
+  return e;
+}
+
+IorModel ior(const json& j, const Where& w) {
+  if (j.is_number()) {
+    const double n = number(j, w);
+    if (!(n >= 1.0 && n < 5.0)) w.fail("a refractive index must be between 1 and 5 (got {})", n);
+    return ConstantIor{n};
+  }
+  if (!j.is_object()) w.fail("expected a number or an object (sellmeier, cauchy, table)");
+  if (j.contains("sellmeier")) {
+    expect_keys(j, w, {"sellmeier"});
+    const Where ws = w / "sellmeier";
+    expect_keys(j["sellmeier"], ws, {"B", "C_um2"});
+    if (!j["sellmeier"].contains("B") || !j["sellmeier"].contains("C_um2")) ws.fail("needs 'B' and 'C_um2'");
+    SellmeierIor s{numbers(j["sellmeier"]["B"], ws / "B"), numbers(j["sellmeier"]["C_um2"], ws / "C_um2")};
+    if (s.B.empty() || s.B.size() != s.C_um2.size()) ws.fail("'B' and 'C_um2' must have the same, non-zero length");
+    for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
+      const double n = sellmeier_ior(s, nm);
+      if (!(n >= 1.0 && n < 5.0)) ws.fail("gives n = {} at {} nm; check the coefficients and units (C in µm²)", n, nm);
+    }
+    return s;
+  }
+  if (j.contains("cauchy")) {
+    expect_keys(j, w, {"cauchy"});
+    const Where wc = w / "cauchy";
+    expect_keys(j["cauchy"], wc, {"A", "B_um2", "C_um4"});
+    CauchyIor c;
+    if (!j["cauchy"].contains("A")) wc.fail("needs 'A'");
+    c.A = number(j["cauchy"]["A"], wc / "A");
+    if (j["cauchy"].contains("B_um2")) c.B_um2 = number(j["cauchy"]["B_um2"], wc / "B_um2");
+    if (j["cauchy"].contains("C_um4")) c.C_um4 = number(j["cauchy"]["C_um4"], wc / "C_um4");
+    for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0)
+      if (!(cauchy_ior(c, nm) >= 1.0)) wc.fail("gives n < 1 at {} nm", nm);
+    return c;
+  }
+  TabulatedIor t{table(j, w, {})};
+  for (double n : t.n.value)
+    if (n < 1.0) w.fail("a refractive index must be at least 1 (got {})", n);
+  return t;
+}
+
+struct Absorption {
+  Spectrum sigma_a_per_m;
+  std::optional<double> library_ior;
+};
+
+Absorption absorption(const json& j, const Where& w) {
+  if (!j.is_object()) w.fail("expected an object with 'library' or 'unit'");
+  const double concentration = j.contains("concentration") ? number(j["concentration"], w / "concentration") : 1.0;
+  if (concentration < 0.0) (w / "concentration").fail("must not be negative (got {})", concentration);
+  if (j.contains("library")) {
+    expect_keys(j, w, {"library", "concentration"});
+    const std::string name = text(j["library"], w / "library");
+    const LibraryMaterial* m = find_library_material(name);
+    if (!m) {
+      const auto near = nearest_name(name, library_material_names());
+      (w / "library").fail("unknown material '{}'{}", name,
+                           near ? fmt::format(" (did you mean '{}'?)", *near)
+                                : fmt::format(" (known: {})", fmt::join(library_material_names(), ", ")));
+    }
+    return {scaled(m->sigma_a_per_m, concentration), m->default_ior};
+  }
+  const TabulatedSpectrum values = table(j, w, {"unit", "concentration", "thickness"});
+  if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, absorbance_per_cm, internal_transmittance, "
+                                  "molar_absorptivity, extinction_coefficient) or 'library'");
+  const std::string unit_name = text(j["unit"], w / "unit");
+  const auto unit = absorption_unit_from_name(unit_name);
+  if (!unit) {
+    const std::vector<std::string> units = {"attenuation_per_m", "absorbance_per_cm", "internal_transmittance",
+                                            "molar_absorptivity", "extinction_coefficient"};
+    const auto near = nearest_name(unit_name, units);
+    (w / "unit").fail("unknown unit '{}'{}", unit_name, near ? fmt::format(" (did you mean '{}'?)", *near) : "");
+  }
+  if (*unit == AbsorptionUnit::molar_absorptivity && !j.contains("concentration"))
+    w.fail("unit 'molar_absorptivity' needs 'concentration' in mol/L");
+  std::optional<double> thickness;
+  if (j.contains("thickness")) thickness = positive_length_m(j["thickness"], w / "thickness");
+  try {
+    return {to_sigma_a_per_m(values, *unit, concentration, thickness, w.path), std::nullopt};
+  } catch (const Error& e) {
+    bouguer::fail("{}: {}", w.file->string(), e.what());
+  }
+}
+
+MediumDesc medium(const std::string& name, const json& j, const Where& w) {
+  expect_keys(j, w, {"ior", "absorption"});
+  MediumDesc m;
+  m.name = name;
+  std::optional<double> library_ior;
+  if (j.contains("absorption")) {
+    Absorption a = absorption(j["absorption"], w / "absorption");
+    m.sigma_a_per_m = std::move(a.sigma_a_per_m);
+    m.absorbing = max_value(m.sigma_a_per_m) > 0.0;
+    library_ior = a.library_ior;
+  }
+  if (j.contains("ior")) m.ior = ior(j["ior"], w / "ior");
+  else if (library_ior) m.ior = ConstantIor{*library_ior};
+  else w.fail("needs 'ior' (only library materials have a default)");
+  return m;
+}
+
+DiffuseDesc material(const json& j, const Where& w) {
+  expect_keys(j, w, {"type", "reflectance"});
+  if (!j.contains("type") || text(j["type"], w / "type") != "diffuse")
+    (w / "type").fail("the only material before the path tracer (#4) is \"diffuse\"");
+  DiffuseDesc d;
+  if (j.contains("reflectance")) {
+    const json& r = j["reflectance"];
+    d.reflectance = r.is_number() ? Spectrum(ConstantSpectrum{number(r, w / "reflectance")})
+                                  : Spectrum(table(r, w / "reflectance", {}));
+    if (max_value(d.reflectance) > 1.0 || min_value(d.reflectance) < 0.0)
+      (w / "reflectance").fail("a reflectance must lie between 0 and 1");
+  }
+  return d;
+}
+
+// ---- shapes, transforms ---------------------------------------------------------------------
+
+std::vector<std::array<double, 2>> profile(const json& j, const Where& w) {
+  array(j, w);
+  std::vector<std::array<double, 2>> p;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    array(j[i], w[i], 2);
+    p.push_back({length_m(j[i][0], w[i][0]), length_m(j[i][1], w[i][1])});
+  }
+  return p;
+}
+
+Shape shape(const json& j, const Where& w) {
+  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type'");
+  const std::string type = text(j["type"], w / "type");
+  auto get_len = [&](const char* k, double def) { return j.contains(k) ? positive_length_m(j[k], w / k) : def; };
+  auto need_len = [&](const char* k) {
+    if (!j.contains(k)) w.fail("a {} needs '{}'", type, k);
+    return positive_length_m(j[k], w / k);
+  };
+  auto get_int = [&](const char* k, int def, int lo, int hi) { return j.contains(k) ? integer(j[k], w / k, lo, hi) : def; };
+  auto get_num = [&](const char* k, double def) { return j.contains(k) ? number(j[k], w / k) : def; };
+  if (type == "quad") {
+    expect_keys(j, w, {"type", "size"});
+    if (!j.contains("size")) w.fail("a quad needs 'size' [width, height]");
+    array(j["size"], w / "size", 2);
+    return QuadShape{positive_length_m(j["size"][0], (w / "size")[0]), positive_length_m(j["size"][1], (w / "size")[1])};
+  }
+  if (type == "disk") {
+    expect_keys(j, w, {"type", "radius", "segments"});
+    return DiskShape{need_len("radius"), get_int("segments", 128, 3, 4096)};
+  }
+  if (type == "box") {
+    expect_keys(j, w, {"type", "size"});
+    if (!j.contains("size")) w.fail("a box needs 'size' [x, y, z]");
+    const Vec3 s = length_vec3(j["size"], w / "size");
+    for (int i = 0; i < 3; ++i)
+      if (!(s[i] > 0.0)) (w / "size")[i].fail("must be a positive length (got {} m)", s[i]);
+    return BoxShape{s};
+  }
+  if (type == "sphere") {
+    expect_keys(j, w, {"type", "radius", "segments"});
+    return SphereShape{need_len("radius"), get_int("segments", 96, 3, 4096)};
+  }
+  if (type == "cylinder") {
+    expect_keys(j, w, {"type", "radius", "height", "segments"});
+    return CylinderShape{need_len("radius"), need_len("height"), get_int("segments", 128, 3, 4096)};
+  }
+  if (type == "prism" || type == "pyramid") {
+    expect_keys(j, w, {"type", "sides", "radius", "height"});
+    const int sides = get_int("sides", 6, 3, 1024);
+    if (type == "prism") return PrismShape{sides, need_len("radius"), need_len("height")};
+    return PyramidShape{sides, need_len("radius"), need_len("height")};
+  }
+  if (type == "truncated_cube") {
+    expect_keys(j, w, {"type", "size", "truncation"});
+    return TruncatedCubeShape{need_len("size"), get_num("truncation", 0.29289321881345254)};
+  }
+  if (type == "brilliant") {
+    expect_keys(j, w, {"type", "diameter", "table", "crown_angle_deg", "pavilion_angle_deg", "girdle"});
+    return BrilliantShape{need_len("diameter"), get_num("table", 0.57), get_num("crown_angle_deg", 34.5),
+                          get_num("pavilion_angle_deg", 40.75), get_num("girdle", 0.03)};
+  }
+  if (type == "lathe") {
+    expect_keys(j, w, {"type", "profile", "segments"});
+    if (!j.contains("profile")) w.fail("a lathe needs 'profile' [[r, y], ...]");
+    return LatheShape{profile(j["profile"], w / "profile"), get_int("segments", 128, 3, 4096)};
+  }
+  if (type == "vessel") {
+    expect_keys(j, w, {"type", "profile", "wall", "fill", "segments"});
+    if (!j.contains("profile")) w.fail("a vessel needs 'profile' [[r, y], ...]");
+    return VesselShape{profile(j["profile"], w / "profile"), get_len("wall", 0.002), get_num("fill", 0.0),
+                       get_int("segments", 128, 3, 4096)};
+  }
+  if (type == "mesh") {
+    expect_keys(j, w, {"type", "file"});
+    if (!j.contains("file")) w.fail("a mesh needs 'file' (.obj or .ply)");
+    return MeshShape{w.resolve(text(j["file"], w / "file"))};
+  }
+  const std::vector<std::string> types = {"quad", "disk", "box", "sphere", "cylinder", "prism", "pyramid",
+                                          "truncated_cube", "brilliant", "lathe", "vessel", "mesh"};
+  const auto near = nearest_name(type, types);
+  (w / "type").fail("unknown shape '{}'{}", type,
+                    near ? fmt::format(" (did you mean '{}'?)", *near) : fmt::format(" (known: {})", fmt::join(types, ", ")));
+}
+
+Transform transform(const json& j, const Where& w) {
+  array(j, w);
+  Transform t;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const Where wi = w[i];
+    expect_keys(j[i], wi, {"scale", "rotate_deg", "translate", "matrix"});
+    if (j[i].size() != 1) wi.fail("each step has exactly one of scale, rotate_deg, translate, matrix");
+    const auto& [key, v] = *j[i].items().begin();
+    const Where wv = wi / key;
+    Transform step;
+    if (key == "scale") {
+      const Vec3 s = v.is_number() ? Vec3{1, 1, 1} * number(v, wv) : vec3(v, wv);
+      if (s.x == 0.0 || s.y == 0.0 || s.z == 0.0) wv.fail("a scale of zero collapses the shape");
+      step = Transform::scale(s);
+    } else if (key == "rotate_deg") {
+      array(v, wv, 2);
+      const Vec3 axis = vec3(v[1], wv[1]);
+      if (length(axis) == 0.0) wv[1].fail("the rotation axis must not be zero");
+      step = Transform::rotate_deg(number(v[0], wv[0]), axis);
+    } else if (key == "translate") {
+      step = Transform::translate(length_vec3(v, wv));
+    } else {
+      array(v, wv, 4);
+      for (std::size_t r = 0; r < 4; ++r) array(v[r], wv[r], 4);
+      for (std::size_t r = 0; r < 3; ++r) {
+        for (std::size_t c = 0; c < 3; ++c) step.linear.m[r][c] = number(v[r][c], wv[r][c]);
+        step.translation[r] = number(v[r][3], wv[r][3]);
+      }
+      if (number(v[3][0], wv[3]) != 0 || number(v[3][1], wv[3]) != 0 || number(v[3][2], wv[3]) != 0 ||
+          number(v[3][3], wv[3]) != 1)
+        wv[3].fail("the last row of an affine matrix must be [0, 0, 0, 1]");
+      if (step.determinant() == 0.0) wv.fail("the matrix is singular");
+    }
+    t = t.then(step);
+  }
+  return t;
+}
+
+// ---- top level ---------------------------------------------------------------------------------
+
+CameraDesc camera(const json& j, const Where& w) {
+  expect_keys(j, w, {"type", "position", "look_at", "up", "fov_deg", "width", "resolution"});
+  CameraDesc c;
+  if (j.contains("type")) {
+    const std::string t = text(j["type"], w / "type");
+    if (t == "pinhole") c.type = CameraType::pinhole;
+    else if (t == "orthographic") c.type = CameraType::orthographic;
+    else (w / "type").fail("unknown camera '{}' (pinhole, orthographic)", t);
+  }
+  if (j.contains("position")) c.position_m = length_vec3(j["position"], w / "position");
+  if (j.contains("look_at")) c.look_at_m = length_vec3(j["look_at"], w / "look_at");
+  if (j.contains("up")) c.up = vec3(j["up"], w / "up");
+  if (j.contains("fov_deg")) {
+    c.fov_deg = number(j["fov_deg"], w / "fov_deg");
+    if (!(c.fov_deg > 0.0 && c.fov_deg < 180.0)) (w / "fov_deg").fail("must be between 0 and 180 degrees");
+  }
+  if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
+  if (j.contains("resolution")) {
+    array(j["resolution"], w / "resolution", 2);
+    c.width_px = integer(j["resolution"][0], (w / "resolution")[0], 1, 16384);
+    c.height_px = integer(j["resolution"][1], (w / "resolution")[1], 1, 16384);
+  }
+  const Vec3 forward = c.look_at_m - c.position_m;
+  if (length(forward) == 0.0) w.fail("'position' and 'look_at' coincide");
+  if (length(c.up) == 0.0 || length(cross(normalize(forward), normalize(c.up))) < 1e-9)
+    (w / "up").fail("'up' must not be zero or parallel to the view direction");
+  return c;
+}
+
+RenderSettings render_settings(const json& j, const Where& w) {
+  expect_keys(j, w, {"integrator", "spectral", "spp", "max_depth", "seed"});
+  RenderSettings r;
+  if (j.contains("integrator")) {
+    const std::string i = text(j["integrator"], w / "integrator");
+    if (i != "whitted") (w / "integrator").fail("unknown integrator '{}' (available: whitted)", i);
+  }
+  if (j.contains("spectral")) {
+    const std::string s = text(j["spectral"], w / "spectral");
+    if (s == "full") r.spectral = SpectralMode::full;
+    else if (s == "rgb3") r.spectral = SpectralMode::rgb3;
+    else (w / "spectral").fail("unknown spectral mode '{}' (full, rgb3)", s);
+  }
+  if (j.contains("spp")) r.spp = integer(j["spp"], w / "spp", 1, 1 << 20);
+  if (j.contains("max_depth")) r.max_depth = integer(j["max_depth"], w / "max_depth", 1, 1000);
+  if (j.contains("seed")) r.seed = static_cast<std::uint64_t>(integer(j["seed"], w / "seed", 0, 2147483647));
+  return r;
+}
+
+ObjectDesc object(const json& j, const Where& w, std::size_t index) {
+  expect_keys(j, w, {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material"});
+  ObjectDesc o;
+  o.name = j.contains("name") ? text(j["name"], w / "name") : fmt::format("object {}", index);
+  if (!j.contains("shape")) w.fail("needs 'shape'");
+  o.shape = shape(j["shape"], w / "shape");
+  if (j.contains("transform")) o.transform = transform(j["transform"], w / "transform");
+  if (j.contains("inside")) o.inside = text(j["inside"], w / "inside");
+  if (j.contains("outside")) o.outside = text(j["outside"], w / "outside");
+  if (j.contains("contents")) o.contents = text(j["contents"], w / "contents");
+  if (j.contains("emission")) o.emission = emission(j["emission"], w / "emission", true);
+  if (j.contains("material")) o.material = material(j["material"], w / "material");
+  const int roles = int(o.inside.has_value()) + int(o.emission.has_value()) + int(o.material.has_value());
+  if (roles != 1) w.fail("give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
+  if (!o.inside && (o.outside || o.contents)) w.fail("'outside' and 'contents' belong to interfaces ('inside')");
+  const bool vessel = std::holds_alternative<VesselShape>(o.shape);
+  if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
+    w.fail("a filled vessel needs 'contents' (the liquid's medium)");
+  if (!vessel && o.contents) (w / "contents").fail("only a vessel has contents");
+  return o;
+}
+
+}  // namespace
+
+double parse_length_m(const std::string& s) {
+  std::size_t i = 0;
+  while (i < s.size() && s[i] == ' ') ++i;
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(s.data() + i, s.data() + s.size(), v);
+  if (ec != std::errc()) fail("'{}' is not a length (write e.g. \"5 mm\")", s);
+  std::string unit(ptr, s.data() + s.size());
+  unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
+  static const std::vector<std::pair<std::string, double>> units = {
+      {"nm", 1e-9}, {"um", 1e-6}, {"µm", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}, {"km", 1e3}};
+  for (const auto& [name, factor] : units)
+    if (unit == name) {
+      if (!std::isfinite(v)) fail("'{}' is not a finite length", s);
+      return v * factor;
+    }
+  fail("'{}': unknown length unit '{}' (nm, um, mm, cm, m, km)", s, unit);
+}
+
+SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
+  json root;
+  try {
+    root = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    // Turn the byte offset into line and column.
+    const std::size_t at = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, json_text.size());
+    const auto line = 1 + std::count(json_text.begin(), json_text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+    const auto nl = json_text.rfind('\n', at == 0 ? 0 : at - 1);
+    const auto column = nl == std::string::npos ? at + 1 : at - nl;
+    std::string why = e.what();
+    if (const auto p = why.find("parse error"); p != std::string::npos) why = why.substr(p);
+    fail("{}:{}:{}: malformed JSON: {}", path.string(), line, column, why);
+  }
+  const Where top{&path, ""};
+  expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "background"});
+  SceneDesc s;
+  s.file = path;
+  s.media["vacuum"] = {"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false};
+  s.media["air"] = {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false};
+  if (root.contains("camera")) s.camera = camera(root["camera"], top / "camera");
+  if (root.contains("render")) s.render = render_settings(root["render"], top / "render");
+  if (root.contains("world_medium")) s.world_medium = text(root["world_medium"], top / "world_medium");
+  if (root.contains("media")) {
+    const Where wm = top / "media";
+    if (!root["media"].is_object()) wm.fail("expected an object of named media");
+    for (const auto& [name, m] : root["media"].items()) {
+      if (name == "vacuum" || name == "air") (wm / name).fail("'{}' is predefined; choose another name", name);
+      s.media[name] = medium(name, m, wm / name);
+    }
+  }
+  if (!root.contains("objects")) top.fail("needs 'objects'");
+  const Where wo = top / "objects";
+  array(root["objects"], wo);
+  for (std::size_t i = 0; i < root["objects"].size(); ++i) s.objects.push_back(object(root["objects"][i], wo[i], i));
+  if (root.contains("background")) s.background = emission(root["background"], top / "background", false);
+  // Every medium named by an object must exist.
+  std::vector<std::string> names;
+  for (const auto& [name, m] : s.media) names.push_back(name);
+  auto check = [&](const std::string& name, const Where& w) {
+    if (s.media.contains(name)) return;
+    const auto near = nearest_name(name, names);
+    w.fail("unknown medium '{}'{}", name, near ? fmt::format(" (did you mean '{}'?)", *near)
+                                               : fmt::format(" (defined: {})", fmt::join(names, ", ")));
+  };
+  check(s.world_medium, top / "world_medium");
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    const ObjectDesc& o = s.objects[i];
+    if (o.inside) check(*o.inside, wo[i] / "inside");
+    if (o.outside) check(*o.outside, wo[i] / "outside");
+    if (o.contents) check(*o.contents, wo[i] / "contents");
+  }
+  return s;
+}
+
+SceneDesc load_scene(const fs::path& path) { return parse_scene(read_text_file(path), path); }
+
+}  // namespace bouguer
