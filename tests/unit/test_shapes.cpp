@@ -1,0 +1,142 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "bouguer/core/error.h"
+#include "bouguer/geometry/ray_scene.h"
+#include "bouguer/geometry/shapes.h"
+#include "bouguer/geometry/transform.h"
+#include "support/test_support.h"
+
+namespace bouguer {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Mesh single(const Shape& s) {
+  auto parts = make_shape(s, "test");
+  EXPECT_EQ(parts.size(), 1u);
+  return parts.front().mesh;
+}
+
+void expect_closed_with_volume(const Shape& s, double volume, double rel_tol, const char* what) {
+  const Mesh m = single(s);
+  EXPECT_EQ(closed_surface_problem(m), std::nullopt) << what;
+  EXPECT_NEAR(signed_volume(m) / volume, 1.0, rel_tol) << what;
+}
+
+TEST(Shapes, ClosedShapesHaveTheirVolumes) {
+  expect_closed_with_volume(BoxShape{{0.01, 0.004, 0.01}}, 4e-7, 1e-9, "box");
+  const double hex_area = 1.5 * std::sqrt(3.0) * 0.02 * 0.02;
+  expect_closed_with_volume(PyramidShape{6, 0.02, 0.012}, hex_area * 0.012 / 3.0, 1e-9, "pyramid");
+  expect_closed_with_volume(PrismShape{6, 0.02, 0.012}, hex_area * 0.012, 1e-9, "prism");
+  const double t = 0.29289321881345254;
+  expect_closed_with_volume(TruncatedCubeShape{0.01, t}, 1e-6 * (1.0 - 8.0 * t * t * t / 6.0), 1e-9, "truncated cube");
+  // Tessellated curved shapes: volume within the polygonal approximation's error.
+  expect_closed_with_volume(SphereShape{0.01, 256}, 4.0 / 3.0 * kPi * 1e-6, 1e-3, "sphere");
+  expect_closed_with_volume(CylinderShape{0.01, 0.02, 256}, kPi * 1e-4 * 0.02, 1e-3, "cylinder");
+  expect_closed_with_volume(LatheShape{{{0, 0}, {0.01, 0}, {0.01, 0.02}, {0, 0.02}}, 256}, kPi * 1e-4 * 0.02, 1e-3,
+                            "lathe");
+}
+
+TEST(Shapes, BrilliantIsAClosedGemWithManyFacets) {
+  const Mesh m = single(BrilliantShape{});
+  EXPECT_EQ(closed_surface_problem(m), std::nullopt);
+  EXPECT_GT(signed_volume(m), 0.0);
+  // Table on top at the expected height, pointed culet below.
+  double top = -1, bottom = 1;
+  for (const Vec3& p : m.positions) top = std::max(top, p.y), bottom = std::min(bottom, p.y);
+  const double r = 0.005, g = 0.03 * 0.01 / 2;
+  EXPECT_NEAR(top, g + (r - 0.57 * r) * std::tan(34.5 * kPi / 180.0), 1e-9);
+  EXPECT_NEAR(bottom, -g - r * std::tan(40.75 * kPi / 180.0), 2e-5);
+  EXPECT_GT(m.triangles.size(), 100u);
+}
+
+// A straight-walled cup: the glass shell and the liquid are both closed, and the liquid fills
+// the given fraction of the inner height.
+TEST(Shapes, VesselYieldsAClosedShellAndAClosedLiquid) {
+  const VesselShape cup{{{0, 0}, {0.03, 0}, {0.03, 0.1}}, 0.002, 0.5, 128};
+  const auto parts = make_shape(cup, "cup");
+  ASSERT_EQ(parts.size(), 4u);
+  Mesh shell, liquid;
+  for (const auto& p : parts) {
+    if (p.behind == Side::object) append(shell, p.mesh);
+    if (p.behind == Side::contents) append(liquid, p.mesh);
+    if (p.in_front == Side::contents) append(liquid, flipped(p.mesh));
+  }
+  shell = welded(shell, 1e-12);
+  liquid = welded(liquid, 1e-12);
+  EXPECT_EQ(closed_surface_problem(shell), std::nullopt);
+  EXPECT_EQ(closed_surface_problem(liquid), std::nullopt);
+  const double inner_r = 0.028, inner_h = 0.1 - 0.002;
+  EXPECT_NEAR(signed_volume(liquid) / (kPi * inner_r * inner_r * inner_h * 0.5), 1.0, 1e-3);
+  const double outer = kPi * 0.03 * 0.03 * 0.1, inner = kPi * inner_r * inner_r * inner_h;
+  EXPECT_NEAR(signed_volume(shell) / (outer - inner), 1.0, 1e-3);
+}
+
+TEST(Shapes, ImpossibleParametersAreRefused) {
+  EXPECT_THROW(make_shape(BoxShape{{0.01, -0.004, 0.01}}, "t"), Error);
+  EXPECT_THROW(make_shape(PyramidShape{2, 0.02, 0.01}, "t"), Error);
+  EXPECT_THROW(make_shape(TruncatedCubeShape{0.01, 0.6}, "t"), Error);
+  EXPECT_THROW(make_shape(VesselShape{{{0, 0}, {0.001, 0}, {0.001, 0.1}}, 0.002, 0.5, 64}, "t"), Error);
+  EXPECT_THROW(make_shape(MeshShape{"/nonexistent.obj"}, "t"), Error);
+}
+
+TEST(Shapes, ClosednessCheckFindsOpenFlippedAndInwardMeshes) {
+  Mesh box = single(BoxShape{{1, 1, 1}});
+  Mesh open = box;
+  open.triangles.pop_back();
+  EXPECT_NE(closed_surface_problem(open)->find("open"), std::string::npos);
+  Mesh one_flipped = box;
+  std::swap(one_flipped.triangles[0][1], one_flipped.triangles[0][2]);
+  EXPECT_NE(closed_surface_problem(one_flipped), std::nullopt);
+  EXPECT_NE(closed_surface_problem(flipped(box))->find("inward"), std::string::npos);
+}
+
+TEST(Shapes, ObjAndPlyMeshesLoad) {
+  const auto dir = test::scratch_dir("meshes");
+  // A tetrahedron, outward faces.
+  test::write_file(dir / "tet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  test::write_file(dir / "tet.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                   "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                   "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  for (const char* f : {"tet.obj", "tet.ply"}) {
+    const Mesh m = single(MeshShape{dir / f});
+    EXPECT_EQ(closed_surface_problem(m), std::nullopt) << f;
+    EXPECT_NEAR(signed_volume(m), 1.0 / 6.0, 1e-9) << f;
+  }
+  test::write_file(dir / "bad.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n");
+  EXPECT_THROW(make_shape(MeshShape{dir / "bad.ply"}, "t"), Error);
+}
+
+TEST(Shapes, MirroringTransformKeepsFacesOutward) {
+  const Mesh m = transformed(single(PyramidShape{5, 1, 1}), Transform::scale({-1, 1, 1}));
+  EXPECT_EQ(closed_surface_problem(m), std::nullopt);
+}
+
+// Rays through a 0.1 mm sliver of glass and across a 10 m room: every crossing is found, none twice.
+TEST(RayScene, ThinSliversAndLargeScenesWithoutLeaksOrAcne) {
+  RayScene scene;
+  scene.add(single(BoxShape{{0.01, 0.0001, 0.01}}));                                            // sliver at origin
+  scene.add(transformed(single(BoxShape{{10, 10, 10}}), Transform::translate({0, 0, 0})));  // room around it
+  scene.commit();
+  for (int i = 0; i < 200; ++i) {
+    const double a = 0.002 * i / 200.0;
+    Ray ray{{a, 1.0, -a}, normalize(Vec3{0.001 * i / 200.0, -1.0, 0.0005})};
+    int crossings = 0;
+    double travelled = 0.0;
+    while (auto hit = scene.intersect(ray)) {
+      travelled += hit->t;
+      ++crossings;
+      ray.origin = offset_ray_origin(*hit, ray.direction);
+      if (crossings > 10) break;
+    }
+    EXPECT_EQ(crossings, 3) << "ray " << i;  // sliver top, sliver bottom, room floor
+    EXPECT_NEAR(travelled, 6.0, 1e-3);
+  }
+}
+
+}  // namespace
+}  // namespace bouguer
