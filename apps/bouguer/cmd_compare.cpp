@@ -14,7 +14,7 @@ namespace bouguer::cli {
 namespace {
 
 struct CompareCli {
-  std::string a, b, heatmap;
+  std::string a, b, heatmap, montage;
   double heatmap_max = 10.0;
   bool json = false;
 };
@@ -22,7 +22,11 @@ struct CompareCli {
 int run_compare(const CompareCli& o) {
   const Film a = read_image(o.a), b = read_image(o.b);
   const ImageDifference d = compare_images(a, b);
-  if (!o.heatmap.empty()) write_png(o.heatmap, delta_e_heatmap(d, o.heatmap_max));
+  if (!o.heatmap.empty() || !o.montage.empty()) {
+    const Film heat = delta_e_heatmap(d, o.heatmap_max);
+    if (!o.heatmap.empty()) write_png(o.heatmap, heat);
+    if (!o.montage.empty()) write_png(o.montage, side_by_side({&a, &b, &heat}, 8));
+  }
   if (o.json) {
     const nlohmann::json j = {{"mean", d.mean}, {"median", d.median}, {"p95", d.p95}, {"max", d.max},
                               {"rmse", d.rmse}, {"pixels", d.delta_e.size()}};
@@ -42,6 +46,7 @@ Command add_compare_command(CLI::App& parent) {
   app->add_option("A", o->a, "First image (.exr or .pfm, linear Rec.709)")->required();
   app->add_option("B", o->b, "Second image, same size")->required();
   app->add_option("--heatmap", o->heatmap, "Write a PNG of the per-pixel difference");
+  app->add_option("--montage", o->montage, "Write a PNG of A, B and the heat map side by side");
   app->add_option("--heatmap-max", o->heatmap_max, "ΔE00 shown at the top of the heat-map scale")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

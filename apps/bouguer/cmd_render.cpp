@@ -1,5 +1,6 @@
 // bouguer render SCENE: load -> compile -> render -> write.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -19,7 +20,8 @@ namespace bouguer::cli {
 namespace {
 
 struct RenderCli {
-  std::string scene, output = "render.png", spectral_exr, stats_json, integrator, spectral, resolution;
+  std::vector<std::string> outputs = {"render.png"};
+  std::string scene, spectral_exr, stats_json, integrator, spectral, resolution;
   int spp = 0, threads = 0, max_depth = 0;
   long long seed = -1;
   bool quiet = false;
@@ -83,7 +85,7 @@ int run_render(const RenderCli& o) {
   options.progress = [&progress](double f) { progress.update(f); };
   RenderStats stats;
   const Film film = render(scene, options, stats);
-  write_image(o.output, film);
+  for (const auto& output : o.outputs) write_image(output, film);
   if (!o.spectral_exr.empty()) write_spectral_exr(o.spectral_exr, film);
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
   if (!o.stats_json.empty()) {
@@ -104,7 +106,7 @@ int run_render(const RenderCli& o) {
   if (!o.quiet)
     fmt::print("{}: {}x{}, {} spp, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
                scene.render.spp, scene.render.spectral == SpectralMode::full ? "full" : "rgb3", stats.seconds,
-               stats.rays, rays_per_second, o.output);
+               stats.rays, rays_per_second, fmt::join(o.outputs, ", "));
   return 0;
 }
 
@@ -114,7 +116,8 @@ Command add_render_command(CLI::App& parent) {
   auto o = std::make_shared<RenderCli>();
   CLI::App* app = parent.add_subcommand("render", "Render a scene file (JSON, see docs/scene-format.md).");
   app->add_option("SCENE", o->scene, "Scene file")->required();
-  app->add_option("-o,--output", o->output, "Image to write: .png (sRGB 8-bit), .exr or .pfm (linear float)")
+  app->add_option("-o,--output", o->outputs,
+                  "Image(s) to write: .png (sRGB 8-bit), .exr or .pfm (linear float); repeat for several")
       ->capture_default_str();
   app->add_option("--spectral-exr", o->spectral_exr, "Also write a spectral EXR (JCGT layout; --spectral full)");
   app->add_option("--spp", o->spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));

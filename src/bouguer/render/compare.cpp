@@ -62,4 +62,20 @@ Film delta_e_heatmap(const ImageDifference& d, double max_delta_e) {
   return film;
 }
 
+Film side_by_side(const std::vector<const Film*>& images, int gap_px) {
+  int width = 0;
+  for (const Film* f : images) width += f->width;
+  width += gap_px * static_cast<int>(images.size() - 1);
+  Film out(width, images.front()->height);
+  std::fill(out.rgb.begin(), out.rgb.end(), 1.0f);
+  int x0 = 0;
+  for (const Film* f : images) {
+    if (f->height != out.height) fail("side by side: images differ in height ({} and {})", f->height, out.height);
+    for (int y = 0; y < f->height; ++y)
+      for (int x = 0; x < f->width; ++x) out.set_rgb(x0 + x, y, f->rgb_at(x, y));
+    x0 += f->width + gap_px;
+  }
+  return out;
+}
+
 }  // namespace bouguer

@@ -19,4 +19,7 @@ ImageDifference compare_images(const Film& a, const Film& b);
 // ΔE00 from 0 (black) through blue, green, yellow, red to white at `max_delta_e` and above.
 Film delta_e_heatmap(const ImageDifference& d, double max_delta_e);
 
+// Images of equal height placed left to right with `gap_px` white columns between them.
+Film side_by_side(const std::vector<const Film*>& images, int gap_px);
+
 }  // namespace bouguer
