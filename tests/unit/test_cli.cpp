@@ -69,12 +69,12 @@ TEST(Cli, MalformedSpectrumGivesOneLine) {
   const auto dir = test::scratch_dir("cli_bad_csv");
   const struct {
     const char* name;
-    const char* text;
+    std::string text;
   } cases[] = {{"nonmono.csv", "wavelength_nm,v\n500,1\n400,1\n"},
                {"nan.csv", "wavelength_nm,v\n400,nan\n"},
                {"neg.csv", "wavelength_nm,v\n400,-1\n"},
                {"empty.csv", ""},
-               {"binary.csv", std::string("\x89PNG\r\n\x1a\n\0\0", 10).c_str()}};
+               {"binary.csv", std::string("\x89PNG\r\n\x1a\n\0\0", 10)}};
   for (const auto& c : cases) {
     test::write_file(dir / c.name, c.text);
     const auto r = run_bouguer({"color", (dir / c.name).string()});

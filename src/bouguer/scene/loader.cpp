@@ -371,7 +371,9 @@ Transform transform(const json& j, const Where& w) {
     const Where wi = w[i];
     expect_keys(j[i], wi, {"scale", "rotate_deg", "translate", "matrix"});
     if (j[i].size() != 1) wi.fail("each step has exactly one of scale, rotate_deg, translate, matrix");
-    const auto& [key, v] = *j[i].items().begin();
+    const auto step_it = j[i].begin();  // the step's one key (items() would dangle here)
+    const std::string key = step_it.key();
+    const json& v = step_it.value();
     const Where wv = wi / key;
     Transform step;
     if (key == "scale") {
