@@ -1,0 +1,154 @@
+#include "bouguer/materials/bsdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "bouguer/materials/fresnel.h"
+
+namespace bouguer {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+bool same_hemisphere(const Vec3& a, const Vec3& b) { return a.z * b.z > 0.0; }
+
+// Both directions mirrored to put wo in the upper hemisphere, with the indices that go with it.
+struct Oriented {
+  Vec3 wo, wi;
+  double eta_o, eta_i;  // index on wo's side, and on the other side
+};
+
+Oriented orient(const RoughDielectricBsdf& b, const Vec3& wo, const Vec3& wi) {
+  if (wo.z > 0.0) return {wo, wi, b.eta_outside, b.eta_inside};
+  return {-wo, -wi, b.eta_inside, b.eta_outside};
+}
+
+// The generalized half vector of a transmission (Walter et al. eq. 16), facing +z; nullopt when
+// either direction sees the microfacet from behind.
+std::optional<Vec3> transmission_half_vector(const Oriented& o) {
+  Vec3 wm = o.wo * o.eta_o + o.wi * o.eta_i;
+  if (length(wm) == 0.0) return std::nullopt;
+  wm = normalize(wm);
+  if (wm.z < 0.0) wm = -wm;
+  if (dot(wm, o.wo) <= 0.0 || dot(wm, o.wi) >= 0.0) return std::nullopt;
+  return wm;
+}
+
+}  // namespace
+
+Vec3 sample_cosine_hemisphere(double u1, double u2) {
+  const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
+  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1))};
+}
+
+// ---- diffuse -----------------------------------------------------------------------------------
+
+double DiffuseBsdf::eval(const Vec3& wo, const Vec3& wi) const {
+  return same_hemisphere(wo, wi) ? std::abs(wi.z) / kPi : 0.0;
+}
+
+double DiffuseBsdf::pdf(const Vec3& wo, const Vec3& wi) const { return eval(wo, wi); }
+
+std::optional<BsdfSample> DiffuseBsdf::sample(const Vec3& wo, double u1, double u2) const {
+  if (wo.z == 0.0) return std::nullopt;
+  Vec3 wi = sample_cosine_hemisphere(u1, u2);
+  if (wo.z < 0.0) wi.z = -wi.z;
+  if (wi.z == 0.0) return std::nullopt;
+  return BsdfSample{wi, std::abs(wi.z) / kPi, 1.0, false};
+}
+
+// ---- conductor ---------------------------------------------------------------------------------
+
+double ConductorBsdf::eval(const Vec3& wo, const Vec3& wi) const {
+  if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+  const Vec3 wm = normalize(wo + wi);
+  return ggx.D(wm) * ggx.G(wo, wi) / (4.0 * wo.z);
+}
+
+double ConductorBsdf::pdf(const Vec3& wo, const Vec3& wi) const {
+  if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+  const Vec3 wm = normalize(wo + wi);
+  return ggx.D_visible(wo, wm) / (4.0 * dot(wo, wm));
+}
+
+std::optional<BsdfSample> ConductorBsdf::sample(const Vec3& wo, double u1, double u2) const {
+  if (wo.z <= 0.0) return std::nullopt;
+  const Vec3 wm = ggx.sample_visible_normal(wo, u1, u2);
+  const Vec3 wi = reflect(wo, wm);
+  if (wi.z <= 0.0) return std::nullopt;
+  const double p = pdf(wo, wi);
+  if (!(p > 0.0)) return std::nullopt;
+  return BsdfSample{wi, p, eval(wo, wi) / p, false};
+}
+
+// ---- rough dielectric --------------------------------------------------------------------------
+
+double RoughDielectricBsdf::eval(const Vec3& wo_in, const Vec3& wi_in) const {
+  if (wo_in.z == 0.0 || wi_in.z == 0.0) return 0.0;
+  const Oriented o = orient(*this, wo_in, wi_in);
+  if (o.wi.z > 0.0) {
+    const Vec3 wm = normalize(o.wo + o.wi);
+    const double f = fresnel_dielectric(dot(o.wo, wm), o.eta_o, o.eta_i);
+    return f * ggx.D(wm) * ggx.G(o.wo, o.wi) / (4.0 * o.wo.z);
+  }
+  const auto wm = transmission_half_vector(o);
+  if (!wm) return 0.0;
+  const double cos_om = dot(o.wo, *wm), cos_im = dot(o.wi, *wm);
+  const double t = 1.0 - fresnel_dielectric(cos_om, o.eta_o, o.eta_i);
+  const double denom = o.eta_i * cos_im + o.eta_o * cos_om;
+  return t * ggx.D(*wm) * ggx.G(o.wo, o.wi) * std::abs(cos_im * cos_om) * o.eta_i * o.eta_i /
+         (o.wo.z * denom * denom);
+}
+
+double RoughDielectricBsdf::pdf(const Vec3& wo_in, const Vec3& wi_in) const {
+  if (wo_in.z == 0.0 || wi_in.z == 0.0) return 0.0;
+  const Oriented o = orient(*this, wo_in, wi_in);
+  if (o.wi.z > 0.0) {
+    const Vec3 wm = normalize(o.wo + o.wi);
+    const double f = fresnel_dielectric(dot(o.wo, wm), o.eta_o, o.eta_i);
+    return f * ggx.D_visible(o.wo, wm) / (4.0 * dot(o.wo, wm));
+  }
+  const auto wm = transmission_half_vector(o);
+  if (!wm) return 0.0;
+  const double cos_om = dot(o.wo, *wm), cos_im = dot(o.wi, *wm);
+  const double t = 1.0 - fresnel_dielectric(cos_om, o.eta_o, o.eta_i);
+  const double denom = o.eta_i * cos_im + o.eta_o * cos_om;
+  return t * ggx.D_visible(o.wo, *wm) * o.eta_i * o.eta_i * std::abs(cos_im) / (denom * denom);
+}
+
+std::optional<BsdfSample> RoughDielectricBsdf::sample(const Vec3& wo_in, double uc, double u1, double u2) const {
+  if (wo_in.z == 0.0) return std::nullopt;
+  const bool flip = wo_in.z < 0.0;
+  const Vec3 wo = flip ? -wo_in : wo_in;
+  const double eta_o = flip ? eta_inside : eta_outside, eta_i = flip ? eta_outside : eta_inside;
+  const Vec3 wm = ggx.sample_visible_normal(wo, u1, u2);
+  const double f = fresnel_dielectric(dot(wo, wm), eta_o, eta_i);
+  Vec3 wi;
+  bool transmitted = false;
+  if (uc < f) {
+    wi = reflect(wo, wm);
+    if (wi.z <= 0.0) return std::nullopt;
+  } else {
+    const auto t = refract(wo, wm, eta_o, eta_i);
+    if (!t || t->z >= 0.0) return std::nullopt;
+    wi = *t;
+    transmitted = true;
+  }
+  if (flip) wi = -wi;
+  const double p = pdf(wo_in, wi);
+  if (!(p > 0.0)) return std::nullopt;
+  return BsdfSample{wi, p, eval(wo_in, wi) / p, transmitted};
+}
+
+double fresnel_conductor(double cos_theta_i, double eta_i, std::complex<double> n_t) {
+  const std::complex<double> eta = n_t / eta_i;
+  const double ci = std::clamp(cos_theta_i, 0.0, 1.0);
+  const std::complex<double> sin2_t = (1.0 - ci * ci) / (eta * eta);
+  const std::complex<double> ct = std::sqrt(1.0 - sin2_t);
+  const std::complex<double> r_parl = (eta * ci - ct) / (eta * ci + ct);
+  const std::complex<double> r_perp = (ci - eta * ct) / (ci + eta * ct);
+  return 0.5 * (std::norm(r_parl) + std::norm(r_perp));
+}
+
+}  // namespace bouguer
