@@ -4,7 +4,9 @@
 // recursion into both the reflected and the refracted ray; every segment inside a medium is
 // attenuated by exp(−σ_a(λ)·l). Emitters are seen directly. Diffuse surfaces take direct light from
 // emitters by shadow rays; a shadow ray that meets any other surface, glass included, is blocked
-// (light through glass is the path tracer's job, #4).
+// (light through glass is the path tracer's job). Smooth conductors reflect like mirrors with their
+// spectral Fresnel reflectance; rough conductors take direct light only, like diffuse surfaces.
+// Rough dielectric interfaces need the path tracer.
 // A branch stops at max_depth or when its weight (the largest throughput over wavelengths from the
 // camera) falls below kMinPathWeight: the light it could still add is below 1e-4 of what an
 // unattenuated path would.
@@ -12,27 +14,12 @@
 
 #include "bouguer/geometry/ray_scene.h"
 #include "bouguer/render/rng.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/render/spectral_scene.h"
 #include "bouguer/scene/compile.h"
 
 namespace bouguer {
 
 inline constexpr float kMinPathWeight = 1e-4f;
-
-// Per-render spectral data: every spectrum of the scene sampled once for the chosen mode.
-template <std::size_t N>
-struct SpectralScene {
-  SpectralBasis<N> basis;
-  std::vector<SampledSpectrum<N>> sigma_a_per_m;  // per medium
-  std::vector<bool> absorbing;
-  std::vector<double> ior;                        // per medium, at kReferenceWavelengthNm
-  std::vector<SampledSpectrum<N>> emission;       // per emission
-  std::vector<SampledSpectrum<N>> reflectance;    // per diffuse material
-  SampledSpectrum<N> background;
-};
-
-template <std::size_t N>
-SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBasis<N>& basis);
 
 template <std::size_t N>
 class WhittedIntegrator {
@@ -44,10 +31,12 @@ class WhittedIntegrator {
                               std::uint64_t& rays) const;
 
  private:
-  SampledSpectrum<N> segment_transmittance(int medium, double length_m) const;
   SampledSpectrum<N> interface(const Ray& ray, const Hit& hit, const Surface& surface, int depth, float weight,
                                Rng& rng, std::uint64_t& rays) const;
-  SampledSpectrum<N> direct_light(const Hit& hit, const Vec3& wo, int medium, Rng& rng, std::uint64_t& rays) const;
+  SampledSpectrum<N> opaque(const Ray& ray, const Hit& hit, const Surface& surface, int medium, int depth,
+                            float weight, Rng& rng, std::uint64_t& rays) const;
+  SampledSpectrum<N> direct_light(const Hit& hit, const Vec3& wo, int medium, const SampledMaterial<N>& material,
+                                  Rng& rng, std::uint64_t& rays) const;
 
   const RenderScene& scene_;
   const SpectralScene<N>& s_;

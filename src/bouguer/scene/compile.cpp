@@ -53,6 +53,7 @@ RenderScene compile(const SceneDesc& desc) {
     for (ShapePart& p : parts) p.mesh = transformed(std::move(p.mesh), o.transform);
     Surface base;
     base.object = o.name;
+    base.roughness = o.roughness;
     if (o.inside) {
       if (!shape_is_closed(o.shape))
         fail("{}: object '{}': a flat shape cannot bound medium '{}'; use it as an emitter or a material, or use a "
@@ -64,7 +65,7 @@ RenderScene compile(const SceneDesc& desc) {
       base.emission = static_cast<int>(s.emissions.size());
       s.emissions.push_back(*o.emission);
     } else {
-      base.kind = SurfaceKind::diffuse;
+      base.kind = SurfaceKind::opaque;
       base.material = static_cast<int>(s.materials.size());
       s.materials.push_back(*o.material);
     }

@@ -11,14 +11,15 @@
 
 namespace bouguer {
 
-enum class SurfaceKind { interface, emitter, diffuse };
+enum class SurfaceKind { interface, emitter, opaque };
 
 struct Surface {
   SurfaceKind kind = SurfaceKind::interface;
   int medium_behind = -1;  // index into RenderScene::media, on the side opposite the normal
   int medium_front = -1;   // on the side the normal points to
   int emission = -1;       // index into emissions (emitters)
-  int material = -1;       // index into materials (diffuse surfaces)
+  int material = -1;       // index into materials (opaque surfaces)
+  double roughness = 0.0;  // interfaces: GGX alpha (0: smooth)
   std::string object;      // for messages
 };
 
@@ -36,7 +37,7 @@ struct RenderScene {
   std::vector<MediumDesc> media;
   int world_medium = 0;
   std::vector<EmissionDesc> emissions;
-  std::vector<DiffuseDesc> materials;
+  std::vector<MaterialDesc> materials;
   EmissionDesc background;
   std::vector<EmissiveTriangle> lights;
   std::vector<double> light_cdf;  // cumulative area fractions, last = 1

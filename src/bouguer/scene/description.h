@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "bouguer/geometry/shapes.h"
@@ -18,7 +19,7 @@ namespace bouguer {
 
 enum class CameraType { pinhole, orthographic };
 enum class SpectralMode { full, rgb3 };
-enum class IntegratorType { whitted };
+enum class IntegratorType { whitted, path };
 
 struct CameraDesc {
   CameraType type = CameraType::pinhole;
@@ -56,6 +57,15 @@ struct DiffuseDesc {
   Spectrum reflectance = ConstantSpectrum{0.5};
 };
 
+// A metal: complex refractive index n + ik (spectral), GGX roughness alpha (0: a mirror).
+struct ConductorDesc {
+  Spectrum n = ConstantSpectrum{0.2};
+  Spectrum k = ConstantSpectrum{3.0};
+  double roughness = 0.0;
+};
+
+using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc>;
+
 struct ObjectDesc {
   std::string name;
   Shape shape;
@@ -63,7 +73,8 @@ struct ObjectDesc {
   // Exactly one of: an interface (inside set), an emitter, a diffuse surface.
   std::optional<std::string> inside, outside, contents;
   std::optional<EmissionDesc> emission;
-  std::optional<DiffuseDesc> material;
+  std::optional<MaterialDesc> material;
+  double roughness = 0.0;  // interfaces: GGX alpha of the dielectric boundary (0: smooth)
 };
 
 struct SceneDesc {

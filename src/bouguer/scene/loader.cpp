@@ -263,19 +263,40 @@ MediumDesc medium(const std::string& name, const json& j, const Where& w) {
   return m;
 }
 
-DiffuseDesc material(const json& j, const Where& w) {
-  expect_keys(j, w, {"type", "reflectance"});
-  if (!j.contains("type") || text(j["type"], w / "type") != "diffuse")
-    (w / "type").fail("the only material before the path tracer (#4) is \"diffuse\"");
-  DiffuseDesc d;
-  if (j.contains("reflectance")) {
-    const json& r = j["reflectance"];
-    d.reflectance = r.is_number() ? Spectrum(ConstantSpectrum{number(r, w / "reflectance")})
-                                  : Spectrum(table(r, w / "reflectance", {}));
-    if (max_value(d.reflectance) > 1.0 || min_value(d.reflectance) < 0.0)
-      (w / "reflectance").fail("a reflectance must lie between 0 and 1");
+Spectrum spectral_value(const json& j, const Where& w) {
+  if (j.is_number()) return ConstantSpectrum{number(j, w)};
+  return table(j, w, {});
+}
+
+double roughness(const json& j, const Where& w) {
+  const double a = number(j, w);
+  if (!(a >= 0.0 && a <= 1.0)) w.fail("a GGX roughness (alpha) must be between 0 and 1 (got {})", a);
+  return a;
+}
+
+MaterialDesc material(const json& j, const Where& w) {
+  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type' (diffuse or conductor)");
+  const std::string type = text(j["type"], w / "type");
+  if (type == "diffuse") {
+    expect_keys(j, w, {"type", "reflectance"});
+    DiffuseDesc d;
+    if (j.contains("reflectance")) {
+      d.reflectance = spectral_value(j["reflectance"], w / "reflectance");
+      if (max_value(d.reflectance) > 1.0 || min_value(d.reflectance) < 0.0)
+        (w / "reflectance").fail("a reflectance must lie between 0 and 1");
+    }
+    return d;
   }
-  return d;
+  if (type == "conductor") {
+    expect_keys(j, w, {"type", "n", "k", "roughness"});
+    if (!j.contains("n") || !j.contains("k")) w.fail("a conductor needs 'n' and 'k' (numbers or tables)");
+    ConductorDesc c{spectral_value(j["n"], w / "n"), spectral_value(j["k"], w / "k"), 0.0};
+    if (min_value(c.n) <= 0.0) (w / "n").fail("must be positive");
+    if (min_value(c.k) < 0.0) (w / "k").fail("must not be negative");
+    if (j.contains("roughness")) c.roughness = roughness(j["roughness"], w / "roughness");
+    return c;
+  }
+  (w / "type").fail("unknown material '{}' (diffuse, conductor)", type);
 }
 
 // ---- shapes, transforms ---------------------------------------------------------------------
@@ -440,7 +461,9 @@ RenderSettings render_settings(const json& j, const Where& w) {
   RenderSettings r;
   if (j.contains("integrator")) {
     const std::string i = text(j["integrator"], w / "integrator");
-    if (i != "whitted") (w / "integrator").fail("unknown integrator '{}' (available: whitted)", i);
+    if (i == "whitted") r.integrator = IntegratorType::whitted;
+    else if (i == "path") r.integrator = IntegratorType::path;
+    else (w / "integrator").fail("unknown integrator '{}' (whitted, path)", i);
   }
   if (j.contains("spectral")) {
     const std::string s = text(j["spectral"], w / "spectral");
@@ -455,7 +478,8 @@ RenderSettings render_settings(const json& j, const Where& w) {
 }
 
 ObjectDesc object(const json& j, const Where& w, std::size_t index) {
-  expect_keys(j, w, {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material"});
+  expect_keys(j, w,
+              {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material", "roughness"});
   ObjectDesc o;
   o.name = j.contains("name") ? text(j["name"], w / "name") : fmt::format("object {}", index);
   if (!j.contains("shape")) w.fail("needs 'shape'");
@@ -468,7 +492,9 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   if (j.contains("material")) o.material = material(j["material"], w / "material");
   const int roles = int(o.inside.has_value()) + int(o.emission.has_value()) + int(o.material.has_value());
   if (roles != 1) w.fail("give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
-  if (!o.inside && (o.outside || o.contents)) w.fail("'outside' and 'contents' belong to interfaces ('inside')");
+  if (!o.inside && (o.outside || o.contents || j.contains("roughness")))
+    w.fail("'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
+  if (j.contains("roughness")) o.roughness = roughness(j["roughness"], w / "roughness");
   const bool vessel = std::holds_alternative<VesselShape>(o.shape);
   if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
     w.fail("a filled vessel needs 'contents' (the liquid's medium)");

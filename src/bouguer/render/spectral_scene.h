@@ -1,0 +1,54 @@
+#pragma once
+// Every spectrum of a compiled scene sampled once for the chosen spectral mode, and the light
+// sampling both integrators share.
+#include <optional>
+#include <vector>
+
+#include "bouguer/render/rng.h"
+#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/scene/compile.h"
+
+namespace bouguer {
+
+template <std::size_t N>
+struct SampledMaterial {
+  bool conductor = false;
+  SampledSpectrum<N> reflectance;  // diffuse
+  SampledSpectrum<N> n, k;         // conductor
+  double alpha = 0.0;              // conductor roughness
+};
+
+template <std::size_t N>
+struct SpectralScene {
+  SpectralBasis<N> basis;
+  std::vector<SampledSpectrum<N>> sigma_a_per_m;  // per medium
+  std::vector<bool> absorbing;
+  std::vector<double> ior;                        // per medium, at kReferenceWavelengthNm
+  std::vector<SampledSpectrum<N>> emission;       // per emission
+  std::vector<SampledMaterial<N>> materials;      // per opaque material
+  SampledSpectrum<N> background;
+
+  SampledSpectrum<N> transmittance(int medium, double length_m) const {
+    if (medium < 0 || !absorbing[medium]) return SampledSpectrum<N>::constant(1.0f);
+    return beer_lambert_transmittance(sigma_a_per_m[medium], static_cast<float>(length_m));
+  }
+};
+
+template <std::size_t N>
+SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBasis<N>& basis);
+
+// Fresnel reflectance of a conductor for each wavelength.
+template <std::size_t N>
+SampledSpectrum<N> conductor_fresnel(double cos_theta_i, double eta_i, const SampledMaterial<N>& m);
+
+// A point on the emitters, uniform by area.
+struct LightSample {
+  Vec3 point, normal;  // unit geometric normal of the emitting triangle
+  std::uint32_t geometry = 0;
+};
+std::optional<LightSample> sample_emitter_point(const RenderScene& scene, Rng& rng);
+
+// Solid-angle density of reaching an emitter point by sample_emitter_point from `from`.
+double emitter_pdf_solid_angle(const RenderScene& scene, const Vec3& from, const Vec3& point, const Vec3& normal);
+
+}  // namespace bouguer
