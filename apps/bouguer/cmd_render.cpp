@@ -59,6 +59,7 @@ class Progress {
 };
 
 void apply_overrides(const RenderCli& o, SceneDesc& s) {
+  if (!o.integrator.empty()) s.render.integrator = o.integrator == "path" ? IntegratorType::path : IntegratorType::whitted;
   if (!o.spectral.empty()) s.render.spectral = o.spectral == "rgb3" ? SpectralMode::rgb3 : SpectralMode::full;
   if (o.spp > 0) s.render.spp = o.spp;
   if (o.max_depth > 0) s.render.max_depth = o.max_depth;
@@ -121,7 +122,8 @@ Command add_render_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--spectral-exr", o->spectral_exr, "Also write a spectral EXR (JCGT layout; --spectral full)");
   app->add_option("--spp", o->spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
-  app->add_option("--integrator", o->integrator, "Integrator")->check(CLI::IsMember({"whitted"}));
+  app->add_option("--integrator", o->integrator, "whitted (the paper's ray tracer) or path (unbiased path tracing)")
+      ->check(CLI::IsMember({"whitted", "path"}));
   app->add_option("--spectral", o->spectral, "Wavelengths carried: full (48 bins) or rgb3 (the paper's RGB)")
       ->check(CLI::IsMember({"full", "rgb3"}));
   app->add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT (overrides the scene)");

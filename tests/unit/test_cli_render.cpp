@@ -78,7 +78,7 @@ TEST(CliCompare, ZeroForIdenticalImagesAndPositiveForTheRgbApproach) {
 TEST(CliRender, BadOverridesAreRefused) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"render", kExample, "--resolution", "80by60"},
-        {"render", kExample, "--spectral", "rgb"}, {"render", kExample, "--integrator", "path"},
+        {"render", kExample, "--spectral", "rgb"}, {"render", kExample, "--integrator", "bidirectional"},
         {"render", kExample, "--threads", "-1"}}) {
     const auto r = test::run_bouguer(args);
     EXPECT_NE(r.exit_code, 0) << args[2];

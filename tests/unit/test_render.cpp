@@ -6,6 +6,7 @@
 
 #include "bouguer/materials/fresnel.h"
 #include "bouguer/media/library.h"
+#include "bouguer/render/compare.h"
 #include "bouguer/render/render.h"
 #include "bouguer/render/spectral_sampling.h"
 #include "bouguer/scene/compile.h"
@@ -14,14 +15,16 @@
 
 namespace bouguer {
 namespace {
+namespace fs = std::filesystem;
 
 // A slab of thickness d (10 cm square, n = 1.5, red glass or a probe absorber) in vacuum, seen
 // straight down by an orthographic camera, lit from below by a D65 panel.
-std::string slab_scene(double thickness_mm, const std::string& absorption, const char* spectral) {
+std::string slab_scene(double thickness_mm, const std::string& absorption, const char* spectral,
+                       const char* integrator = "whitted", int spp = 1, int resolution = 4) {
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0.5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
-                "width": "20 mm", "resolution": [4, 4]}},
-    "render": {{"spectral": "{}", "spp": 1, "max_depth": 64}},
+                "width": "20 mm", "resolution": [{}, {}]}},
+    "render": {{"integrator": "{}", "spectral": "{}", "spp": {}, "max_depth": 64}},
     "world_medium": "vacuum",
     "media": {{"glass": {{"ior": 1.5, "absorption": {}}}}},
     "objects": [
@@ -31,7 +34,7 @@ std::string slab_scene(double thickness_mm, const std::string& absorption, const
         "emission": {{"spectrum": "D65", "scale": 1.0}}}}
     ]
   }})",
-                     spectral, absorption, thickness_mm);
+                     resolution, resolution, integrator, spectral, spp, absorption, thickness_mm);
 }
 
 Film render_text(const std::string& json, int threads = 1) {
@@ -107,6 +110,117 @@ TEST(Render, ThreadCountDoesNotChangeTheImage) {
   double sum = 0;
   for (float v : one.rgb) sum += v;
   EXPECT_GT(sum, 0.0);
+}
+
+// The path tracer picks reflection or refraction at random at each interface, so a pixel is a
+// mean of Bernoulli-like outcomes. Averaged over 64×64 pixels × 16 samples, the standard error of
+// the mean is below 0.1 %; the test allows 0.5 %, the issue's tolerance, which is > 5 σ.
+TEST(PathTracer, BacklitSlabMatchesTheClosedForm) {
+  const Spectrum red = find_library_material("red-glass")->sigma_a_per_m;
+  for (const double mm : {2.0, 8.0}) {
+    for (const char* mode : {"full", "rgb3"}) {
+      const Film film = render_text(slab_scene(mm, R"({"library": "red-glass"})", mode, "path", 16, 64), 2);
+      Vec3 mean;
+      for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) {
+          const Vec3f c = film.rgb_at(x, y);
+          mean += Vec3{c.x, c.y, c.z} / double(film.width * film.height);
+        }
+      const Vec3 expected = std::string(mode) == "full" ? slab_closed_form(make_full_basis(), red, mm * 1e-3)
+                                                        : slab_closed_form(make_rgb3_basis(), red, mm * 1e-3);
+      expect_within_half_percent({float(mean.x), float(mean.y), float(mean.z)}, expected,
+                                 fmt::format("path {} {} mm", mode, mm));
+    }
+  }
+}
+
+// White furnace: a closed, clear dielectric (n = 1.5) in a uniform environment of radiance 1.
+// Smooth: every path ends on the background with weight 1, so the image is uniform to 0.5 %.
+// Rough (GGX alpha 0.1): the single-scattering microfacet model loses the energy of light that
+// would scatter more than once between microfacets (about 3 % here, most at grazing angles);
+// the test checks that no energy is created and records the loss. Multiple-scattering
+// compensation is still to do for issue #4.
+double furnace_ratio(double roughness) {
+  const std::string scene = fmt::format(R"({{
+    "camera": {{"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [24, 24]}},
+    "render": {{"integrator": "path", "spp": 256, "max_depth": 200}},
+    "world_medium": "vacuum",
+    "media": {{"glass": {{"ior": 1.5}}}},
+    "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "20 mm"}}, "inside": "glass",
+                  "roughness": {}}}],
+    "background": {{"spectrum": "E", "scale": 1.0}}
+  }})",
+                                        roughness);
+  const Film film = render_text(scene, 2);
+  double sum = 0.0;
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) sum += film.rgb_at(x, y).y;
+  // E in linear sRGB is not exactly grey: compare with the background seen directly.
+  const auto basis = make_full_basis();
+  const double background = basis.to_linear_srgb(basis.emission(ConstantSpectrum{1.0})).y;
+  return sum / (film.width * film.height) / background;
+}
+
+TEST(PathTracer, WhiteFurnaceSmoothDielectric) { EXPECT_NEAR(furnace_ratio(0.0), 1.0, 0.005); }
+
+TEST(PathTracer, WhiteFurnaceRoughDielectricCreatesNoEnergy) {
+  const double ratio = furnace_ratio(0.1);
+  RecordProperty("rough_furnace_ratio", std::to_string(ratio));
+  std::printf("rough (alpha 0.1) furnace: %.4f of the background\n", ratio);
+  EXPECT_LE(ratio, 1.0 + 1e-3);
+  EXPECT_GT(ratio, 0.95);
+}
+
+// The paper's scenes hold only specular transport and directly seen emitters: the path tracer and
+// the Whitted tracer converge to the same image.
+TEST(PathTracer, ConvergesToWhittedOnThePapersScenes) {
+  for (const char* name : {"pyramid-red-glass", "pyramid-light-blue-glass", "truncated-cube-red-glass"}) {
+    SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (std::string(name) + ".json"));
+    desc.camera.width_px = desc.camera.height_px = 40;
+    desc.render.spp = 4096;
+    RenderStats stats;
+    RenderOptions options;
+    const Film whitted = render(compile(desc), options, stats);
+    desc.render.integrator = IntegratorType::path;
+    const Film path = render(compile(desc), options, stats);
+    const ImageDifference d = compare_images(whitted, path);
+    std::printf("%s: path vs whitted, mean ΔE00 %.3f, p95 %.3f\n", name, d.mean, d.p95);
+    EXPECT_LT(d.mean, 0.3) << name;
+  }
+}
+
+// Light through glass reaches a diffuse floor only along BSDF-sampled paths: under a red glass
+// block the path tracer shows a red shadow, where the Whitted tracer's shadow rays are blocked.
+TEST(PathTracer, ColouredShadowBehindRedGlass) {
+  auto scene = [](const char* integrator) {
+    return fmt::format(R"({{
+      "camera": {{"type": "orthographic", "position": [0, 0.3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                  "width": "10 mm", "resolution": [8, 8]}},
+      "render": {{"integrator": "{}", "spp": 256}},
+      "media": {{"glass": {{"ior": 1.5, "absorption": {{"library": "red-glass"}}}}}},
+      "objects": [
+        {{"name": "block", "shape": {{"type": "box", "size": ["60 mm", "3 mm", "60 mm"]}}, "inside": "glass",
+          "transform": [{{"translate": [0, "20 mm", 0]}}]}},
+        {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
+          "material": {{"type": "diffuse", "reflectance": 0.8}}}}
+      ],
+      "background": {{"spectrum": "D65", "scale": 1.0}}
+    }})",
+                       integrator);
+  };
+  // The camera looks through the block at the floor beneath it. Both see the sky reflected by the
+  // block's faces (partly through the red glass); only the path tracer sees the floor lit through it.
+  const Vec3f path = render_text(scene("path")).rgb_at(4, 4);
+  const Vec3f whitted = render_text(scene("whitted")).rgb_at(4, 4);
+  std::printf("under red glass: path (%.3f %.3f %.3f), whitted (%.3f %.3f %.3f)\n", path.x, path.y, path.z, whitted.x,
+              whitted.y, whitted.z);
+  EXPECT_GT(path.x, 3.0f * whitted.x);        // red light through the glass onto the floor
+  EXPECT_LT(path.y - whitted.y, 0.01f);       // green absorbed by the glass
+}
+
+TEST(PathTracer, ThreadCountDoesNotChangeTheImage) {
+  const std::string scene = slab_scene(4.0, R"({"library": "light-blue-glass"})", "full", "path", 8, 16);
+  EXPECT_EQ(render_text(scene, 1).rgb, render_text(scene, 2).rgb);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/render/camera.h"
+#include "bouguer/render/path.h"
 #include "bouguer/render/whitted.h"
 
 namespace bouguer {
@@ -32,7 +33,13 @@ template <std::size_t N>
 void render_tiles(const RenderScene& scene, const SpectralBasis<N>& basis, const RenderOptions& options, Film& film,
                   RenderStats& stats) {
   const SpectralScene<N> spectral = make_spectral_scene(scene, basis);
-  const WhittedIntegrator<N> integrator(scene, spectral);
+  const WhittedIntegrator<N> whitted(scene, spectral);
+  const PathIntegrator<N> path(scene, spectral);
+  const bool use_path = scene.render.integrator == IntegratorType::path;
+  auto radiance = [&](const Ray& ray, Rng& rng, std::uint64_t& rays) {
+    return use_path ? path.radiance(ray, scene.world_medium, rng, rays)
+                    : whitted.radiance(ray, scene.world_medium, 0, 1.0f, rng, rays);
+  };
   const Camera camera(scene.camera);
   const int w = film.width, h = film.height, spp = scene.render.spp;
   const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
@@ -49,7 +56,7 @@ void render_tiles(const RenderScene& scene, const SpectralBasis<N>& basis, const
         SampledSpectrum<N> sum;
         for (int s = 0; s < spp; ++s) {
           const auto [u, v] = subpixel(s, spp, rng);
-          sum += integrator.radiance(camera.generate_ray(x + u, y + v), scene.world_medium, 0, 1.0f, rng, ray_count);
+          sum += radiance(camera.generate_ray(x + u, y + v), rng, ray_count);
         }
         const SampledSpectrum<N> mean = sum / static_cast<float>(spp);
         const Vec3 rgb = basis.to_linear_srgb(mean);
@@ -76,6 +83,11 @@ void render_tiles(const RenderScene& scene, const SpectralBasis<N>& basis, const
 Film render(const RenderScene& scene, const RenderOptions& options, RenderStats& stats) {
   const auto start = std::chrono::steady_clock::now();
   const bool full = scene.render.spectral == SpectralMode::full;
+  if (scene.render.integrator == IntegratorType::whitted)
+    for (const Surface& surface : scene.surfaces)
+      if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0)
+        fail("{}: object '{}': a rough interface needs the path tracer (--integrator path)", scene.file.string(),
+             surface.object);
   if (options.keep_spectra && !full) fail("spectral output needs --spectral full (rgb3 carries R, G, B, not spectra)");
   std::vector<double> wavelengths;
   if (options.keep_spectra) {
