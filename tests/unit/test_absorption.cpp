@@ -5,6 +5,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior.h"
+#include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
 
 namespace bouguer {
@@ -56,6 +57,29 @@ TEST(Ior, SellmeierMatchesBk7Catalogue) {
   EXPECT_NEAR(sellmeier_ior(bk7, 486.13), 1.5224, 1e-4);
   EXPECT_NEAR(cauchy_ior({1.5, 0.004, 0.0}, 500.0), 1.5 + 0.004 / 0.25, 1e-12);
   EXPECT_EQ(ior_at(ConstantIor{1.33}, 400.0), 1.33);
+}
+
+// n_d (587.56 nm) from the built-in dispersion data against catalogue and handbook values
+// (SCHOTT data sheets; refractiveindex.info as checked in shared/data/refractiveindex.info/SOURCE.txt).
+TEST(Ior, LibraryMatchesCatalogueValues) {
+  const std::pair<const char*, double> expected[] = {{"N-BK7", 1.51680}, {"F2", 1.62004},   {"N-SF11", 1.78472},
+                                                     {"fused-silica", 1.45846}, {"water", 1.33340}, {"diamond", 2.41749}};
+  for (const auto& [name, n_d] : expected) {
+    const IorLibraryEntry* e = find_ior_material(name);
+    ASSERT_NE(e, nullptr) << name;
+    EXPECT_NEAR(sellmeier_ior(e->sellmeier, 587.56), n_d, 2e-5) << name;
+    EXPECT_FALSE(e->citation.empty());
+    // Normal dispersion: n falls with wavelength across the visible.
+    EXPECT_GT(sellmeier_ior(e->sellmeier, 400.0), sellmeier_ior(e->sellmeier, 700.0)) << name;
+  }
+}
+
+// The Abbe form reproduces n_d and the Abbe number it was built from.
+TEST(Ior, AbbeFormReproducesItsDefinition) {
+  const CauchyIor c = cauchy_from_abbe(2.417, 55.3);
+  const double nd = cauchy_ior(c, 587.56), nf = cauchy_ior(c, 486.13), nc = cauchy_ior(c, 656.27);
+  EXPECT_NEAR(nd, 2.417, 1e-9);
+  EXPECT_NEAR((nd - 1.0) / (nf - nc), 55.3, 1e-6);
 }
 
 // Every library entry loads, is finite and non-negative over the domain, and names its source.

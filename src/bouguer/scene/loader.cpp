@@ -12,6 +12,7 @@
 #include "bouguer/io/csv.h"
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/media/absorption.h"
+#include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
 #include "bouguer/spectra/cie.h"
 
@@ -170,7 +171,29 @@ IorModel ior(const json& j, const Where& w) {
     if (!(n >= 1.0 && n < 5.0)) w.fail("a refractive index must be between 1 and 5 (got {})", n);
     return ConstantIor{n};
   }
-  if (!j.is_object()) w.fail("expected a number or an object (sellmeier, cauchy, table)");
+  if (!j.is_object()) w.fail("expected a number or an object (library, sellmeier, cauchy, abbe, table)");
+  if (j.contains("library")) {
+    expect_keys(j, w, {"library"});
+    const std::string name = text(j["library"], w / "library");
+    const IorLibraryEntry* e = find_ior_material(name);
+    if (!e) {
+      const auto near = nearest_name(name, ior_material_names());
+      (w / "library").fail("unknown dispersion data '{}'{}", name,
+                           near ? fmt::format(" (did you mean '{}'?)", *near)
+                                : fmt::format(" (known: {})", fmt::join(ior_material_names(), ", ")));
+    }
+    return e->sellmeier;
+  }
+  if (j.contains("abbe")) {
+    expect_keys(j, w, {"abbe"});
+    const Where wa = w / "abbe";
+    expect_keys(j["abbe"], wa, {"n_d", "V_d"});
+    if (!j["abbe"].contains("n_d") || !j["abbe"].contains("V_d")) wa.fail("needs 'n_d' and 'V_d'");
+    const double n_d = number(j["abbe"]["n_d"], wa / "n_d"), v_d = number(j["abbe"]["V_d"], wa / "V_d");
+    if (!(n_d >= 1.0 && n_d < 5.0)) (wa / "n_d").fail("must be between 1 and 5");
+    if (!(v_d >= 5.0 && v_d <= 200.0)) (wa / "V_d").fail("an Abbe number must be between 5 and 200");
+    return cauchy_from_abbe(n_d, v_d);
+  }
   if (j.contains("sellmeier")) {
     expect_keys(j, w, {"sellmeier"});
     const Where ws = w / "sellmeier";
