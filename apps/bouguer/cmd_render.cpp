@@ -58,9 +58,14 @@ class Progress {
   std::mutex mutex_;
 };
 
+const char* mode_name(SpectralMode m) {
+  return m == SpectralMode::full ? "full" : m == SpectralMode::hero ? "hero" : "rgb3";
+}
+
 void apply_overrides(const RenderCli& o, SceneDesc& s) {
   if (!o.integrator.empty()) s.render.integrator = o.integrator == "path" ? IntegratorType::path : IntegratorType::whitted;
-  if (!o.spectral.empty()) s.render.spectral = o.spectral == "rgb3" ? SpectralMode::rgb3 : SpectralMode::full;
+  if (!o.spectral.empty())
+    s.render.spectral = o.spectral == "rgb3" ? SpectralMode::rgb3 : o.spectral == "hero" ? SpectralMode::hero : SpectralMode::full;
   if (o.spp > 0) s.render.spp = o.spp;
   if (o.max_depth > 0) s.render.max_depth = o.max_depth;
   if (o.seed >= 0) s.render.seed = static_cast<std::uint64_t>(o.seed);
@@ -95,7 +100,7 @@ int run_render(const RenderCli& o) {
                               {"rays_per_second", rays_per_second},
                               {"spp", scene.render.spp},
                               {"resolution", {film.width, film.height}},
-                              {"spectral", scene.render.spectral == SpectralMode::full ? "full" : "rgb3"},
+                              {"spectral", mode_name(scene.render.spectral)},
                               {"threads", o.threads}};
     write_atomically(o.stats_json, [&](const std::filesystem::path& temp) {
       std::FILE* f = std::fopen(temp.c_str(), "w");
@@ -106,7 +111,7 @@ int run_render(const RenderCli& o) {
   }
   if (!o.quiet)
     fmt::print("{}: {}x{}, {} spp, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
-               scene.render.spp, scene.render.spectral == SpectralMode::full ? "full" : "rgb3", stats.seconds,
+               scene.render.spp, mode_name(scene.render.spectral), stats.seconds,
                stats.rays, rays_per_second, fmt::join(o.outputs, ", "));
   return 0;
 }
@@ -124,8 +129,9 @@ Command add_render_command(CLI::App& parent) {
   app->add_option("--spp", o->spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
   app->add_option("--integrator", o->integrator, "whitted (the paper's ray tracer) or path (unbiased path tracing)")
       ->check(CLI::IsMember({"whitted", "path"}));
-  app->add_option("--spectral", o->spectral, "Wavelengths carried: full (48 bins) or rgb3 (the paper's RGB)")
-      ->check(CLI::IsMember({"full", "rgb3"}));
+  app->add_option("--spectral", o->spectral,
+                  "Wavelengths carried: full (48 bins), hero (4 sampled per path) or rgb3 (the paper's RGB)")
+      ->check(CLI::IsMember({"full", "hero", "rgb3"}));
   app->add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT (overrides the scene)");
   app->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   app->add_option("--seed", o->seed, "Random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));

@@ -19,10 +19,12 @@ constexpr int kRouletteDepth = 4;
 }  // namespace
 
 template <std::size_t N>
-SampledSpectrum<N> PathIntegrator<N>::radiance(Ray ray, int medium, Rng& rng, std::uint64_t& rays) const {
+SampledSpectrum<N> PathIntegrator<N>::radiance(Ray ray, int medium, double wavelength_u, Rng& rng,
+                                               std::uint64_t& rays) const {
   SampledSpectrum<N> l, beta = SampledSpectrum<N>::constant(1.0f);
   double prev_pdf = 0.0;  // 0: the last event was specular (or the camera)
   Vec3 prev_point = ray.origin;
+  int single = -1;  // the one wavelength left after a dispersive interface
   for (int depth = 0;; ++depth) {
     ++rays;
     const auto hit = scene_.rays.intersect(ray);
@@ -44,7 +46,17 @@ SampledSpectrum<N> PathIntegrator<N>::radiance(Ray ray, int medium, Rng& rng, st
       break;
     }
     if (depth >= scene_.render.max_depth) break;
-    const auto next = scatter(ray, *hit, surface, medium, rng, l, beta, rays);
+    if (surface.kind == SurfaceKind::interface && single < 0 && N > 1 &&
+        (s_.dispersive[surface.medium_front] || s_.dispersive[surface.medium_behind])) {
+      single = std::min(static_cast<int>(wavelength_u * N), static_cast<int>(N) - 1);
+      const auto& bin = s_.basis.bin_nm[single];
+      single_nm_ = bin.empty() ? s_.basis.wavelength_nm[single]
+                               : bin.front() - 0.5 + rng.next_double() * static_cast<double>(bin.size());
+      const float kept = beta[single] * static_cast<float>(N);
+      beta = SampledSpectrum<N>{};
+      beta[single] = kept;
+    }
+    const auto next = scatter(ray, *hit, surface, medium, single, rng, l, beta, rays);
     if (!next) break;
     beta *= next->weight;
     medium = next->medium;
@@ -64,7 +76,8 @@ SampledSpectrum<N> PathIntegrator<N>::radiance(Ray ray, int medium, Rng& rng, st
 // One scattering event: adds next-event estimation to `light` (weighted by beta) and returns the
 // sampled continuation, or nullopt when the path ends.
 template <std::size_t N>
-auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& surface, int medium, Rng& rng,
+auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& surface, int medium, int single,
+                                Rng& rng,
                                 SampledSpectrum<N>& light, const SampledSpectrum<N>& beta, std::uint64_t& rays) const
     -> std::optional<Scatter> {
   const Vec3 wo = -ray.direction;
@@ -72,9 +85,10 @@ auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& s
     const bool from_front = dot(wo, hit.normal) > 0.0;
     const int other = from_front ? surface.medium_behind : surface.medium_front;
     const Vec3 n = from_front ? hit.normal : -hit.normal;
-    const double f = fresnel_dielectric(std::min(1.0, dot(wo, n)), s_.ior[medium], s_.ior[other]);
+    const double eta_i = eta(medium, single), eta_t = eta(other, single);
+    const double f = fresnel_dielectric(std::min(1.0, dot(wo, n)), eta_i, eta_t);
     if (rng.next_double() < f) return Scatter{reflect(wo, n), SampledSpectrum<N>::constant(1.0f), 0.0, medium};
-    const auto t = refract(wo, n, s_.ior[medium], s_.ior[other]);
+    const auto t = refract(wo, n, eta_i, eta_t);
     if (!t) return std::nullopt;  // cannot happen: F = 1 under total internal reflection
     return Scatter{*t, SampledSpectrum<N>::constant(1.0f), 0.0, other};
   }
@@ -82,11 +96,11 @@ auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& s
     const SampledMaterial<N>& m = s_.materials[surface.material];
     const Vec3 n = dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal;  // two-sided
     if (m.conductor && m.alpha == 0.0) {
-      const auto f = conductor_fresnel(std::min(1.0, dot(wo, n)), s_.ior[medium], m);
+      const auto f = conductor_fresnel(std::min(1.0, dot(wo, n)), eta(medium, single), m);
       return Scatter{reflect(wo, n), f, 0.0, medium};
     }
     const Frame frame(n);
-    light += beta * next_event(hit, wo, frame, medium, medium, surface, rng, rays);
+    light += beta * next_event(hit, wo, frame, medium, medium, surface, single, rng, rays);
     const Vec3 wo_local = frame.to_local(wo);
     const double u1 = rng.next_double(), u2 = rng.next_double();
     const auto s = m.conductor ? ConductorBsdf{{m.alpha}}.sample(wo_local, u1, u2) : DiffuseBsdf{}.sample(wo_local, u1, u2);
@@ -94,14 +108,15 @@ auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& s
     const Vec3 wi = frame.to_world(s->wi);
     SampledSpectrum<N> weight = m.reflectance * static_cast<float>(s->weight);
     if (m.conductor)
-      weight = conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), s_.ior[medium], m) *
+      weight = conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), eta(medium, single), m) *
                static_cast<float>(s->weight);
     return Scatter{wi, weight, s->pdf, medium};
   }
   // A rough dielectric interface: the local +z is the surface normal, the "front" medium's side.
   const Frame frame(hit.normal);
-  light += beta * next_event(hit, wo, frame, surface.medium_behind, surface.medium_front, surface, rng, rays);
-  const RoughDielectricBsdf bsdf{{surface.roughness}, s_.ior[surface.medium_front], s_.ior[surface.medium_behind]};
+  light += beta * next_event(hit, wo, frame, surface.medium_behind, surface.medium_front, surface, single, rng, rays);
+  const RoughDielectricBsdf bsdf{
+      {surface.roughness}, eta(surface.medium_front, single), eta(surface.medium_behind, single)};
   const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
   const auto s = bsdf.sample(frame.to_local(wo), uc, u1, u2);
   if (!s) return std::nullopt;
@@ -113,10 +128,11 @@ auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& s
 // f·|cos θi| of a non-specular surface for world directions, and the BSDF's own sampling density.
 template <std::size_t N>
 SampledSpectrum<N> PathIntegrator<N>::eval_bsdf(const Surface& surface, const Frame& frame, const Vec3& wo,
-                                                const Vec3& wi, int medium, double& pdf) const {
+                                                const Vec3& wi, int medium, int single, double& pdf) const {
   const Vec3 lo = frame.to_local(wo), li = frame.to_local(wi);
   if (surface.kind == SurfaceKind::interface) {
-    const RoughDielectricBsdf bsdf{{surface.roughness}, s_.ior[surface.medium_front], s_.ior[surface.medium_behind]};
+    const RoughDielectricBsdf bsdf{
+        {surface.roughness}, eta(surface.medium_front, single), eta(surface.medium_behind, single)};
     pdf = bsdf.pdf(lo, li);
     return SampledSpectrum<N>::constant(static_cast<float>(bsdf.eval(lo, li)));
   }
@@ -124,7 +140,7 @@ SampledSpectrum<N> PathIntegrator<N>::eval_bsdf(const Surface& surface, const Fr
   if (m.conductor) {
     const ConductorBsdf bsdf{{m.alpha}};
     pdf = bsdf.pdf(lo, li);
-    return conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), s_.ior[medium], m) *
+    return conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), eta(medium, single), m) *
            static_cast<float>(bsdf.eval(lo, li));
   }
   pdf = DiffuseBsdf{}.pdf(lo, li);
@@ -135,7 +151,7 @@ SampledSpectrum<N> PathIntegrator<N>::eval_bsdf(const Surface& surface, const Fr
 template <std::size_t N>
 SampledSpectrum<N> PathIntegrator<N>::next_event(const Hit& hit, const Vec3& wo, const Frame& frame,
                                                  int medium_behind, int medium_front, const Surface& surface,
-                                                 Rng& rng, std::uint64_t& rays) const {
+                                                 int single, Rng& rng, std::uint64_t& rays) const {
   const auto light = sample_emitter_point(scene_, rng);
   if (!light) return {};
   const Vec3 to_light = light->point - hit.point;
@@ -146,7 +162,7 @@ SampledSpectrum<N> PathIntegrator<N>::next_event(const Hit& hit, const Vec3& wo,
   if (dot(wi, light->normal) >= 0.0 && !scene_.emissions[emission].two_sided) return {};
   const int medium = dot(wi, frame.n) > 0.0 ? medium_front : medium_behind;
   double bsdf_pdf = 0.0;
-  const SampledSpectrum<N> f = eval_bsdf(surface, frame, wo, wi, medium, bsdf_pdf);
+  const SampledSpectrum<N> f = eval_bsdf(surface, frame, wo, wi, medium, single, bsdf_pdf);
   if (f.is_zero()) return {};
   const Vec3 origin = offset_ray_origin(hit, wi);
   ++rays;
@@ -158,5 +174,6 @@ SampledSpectrum<N> PathIntegrator<N>::next_event(const Hit& hit, const Vec3& wo,
 
 template class PathIntegrator<kFullBins>;
 template class PathIntegrator<3>;
+template class PathIntegrator<kHeroCount>;
 
 }  // namespace bouguer

@@ -9,11 +9,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 
 #include "bouguer/core/error.h"
 #include "bouguer/render/camera.h"
 #include "bouguer/render/path.h"
 #include "bouguer/render/whitted.h"
+#include "bouguer/spectra/color_space.h"
 
 namespace bouguer {
 namespace {
@@ -29,45 +31,25 @@ std::array<double, 2> subpixel(int s, int spp, Rng& rng) {
   return {jx, jy};
 }
 
-template <std::size_t N>
-void render_tiles(const RenderScene& scene, const SpectralBasis<N>& basis, const RenderOptions& options, Film& film,
-                  RenderStats& stats) {
-  const SpectralScene<N> spectral = make_spectral_scene(scene, basis);
-  const WhittedIntegrator<N> whitted(scene, spectral);
-  const PathIntegrator<N> path(scene, spectral);
-  const bool use_path = scene.render.integrator == IntegratorType::path;
-  auto radiance = [&](const Ray& ray, Rng& rng, std::uint64_t& rays) {
-    return use_path ? path.radiance(ray, scene.world_medium, rng, rays)
-                    : whitted.radiance(ray, scene.world_medium, 0, 1.0f, rng, rays);
-  };
-  const Camera camera(scene.camera);
-  const int w = film.width, h = film.height, spp = scene.render.spp;
+// Runs pixel(x, y, rng, rays) for every pixel, tiles in parallel, each pixel with its own stream.
+template <typename PixelFn>
+void for_each_pixel(const RenderScene& scene, const RenderOptions& options, int w, int h, RenderStats& stats,
+                    PixelFn pixel) {
   const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
   const int tiles = tiles_x * tiles_y;
   std::atomic<int> done{0};
   tbb::combinable<std::uint64_t> rays([] { return std::uint64_t{0}; });
-
   auto render_tile = [&](int tile) {
     std::uint64_t& ray_count = rays.local();
     const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
     for (int y = y0; y < std::min(y0 + kTileSize, h); ++y)
       for (int x = x0; x < std::min(x0 + kTileSize, w); ++x) {
         Rng rng(scene.render.seed, static_cast<std::uint64_t>(y) * w + x);
-        SampledSpectrum<N> sum;
-        for (int s = 0; s < spp; ++s) {
-          const auto [u, v] = subpixel(s, spp, rng);
-          sum += radiance(camera.generate_ray(x + u, y + v), rng, ray_count);
-        }
-        const SampledSpectrum<N> mean = sum / static_cast<float>(spp);
-        const Vec3 rgb = basis.to_linear_srgb(mean);
-        film.set_rgb(x, y, {static_cast<float>(rgb.x), static_cast<float>(rgb.y), static_cast<float>(rgb.z)});
-        if (film.has_spectra())
-          std::copy(mean.v.begin(), mean.v.end(), film.spectrum_at(x, y).begin());
+        pixel(x, y, rng, ray_count);
       }
     const int finished = ++done;
     if (options.progress) options.progress(static_cast<double>(finished) / tiles);
   };
-
   const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
@@ -78,11 +60,72 @@ void render_tiles(const RenderScene& scene, const SpectralBasis<N>& basis, const
   stats.rays = rays.combine(std::plus<>());
 }
 
+template <std::size_t N>
+SampledSpectrum<N> trace(const RenderScene& scene, const SpectralScene<N>& spectral, const Ray& ray,
+                         double wavelength_u, Rng& rng, std::uint64_t& rays) {
+  if (scene.render.integrator == IntegratorType::path)
+    return PathIntegrator<N>(scene, spectral).radiance(ray, scene.world_medium, wavelength_u, rng, rays);
+  return WhittedIntegrator<N>(scene, spectral).radiance(ray, scene.world_medium, 0, 1.0f, rng, rays);
+}
+
+void set_pixel(Film& film, int x, int y, const Vec3& rgb) {
+  film.set_rgb(x, y, {static_cast<float>(rgb.x), static_cast<float>(rgb.y), static_cast<float>(rgb.z)});
+}
+
+// full and rgb3: the same wavelengths for every sample; the film may keep the mean spectrum.
+template <std::size_t N>
+void render_fixed(const RenderScene& scene, const SpectralBasis<N>& basis, const RenderOptions& options, Film& film,
+                  RenderStats& stats) {
+  const SpectralScene<N> spectral = make_spectral_scene(scene, basis);
+  const Camera camera(scene.camera);
+  const int spp = scene.render.spp;
+  for_each_pixel(scene, options, film.width, film.height, stats, [&](int x, int y, Rng& rng, std::uint64_t& rays) {
+    SampledSpectrum<N> sum;
+    // The wavelength kept at a dispersive interface is stratified over the pixel's samples, in an
+    // order shuffled per pixel so that it is independent of the sub-pixel position (which is
+    // stratified by the sample index too): otherwise each wavelength would see a different part
+    // of the pixel, a bias at every edge.
+    const double offset = rng.next_double();
+    std::vector<int> order(spp);
+    std::iota(order.begin(), order.end(), 0);
+    for (int i = spp - 1; i > 0; --i) std::swap(order[i], order[rng.next_u32() % static_cast<std::uint32_t>(i + 1)]);
+    for (int s = 0; s < spp; ++s) {
+      const auto [u, v] = subpixel(s, spp, rng);
+      const double wavelength_u = (order[s] + offset) / spp;
+      sum += trace(scene, spectral, camera.generate_ray(x + u, y + v), wavelength_u, rng, rays);
+    }
+    const SampledSpectrum<N> mean = sum / static_cast<float>(spp);
+    set_pixel(film, x, y, basis.to_linear_srgb(mean));
+    if (film.has_spectra()) std::copy(mean.v.begin(), mean.v.end(), film.spectrum_at(x, y).begin());
+  });
+}
+
+// hero: new wavelengths for every sample, each sample turned into XYZ at once.
+void render_hero(const RenderScene& scene, const RenderOptions& options, Film& film, RenderStats& stats) {
+  const SpectralTables tables = make_spectral_tables(scene);
+  const Camera camera(scene.camera);
+  const int spp = scene.render.spp;
+  for_each_pixel(scene, options, film.width, film.height, stats, [&](int x, int y, Rng& rng, std::uint64_t& rays) {
+    SpectralScene<kHeroCount> spectral;
+    Vec3 xyz;
+    for (int s = 0; s < spp; ++s) {
+      const auto [u, v] = subpixel(s, spp, rng);
+      // Stratified over the pixel's samples: sample s draws its hero from the s-th stratum.
+      const HeroWavelengths w = sample_hero_wavelengths((s + rng.next_double()) / spp / kHeroCount);
+      fill_spectral_scene(tables, w.nm, spectral);
+      xyz += hero_to_xyz(trace(scene, spectral, camera.generate_ray(x + u, y + v), rng.next_double(), rng, rays), w);
+    }
+    set_pixel(film, x, y, xyz_to_linear_rgb(kRec709, xyz / static_cast<double>(spp)));
+  });
+}
+
 }  // namespace
 
 Film render(const RenderScene& scene, const RenderOptions& options, RenderStats& stats) {
   const auto start = std::chrono::steady_clock::now();
   const bool full = scene.render.spectral == SpectralMode::full;
+  if (options.keep_spectra && scene.render.spectral == SpectralMode::hero)
+    fail("spectral output needs --spectral full (hero carries different wavelengths per sample)");
   if (scene.render.integrator == IntegratorType::whitted)
     for (const Surface& surface : scene.surfaces)
       if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0)
@@ -95,8 +138,11 @@ Film render(const RenderScene& scene, const RenderOptions& options, RenderStats&
     wavelengths.assign(basis.wavelength_nm.begin(), basis.wavelength_nm.end());
   }
   Film film(scene.camera.width_px, scene.camera.height_px, std::move(wavelengths));
-  if (full) render_tiles(scene, make_full_basis(), options, film, stats);
-  else render_tiles(scene, make_rgb3_basis(), options, film, stats);
+  switch (scene.render.spectral) {
+    case SpectralMode::full: render_fixed(scene, make_full_basis(), options, film, stats); break;
+    case SpectralMode::rgb3: render_fixed(scene, make_rgb3_basis(), options, film, stats); break;
+    case SpectralMode::hero: render_hero(scene, options, film, stats); break;
+  }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return film;
 }

@@ -1,6 +1,7 @@
 #include "bouguer/render/spectral_sampling.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/color_space.h"
@@ -40,6 +41,40 @@ Vec3 SpectralBasis<N>::to_linear_srgb(const SampledSpectrum<N>& v) const {
 
 template struct SpectralBasis<kFullBins>;
 template struct SpectralBasis<3>;
+
+double sample_visible_wavelength(double u) { return 538.0 - 138.888889 * std::atanh(0.85691062 - 1.82750197 * u); }
+
+double visible_wavelength_pdf(double wavelength_nm) {
+  if (wavelength_nm < kLambdaMinNm || wavelength_nm > kLambdaMaxNm) return 0.0;
+  const double c = std::cosh(0.0072 * (wavelength_nm - 538.0));
+  return 0.0039398042 / (c * c);
+}
+
+HeroWavelengths sample_hero_wavelengths(double u) {
+  HeroWavelengths w;
+  for (std::size_t i = 0; i < kHeroCount; ++i) {
+    double ui = u + static_cast<double>(i) / kHeroCount;
+    if (ui >= 1.0) ui -= 1.0;
+    w.nm[i] = std::clamp(sample_visible_wavelength(ui), kLambdaMinNm, kLambdaMaxNm);
+    w.pdf[i] = visible_wavelength_pdf(w.nm[i]);
+  }
+  return w;
+}
+
+Vec3 hero_to_xyz(const SampledSpectrum<kHeroCount>& radiance, const HeroWavelengths& w) {
+  const ObserverTable& cmf = observer_table(Observer::cie1931_2deg);
+  Vec3 xyz;
+  for (std::size_t i = 0; i < kHeroCount; ++i) {
+    if (radiance[i] == 0.0f || w.pdf[i] == 0.0) continue;
+    const double x = w.nm[i] - kLambdaMinNm;
+    const auto lo = std::min(static_cast<std::size_t>(x), static_cast<std::size_t>(kCmfCount - 2));
+    const double t = x - static_cast<double>(lo);
+    const Vec3 bar = Vec3{cmf.xbar[lo], cmf.ybar[lo], cmf.zbar[lo]} * (1.0 - t) +
+                     Vec3{cmf.xbar[lo + 1], cmf.ybar[lo + 1], cmf.zbar[lo + 1]} * t;
+    xyz += bar * (radiance[i] / (w.pdf[i] * cmf.ybar_sum));
+  }
+  return xyz / static_cast<double>(kHeroCount);
+}
 
 SpectralBasis<kFullBins> make_full_basis() {
   SpectralBasis<kFullBins> basis;

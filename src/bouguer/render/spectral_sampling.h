@@ -34,6 +34,23 @@ struct SpectralBasis {
   Vec3 to_linear_srgb(const SampledSpectrum<N>& v) const;
 };
 
+// hero: kHeroCount wavelengths per camera sample (Wilkie et al. 2014): the hero drawn from a
+//       density that follows the eye's sensitivity over 360–830 nm (the one pbrt-v4 uses,
+//       ∝ 1/cosh²(0.0072 (λ − 538 nm))), the others at equal offsets of its uniform number, so the
+//       set is stratified. Spectra are evaluated at the wavelengths themselves; a sample's colour is
+//       XYZ = (1/H) Σ_i L(λ_i) x̄(λ_i) / (p(λ_i) Σ ȳ).
+inline constexpr std::size_t kHeroCount = 4;
+
+double sample_visible_wavelength(double u);
+double visible_wavelength_pdf(double wavelength_nm);
+
+struct HeroWavelengths {
+  std::array<double, kHeroCount> nm{};
+  std::array<double, kHeroCount> pdf{};
+};
+HeroWavelengths sample_hero_wavelengths(double u);
+Vec3 hero_to_xyz(const SampledSpectrum<kHeroCount>& radiance, const HeroWavelengths& w);
+
 SpectralBasis<kFullBins> make_full_basis();
 SpectralBasis<3> make_rgb3_basis();
 

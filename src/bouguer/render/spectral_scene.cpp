@@ -4,8 +4,84 @@
 #include <cmath>
 
 #include "bouguer/materials/bsdf.h"
+#include "bouguer/spectra/cie.h"
 
 namespace bouguer {
+
+namespace {
+bool is_dispersive(const IorModel& ior) {
+  const double n0 = ior_at(ior, kLambdaMinNm);
+  for (double nm = kLambdaMinNm + 1.0; nm <= kLambdaMaxNm; nm += 1.0)
+    if (std::abs(ior_at(ior, nm) - n0) > 1e-7) return true;
+  return false;
+}
+
+template <typename F>
+SpectralTables::Table tabulate(F f) {
+  SpectralTables::Table t;
+  for (int i = 0; i < kCmfCount; ++i) t.v.push_back(static_cast<float>(f(kLambdaMinNm + i)));
+  return t;
+}
+
+SpectralTables::Table tabulate_spectrum(const Spectrum& s) {
+  return tabulate([&](double nm) { return eval(s, nm); });
+}
+}  // namespace
+
+float SpectralTables::Table::at(double nm) const {
+  const double x = std::clamp(nm - kLambdaMinNm, 0.0, kLambdaMaxNm - kLambdaMinNm);
+  const auto lo = std::min(static_cast<std::size_t>(x), v.size() - 2);
+  const auto t = static_cast<float>(x - static_cast<double>(lo));
+  return v[lo] + t * (v[lo + 1] - v[lo]);
+}
+
+SpectralTables make_spectral_tables(const RenderScene& scene) {
+  SpectralTables t;
+  for (const MediumDesc& m : scene.media) {
+    t.sigma_a.push_back(tabulate_spectrum(m.sigma_a_per_m));
+    t.ior.push_back(tabulate([&](double nm) { return ior_at(m.ior, nm); }));
+    t.absorbing.push_back(m.absorbing);
+    t.dispersive.push_back(is_dispersive(m.ior));
+    t.ior_reference.push_back(ior_at(m.ior, kReferenceWavelengthNm));
+  }
+  for (const EmissionDesc& e : scene.emissions) t.emission.push_back(tabulate_spectrum(e.radiance));
+  for (const MaterialDesc& d : scene.materials) {
+    const auto* diffuse = std::get_if<DiffuseDesc>(&d);
+    const auto* conductor = std::get_if<ConductorDesc>(&d);
+    t.conductor.push_back(conductor != nullptr);
+    t.reflectance.push_back(tabulate_spectrum(diffuse ? diffuse->reflectance : Spectrum(ConstantSpectrum{0.0})));
+    t.n.push_back(tabulate_spectrum(conductor ? conductor->n : Spectrum(ConstantSpectrum{1.0})));
+    t.k.push_back(tabulate_spectrum(conductor ? conductor->k : Spectrum(ConstantSpectrum{0.0})));
+    t.alpha.push_back(conductor ? conductor->roughness : 0.0);
+  }
+  t.background = tabulate_spectrum(scene.background.radiance);
+  return t;
+}
+
+template <std::size_t N>
+void fill_spectral_scene(const SpectralTables& t, const std::array<double, N>& nm, SpectralScene<N>& out) {
+  auto at = [&](const SpectralTables::Table& table) {
+    SampledSpectrum<N> s;
+    for (std::size_t i = 0; i < N; ++i) s[i] = table.at(nm[i]);
+    return s;
+  };
+  auto fill = [&](std::vector<SampledSpectrum<N>>& dst, const std::vector<SpectralTables::Table>& src) {
+    dst.resize(src.size());
+    for (std::size_t i = 0; i < src.size(); ++i) dst[i] = at(src[i]);
+  };
+  out.basis.mode = SpectralMode::hero;
+  out.basis.wavelength_nm = nm;
+  fill(out.sigma_a_per_m, t.sigma_a);
+  fill(out.ior_at, t.ior);
+  fill(out.emission, t.emission);
+  out.absorbing = t.absorbing;
+  out.dispersive = t.dispersive;
+  out.ior = t.ior_reference;
+  out.materials.resize(t.reflectance.size());
+  for (std::size_t i = 0; i < out.materials.size(); ++i)
+    out.materials[i] = {t.conductor[i], at(t.reflectance[i]), at(t.n[i]), at(t.k[i]), t.alpha[i]};
+  out.background = at(t.background);
+}
 
 template <std::size_t N>
 SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBasis<N>& basis) {
@@ -15,6 +91,10 @@ SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBas
     s.sigma_a_per_m.push_back(basis.at_wavelengths(m.sigma_a_per_m));
     s.absorbing.push_back(m.absorbing);
     s.ior.push_back(ior_at(m.ior, kReferenceWavelengthNm));
+    SampledSpectrum<N> n;
+    for (std::size_t i = 0; i < N; ++i) n[i] = static_cast<float>(ior_at(m.ior, basis.wavelength_nm[i]));
+    s.ior_at.push_back(n);
+    s.dispersive.push_back(is_dispersive(m.ior));
   }
   for (const EmissionDesc& e : scene.emissions) s.emission.push_back(basis.emission(e.radiance));
   for (const MaterialDesc& d : scene.materials) {
@@ -72,5 +152,9 @@ template SpectralScene<kFullBins> make_spectral_scene(const RenderScene&, const 
 template SpectralScene<3> make_spectral_scene(const RenderScene&, const SpectralBasis<3>&);
 template SampledSpectrum<kFullBins> conductor_fresnel(double, double, const SampledMaterial<kFullBins>&);
 template SampledSpectrum<3> conductor_fresnel(double, double, const SampledMaterial<3>&);
+template struct SpectralScene<kHeroCount>;
+template void fill_spectral_scene(const SpectralTables&, const std::array<double, kHeroCount>&,
+                                  SpectralScene<kHeroCount>&);
+template SampledSpectrum<kHeroCount> conductor_fresnel(double, double, const SampledMaterial<kHeroCount>&);
 
 }  // namespace bouguer

@@ -24,6 +24,8 @@ struct SpectralScene {
   std::vector<SampledSpectrum<N>> sigma_a_per_m;  // per medium
   std::vector<bool> absorbing;
   std::vector<double> ior;                        // per medium, at kReferenceWavelengthNm
+  std::vector<SampledSpectrum<N>> ior_at;         // per medium, at the carried wavelengths
+  std::vector<bool> dispersive;                   // per medium: n varies over 360–830 nm
   std::vector<SampledSpectrum<N>> emission;       // per emission
   std::vector<SampledMaterial<N>> materials;      // per opaque material
   SampledSpectrum<N> background;
@@ -36,6 +38,24 @@ struct SpectralScene {
 
 template <std::size_t N>
 SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBasis<N>& basis);
+
+// Every spectrum of the scene at 1 nm, for modes whose wavelengths change per sample (hero).
+struct SpectralTables {
+  struct Table {
+    std::vector<float> v;  // kLambdaMinNm .. kLambdaMaxNm at 1 nm
+    float at(double nm) const;
+  };
+  std::vector<Table> sigma_a, ior, emission, reflectance, n, k;  // per medium / emission / material
+  std::vector<bool> absorbing, dispersive, conductor;
+  std::vector<double> ior_reference, alpha;
+  Table background;
+};
+
+SpectralTables make_spectral_tables(const RenderScene& scene);
+
+// `out` set to the scene at the given wavelengths; its vectors are reused between calls.
+template <std::size_t N>
+void fill_spectral_scene(const SpectralTables& tables, const std::array<double, N>& nm, SpectralScene<N>& out);
 
 // Fresnel reflectance of a conductor for each wavelength.
 template <std::size_t N>

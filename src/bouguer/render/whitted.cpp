@@ -113,5 +113,6 @@ SampledSpectrum<N> WhittedIntegrator<N>::direct_light(const Hit& hit, const Vec3
 
 template class WhittedIntegrator<kFullBins>;
 template class WhittedIntegrator<3>;
+template class WhittedIntegrator<kHeroCount>;
 
 }  // namespace bouguer

@@ -18,7 +18,7 @@
 namespace bouguer {
 
 enum class CameraType { pinhole, orthographic };
-enum class SpectralMode { full, rgb3 };
+enum class SpectralMode { full, rgb3, hero };
 enum class IntegratorType { whitted, path };
 
 struct CameraDesc {

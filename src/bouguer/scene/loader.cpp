@@ -492,7 +492,8 @@ RenderSettings render_settings(const json& j, const Where& w) {
     const std::string s = text(j["spectral"], w / "spectral");
     if (s == "full") r.spectral = SpectralMode::full;
     else if (s == "rgb3") r.spectral = SpectralMode::rgb3;
-    else (w / "spectral").fail("unknown spectral mode '{}' (full, rgb3)", s);
+    else if (s == "hero") r.spectral = SpectralMode::hero;
+    else (w / "spectral").fail("unknown spectral mode '{}' (full, hero, rgb3)", s);
   }
   if (j.contains("spp")) r.spp = integer(j["spp"], w / "spp", 1, 1 << 20);
   if (j.contains("max_depth")) r.max_depth = integer(j["max_depth"], w / "max_depth", 1, 1000);
