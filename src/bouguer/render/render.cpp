@@ -85,10 +85,12 @@ void render_fixed(const RenderScene& scene, const SpectralBasis<N>& basis, const
     // order shuffled per pixel so that it is independent of the sub-pixel position (which is
     // stratified by the sample index too): otherwise each wavelength would see a different part
     // of the pixel, a bias at every edge.
-    const double offset = rng.next_double();
+    // Its own stream, so the camera sampling is unchanged by it.
+    Rng strata(scene.render.seed ^ 0x9e3779b97f4a7c15ULL, static_cast<std::uint64_t>(y) * film.width + x);
+    const double offset = strata.next_double();
     std::vector<int> order(spp);
     std::iota(order.begin(), order.end(), 0);
-    for (int i = spp - 1; i > 0; --i) std::swap(order[i], order[rng.next_u32() % static_cast<std::uint32_t>(i + 1)]);
+    for (int i = spp - 1; i > 0; --i) std::swap(order[i], order[strata.next_u32() % static_cast<std::uint32_t>(i + 1)]);
     for (int s = 0; s < spp; ++s) {
       const auto [u, v] = subpixel(s, spp, rng);
       const double wavelength_u = (order[s] + offset) / spp;
