@@ -51,4 +51,22 @@ replace_section() {
     done
   done
 } | replace_section scenes
+
+{
+  echo "Measured on $today, $machine, Release build; \`bouguer render SCENE --integrator path --resolution 480x360 --spp 64\`."
+  echo
+  echo "| scene | spectral | resolution | spp | seconds | rays | rays/s |"
+  echo "|---|---|---|---|---|---|---|"
+  for scene in scenes/showcase/*.json; do
+    name=$(basename "$scene" .json)
+    for mode in full hero; do
+      stats=out/bench/$name-$mode.json
+      "$build/bouguer" render "$scene" --integrator path --spectral "$mode" --resolution 480x360 --spp 64 \
+        -o "out/bench/$name-$mode.exr" --stats-json "$stats" --quiet
+      set -- $(tr -d '\n ' < "$stats" |
+        sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3/')
+      printf '| %s | %s | 480x360 | 64 | %.2f | %s | %.3g |\n' "$name" "$mode" "$3" "$1" "$2"
+    done
+  done
+} | replace_section showcase
 echo "bench: figures written to $doc"
