@@ -33,40 +33,33 @@ replace_section() {
     }' out/bench/micro.csv
 } | replace_section micro
 
-{
-  echo "Measured on $today, $machine, Release build; \`bouguer render SCENE --resolution 512x512 --spp 16\`."
+# Renders every scene of a glob in each spectral mode at fixed settings; prints a table.
+# bench_table GLOB WIDTHxHEIGHT SPP "MODES" [extra render flags...]
+bench_table() {
+  local glob=$1 resolution=$2 spp=$3 modes=$4
+  shift 4
+  local extra=("$@")
+  echo "Measured on $today, $machine, Release build; \`bouguer render SCENE ${*:+$* }--resolution $resolution --spp $spp\`."
   echo
   echo "| scene | spectral | resolution | spp | seconds | rays | rays/s |"
   echo "|---|---|---|---|---|---|---|"
-  for scene in scenes/paper/*.json; do
+  for scene in $glob; do
+    local name stats
     name=$(basename "$scene" .json)
-    for mode in full rgb3; do
+    for mode in $modes; do
       stats=out/bench/$name-$mode.json
-      "$build/bouguer" render "$scene" --spectral "$mode" --resolution 512x512 --spp 16 \
+      "$build/bouguer" render "$scene" "${extra[@]}" --spectral "$mode" --resolution "$resolution" --spp "$spp" \
         -o "out/bench/$name-$mode.exr" --stats-json "$stats" --quiet
       # --stats-json keys come sorted: rays, rays_per_second, resolution, seconds, ...
-      set -- $(tr -d '\n ' < "$stats" |
-        sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3/')
-      printf '| %s | %s | 512x512 | 16 | %.2f | %s | %.3g |\n' "$name" "$mode" "$3" "$1" "$2"
+      local rays rays_per_second seconds
+      read -r rays rays_per_second seconds < <(tr -d '\n ' < "$stats" |
+        sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3\n/')
+      printf '| %s | %s | %s | %s | %.2f | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" "$seconds" "$rays" \
+        "$rays_per_second"
     done
   done
-} | replace_section scenes
+}
 
-{
-  echo "Measured on $today, $machine, Release build; \`bouguer render SCENE --integrator path --resolution 480x360 --spp 64\`."
-  echo
-  echo "| scene | spectral | resolution | spp | seconds | rays | rays/s |"
-  echo "|---|---|---|---|---|---|---|"
-  for scene in scenes/showcase/*.json; do
-    name=$(basename "$scene" .json)
-    for mode in full hero; do
-      stats=out/bench/$name-$mode.json
-      "$build/bouguer" render "$scene" --integrator path --spectral "$mode" --resolution 480x360 --spp 64 \
-        -o "out/bench/$name-$mode.exr" --stats-json "$stats" --quiet
-      set -- $(tr -d '\n ' < "$stats" |
-        sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3/')
-      printf '| %s | %s | 480x360 | 64 | %.2f | %s | %.3g |\n' "$name" "$mode" "$3" "$1" "$2"
-    done
-  done
-} | replace_section showcase
+bench_table "scenes/paper/*.json" 512x512 16 "full rgb3" | replace_section scenes
+bench_table "scenes/showcase/*.json" 480x360 64 "full hero" --integrator path | replace_section showcase
 echo "bench: figures written to $doc"

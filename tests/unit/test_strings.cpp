@@ -16,6 +16,8 @@ TEST(Strings, NearestNameSuggestsOnlyPlausibleMisspellings) {
   EXPECT_EQ(nearest_name("absorbtion", keys), "absorption");
   EXPECT_EQ(nearest_name("concentraton", keys), "concentration");
   EXPECT_EQ(nearest_name("colour", keys), std::nullopt);
+  EXPECT_EQ(suggestion("absorbtion", keys), " (did you mean 'absorption'?)");
+  EXPECT_EQ(suggestion("colour", keys), " (known: absorption, ior, concentration)");
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 #include "bouguer/core/strings.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -32,6 +35,11 @@ std::optional<std::string> nearest_name(std::string_view name, const std::vector
     }
   }
   return best;
+}
+
+std::string suggestion(std::string_view name, const std::vector<std::string>& candidates) {
+  if (const auto near = nearest_name(name, candidates)) return fmt::format(" (did you mean '{}'?)", *near);
+  return fmt::format(" (known: {})", fmt::join(candidates, ", "));
 }
 
 }  // namespace bouguer

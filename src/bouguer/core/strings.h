@@ -14,4 +14,8 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 // (at most a third of the name's letters differ, and at least one edit is allowed).
 std::optional<std::string> nearest_name(std::string_view name, const std::vector<std::string>& candidates);
 
+// The tail of an "unknown name" message: " (did you mean 'x'?)" for a plausible misspelling,
+// otherwise " (known: a, b, c)".
+std::string suggestion(std::string_view name, const std::vector<std::string>& candidates);
+
 }  // namespace bouguer

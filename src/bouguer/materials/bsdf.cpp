@@ -84,37 +84,53 @@ std::optional<BsdfSample> ConductorBsdf::sample(const Vec3& wo, double u1, doubl
 
 // ---- rough dielectric --------------------------------------------------------------------------
 
-double RoughDielectricBsdf::eval(const Vec3& wo_in, const Vec3& wi_in) const {
-  if (wo_in.z == 0.0 || wi_in.z == 0.0) return 0.0;
-  const Oriented o = orient(*this, wo_in, wi_in);
-  if (o.wi.z > 0.0) {
-    const Vec3 wm = normalize(o.wo + o.wi);
-    const double f = fresnel_dielectric(dot(o.wo, wm), o.eta_o, o.eta_i);
-    return f * ggx.D(wm) * ggx.G(o.wo, o.wi) / (4.0 * o.wo.z);
+namespace {
+// What eval and pdf share: the microfacet normal that connects wo and wi, the Fresnel factor of
+// the event (F for reflection, 1 − F for transmission), and for transmission the two cosines and
+// the denominator of the half-vector Jacobian.
+struct DielectricEvent {
+  Oriented o;
+  Vec3 wm;
+  double fresnel = 0.0;
+  bool reflection = true;
+  double cos_om = 0.0, cos_im = 0.0, denom = 0.0;
+};
+
+std::optional<DielectricEvent> dielectric_event(const RoughDielectricBsdf& b, const Vec3& wo, const Vec3& wi) {
+  if (wo.z == 0.0 || wi.z == 0.0) return std::nullopt;
+  DielectricEvent e{orient(b, wo, wi), {}};
+  if (e.o.wi.z > 0.0) {
+    e.wm = normalize(e.o.wo + e.o.wi);
+    e.fresnel = fresnel_dielectric(dot(e.o.wo, e.wm), e.o.eta_o, e.o.eta_i);
+    return e;
   }
-  const auto wm = transmission_half_vector(o);
-  if (!wm) return 0.0;
-  const double cos_om = dot(o.wo, *wm), cos_im = dot(o.wi, *wm);
-  const double t = 1.0 - fresnel_dielectric(cos_om, o.eta_o, o.eta_i);
-  const double denom = o.eta_i * cos_im + o.eta_o * cos_om;
-  return t * ggx.D(*wm) * ggx.G(o.wo, o.wi) * std::abs(cos_im * cos_om) * o.eta_i * o.eta_i /
-         (o.wo.z * denom * denom);
+  const auto wm = transmission_half_vector(e.o);
+  if (!wm) return std::nullopt;
+  e.wm = *wm;
+  e.reflection = false;
+  e.cos_om = dot(e.o.wo, e.wm);
+  e.cos_im = dot(e.o.wi, e.wm);
+  e.fresnel = 1.0 - fresnel_dielectric(e.cos_om, e.o.eta_o, e.o.eta_i);
+  e.denom = e.o.eta_i * e.cos_im + e.o.eta_o * e.cos_om;
+  return e;
+}
+}  // namespace
+
+double RoughDielectricBsdf::eval(const Vec3& wo, const Vec3& wi) const {
+  const auto e = dielectric_event(*this, wo, wi);
+  if (!e) return 0.0;
+  const double dg = ggx.D(e->wm) * ggx.G(e->o.wo, e->o.wi);
+  if (e->reflection) return e->fresnel * dg / (4.0 * e->o.wo.z);
+  return e->fresnel * dg * std::abs(e->cos_im * e->cos_om) * e->o.eta_i * e->o.eta_i /
+         (e->o.wo.z * e->denom * e->denom);
 }
 
-double RoughDielectricBsdf::pdf(const Vec3& wo_in, const Vec3& wi_in) const {
-  if (wo_in.z == 0.0 || wi_in.z == 0.0) return 0.0;
-  const Oriented o = orient(*this, wo_in, wi_in);
-  if (o.wi.z > 0.0) {
-    const Vec3 wm = normalize(o.wo + o.wi);
-    const double f = fresnel_dielectric(dot(o.wo, wm), o.eta_o, o.eta_i);
-    return f * ggx.D_visible(o.wo, wm) / (4.0 * dot(o.wo, wm));
-  }
-  const auto wm = transmission_half_vector(o);
-  if (!wm) return 0.0;
-  const double cos_om = dot(o.wo, *wm), cos_im = dot(o.wi, *wm);
-  const double t = 1.0 - fresnel_dielectric(cos_om, o.eta_o, o.eta_i);
-  const double denom = o.eta_i * cos_im + o.eta_o * cos_om;
-  return t * ggx.D_visible(o.wo, *wm) * o.eta_i * o.eta_i * std::abs(cos_im) / (denom * denom);
+double RoughDielectricBsdf::pdf(const Vec3& wo, const Vec3& wi) const {
+  const auto e = dielectric_event(*this, wo, wi);
+  if (!e) return 0.0;
+  const double visible = ggx.D_visible(e->o.wo, e->wm);
+  if (e->reflection) return e->fresnel * visible / (4.0 * dot(e->o.wo, e->wm));
+  return e->fresnel * visible * e->o.eta_i * e->o.eta_i * std::abs(e->cos_im) / (e->denom * e->denom);
 }
 
 std::optional<BsdfSample> RoughDielectricBsdf::sample(const Vec3& wo_in, double uc, double u1, double u2) const {

@@ -46,9 +46,7 @@ void expect_keys(const json& j, const Where& w, const std::vector<std::string>& 
   if (!j.is_object()) w.fail("expected an object {{...}}, found {}", type_name(j));
   for (const auto& [key, value] : j.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-    const auto near = nearest_name(key, allowed);
-    (w / key).fail("unknown key{}", near ? fmt::format(" (did you mean '{}'?)", *near)
-                                         : fmt::format(" (known here: {})", fmt::join(allowed, ", ")));
+    (w / key).fail("unknown key{}", suggestion(key, allowed));
   }
 }
 
@@ -176,12 +174,7 @@ IorModel ior(const json& j, const Where& w) {
     expect_keys(j, w, {"library"});
     const std::string name = text(j["library"], w / "library");
     const IorLibraryEntry* e = find_ior_material(name);
-    if (!e) {
-      const auto near = nearest_name(name, ior_material_names());
-      (w / "library").fail("unknown dispersion data '{}'{}", name,
-                           near ? fmt::format(" (did you mean '{}'?)", *near)
-                                : fmt::format(" (known: {})", fmt::join(ior_material_names(), ", ")));
-    }
+    if (!e) (w / "library").fail("unknown dispersion data '{}'{}", name, suggestion(name, ior_material_names()));
     return e->sellmeier;
   }
   if (j.contains("abbe")) {
@@ -239,12 +232,7 @@ Absorption absorption(const json& j, const Where& w) {
     expect_keys(j, w, {"library", "concentration"});
     const std::string name = text(j["library"], w / "library");
     const LibraryMaterial* m = find_library_material(name);
-    if (!m) {
-      const auto near = nearest_name(name, library_material_names());
-      (w / "library").fail("unknown material '{}'{}", name,
-                           near ? fmt::format(" (did you mean '{}'?)", *near)
-                                : fmt::format(" (known: {})", fmt::join(library_material_names(), ", ")));
-    }
+    if (!m) (w / "library").fail("unknown material '{}'{}", name, suggestion(name, library_material_names()));
     return {scaled(m->sigma_a_per_m, concentration), m->default_ior};
   }
   const TabulatedSpectrum values = table(j, w, {"unit", "concentration", "thickness"});
@@ -255,8 +243,7 @@ Absorption absorption(const json& j, const Where& w) {
   if (!unit) {
     const std::vector<std::string> units = {"attenuation_per_m", "absorbance_per_cm", "internal_transmittance",
                                             "molar_absorptivity", "extinction_coefficient"};
-    const auto near = nearest_name(unit_name, units);
-    (w / "unit").fail("unknown unit '{}'{}", unit_name, near ? fmt::format(" (did you mean '{}'?)", *near) : "");
+    (w / "unit").fail("unknown unit '{}'{}", unit_name, suggestion(unit_name, units));
   }
   if (*unit == AbsorptionUnit::molar_absorptivity && !j.contains("concentration"))
     w.fail("unit 'molar_absorptivity' needs 'concentration' in mol/L");
@@ -403,9 +390,7 @@ Shape shape(const json& j, const Where& w) {
   }
   const std::vector<std::string> types = {"quad", "disk", "box", "sphere", "cylinder", "prism", "pyramid",
                                           "truncated_cube", "brilliant", "lathe", "vessel", "mesh"};
-  const auto near = nearest_name(type, types);
-  (w / "type").fail("unknown shape '{}'{}", type,
-                    near ? fmt::format(" (did you mean '{}'?)", *near) : fmt::format(" (known: {})", fmt::join(types, ", ")));
+  (w / "type").fail("unknown shape '{}'{}", type, suggestion(type, types));
 }
 
 Transform transform(const json& j, const Where& w) {
@@ -587,9 +572,7 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
   for (const auto& [name, m] : s.media) names.push_back(name);
   auto check = [&](const std::string& name, const Where& w) {
     if (s.media.contains(name)) return;
-    const auto near = nearest_name(name, names);
-    w.fail("unknown medium '{}'{}", name, near ? fmt::format(" (did you mean '{}'?)", *near)
-                                               : fmt::format(" (defined: {})", fmt::join(names, ", ")));
+    w.fail("unknown medium '{}'{}", name, suggestion(name, names));
   };
   check(s.world_medium, top / "world_medium");
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
