@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "bouguer/materials/fresnel.h"
 #include "bouguer/media/library.h"
@@ -221,6 +222,49 @@ TEST(PathTracer, ColouredShadowBehindRedGlass) {
 TEST(PathTracer, ThreadCountDoesNotChangeTheImage) {
   const std::string scene = slab_scene(4.0, R"({"library": "light-blue-glass"})", "full", "path", 8, 16);
   EXPECT_EQ(render_text(scene, 1).rgb, render_text(scene, 2).rgb);
+}
+
+// A Lambertian floor (R = 0.5) under delta lights, seen straight down: L = (R/π)·I·cos θ / d² below
+// a point or spot light of intensity I at height d, (R/π)·E·cos θ under a distant light of
+// irradiance E. Deterministic for both integrators (no area lights, no random events).
+std::string floor_with(const std::string& light, const char* integrator, const char* width) {
+  return fmt::format(R"({{
+    "camera": {{"type": "orthographic", "position": [0, 1, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                "width": "{}", "resolution": [9, 9]}},
+    "render": {{"integrator": "{}", "spp": 1}},
+    "world_medium": "vacuum",
+    "objects": [{{"name": "floor", "shape": {{"type": "quad", "size": [2, 2]}},
+                  "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
+                  "material": {{"type": "diffuse", "reflectance": 0.5}}}}],
+    "lights": [{}]
+  }})",
+                     width, integrator, light);
+}
+
+TEST(DeltaLights, MatchTheirClosedForms) {
+  const auto basis = make_full_basis();
+  const Vec3 d65 = basis.to_linear_srgb(basis.emission(named_illuminant("D65")));  // ≈ (1, 1, 1)
+  const double r_over_pi = 0.5 / std::numbers::pi;
+  for (const char* integrator : {"whitted", "path"}) {
+    // Point light, 4 (Y per sr) at 0.2 m: the centre pixel (1 mm wide view).
+    const Film point = render_text(
+        floor_with(R"({"type": "point", "position": [0, 0.2, 0], "spectrum": "D65", "scale": 4})", integrator, "1 mm"));
+    expect_within_half_percent(point.rgb_at(4, 4), d65 * (r_over_pi * 4.0 / 0.04), fmt::format("point {}", integrator));
+    // Spot light: the same inside its cone, nothing outside (10° cone at 0.2 m: 35 mm radius).
+    const std::string spot = R"({"type": "spot", "position": [0, 0.2, 0], "look_at": [0, 0, 0], "cone_deg": 10,
+                                 "falloff_deg": 8, "spectrum": "D65", "scale": 4})";
+    const Film narrow = render_text(floor_with(spot, integrator, "1 mm"));
+    expect_within_half_percent(narrow.rgb_at(4, 4), d65 * (r_over_pi * 4.0 / 0.04), fmt::format("spot {}", integrator));
+    const Film wide = render_text(floor_with(spot, integrator, "200 mm"));  // 22 mm pixels
+    EXPECT_GT(wide.rgb_at(4, 4).y, 10.0f) << integrator;
+    EXPECT_EQ(wide.rgb_at(0, 0).y, 0.0f) << integrator;
+    EXPECT_EQ(wide.rgb_at(2, 4).y, 0.0f) << integrator;  // 44 mm from the axis
+    // Distant light of irradiance 3 arriving at 60° from the normal.
+    const Film distant = render_text(
+        floor_with(R"({"type": "distant", "direction": [0, -0.5, -0.8660254037844386], "spectrum": "D65", "scale": 3})",
+                   integrator, "1 m"));
+    expect_within_half_percent(distant.rgb_at(2, 6), d65 * (r_over_pi * 3.0 * 0.5), fmt::format("distant {}", integrator));
+  }
 }
 
 }  // namespace

@@ -147,9 +147,42 @@ SampledSpectrum<N> PathIntegrator<N>::eval_bsdf(const Surface& surface, const Fr
   return m.reflectance * static_cast<float>(DiffuseBsdf{}.eval(lo, li));
 }
 
-// Direct light from one emitter point, weighted against BSDF sampling by the power heuristic.
 template <std::size_t N>
 SampledSpectrum<N> PathIntegrator<N>::next_event(const Hit& hit, const Vec3& wo, const Frame& frame,
+                                                 int medium_behind, int medium_front, const Surface& surface,
+                                                 int single, Rng& rng, std::uint64_t& rays) const {
+  return area_light(hit, wo, frame, medium_behind, medium_front, surface, single, rng, rays) +
+         delta_lights(hit, wo, frame, medium_behind, medium_front, surface, single, rays);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> PathIntegrator<N>::delta_lights(const Hit& hit, const Vec3& wo, const Frame& frame,
+                                                   int medium_behind, int medium_front, const Surface& surface,
+                                                   int single, std::uint64_t& rays) const {
+  SampledSpectrum<N> sum;
+  for (std::size_t i = 0; i < scene_.delta_lights.size(); ++i) {
+    const auto light = sample_delta_light(scene_.delta_lights[i], hit.point);
+    if (!light) continue;
+    const int medium = dot(light->wi, frame.n) > 0.0 ? medium_front : medium_behind;
+    const bool infinite = std::isinf(light->distance_m);
+    if (infinite && s_.absorbing[medium]) continue;  // no light crosses an infinite absorber
+    double pdf = 0.0;
+    const SampledSpectrum<N> f = eval_bsdf(surface, frame, wo, light->wi, medium, single, pdf);
+    if (f.is_zero()) continue;
+    const Vec3 origin = offset_ray_origin(hit, light->wi);
+    ++rays;
+    const double t_max = infinite ? light->distance_m
+                                  : length(scene_.delta_lights[i].position_m - origin) * (1.0 - 1e-4);
+    if (scene_.rays.intersect({origin, light->wi, t_max})) continue;
+    const SampledSpectrum<N> tr = infinite ? SampledSpectrum<N>::constant(1.0f) : s_.transmittance(medium, light->distance_m);
+    sum += f * s_.delta_intensity[i] * tr * static_cast<float>(light->factor);
+  }
+  return sum;
+}
+
+// Direct light from one emitter point, weighted against BSDF sampling by the power heuristic.
+template <std::size_t N>
+SampledSpectrum<N> PathIntegrator<N>::area_light(const Hit& hit, const Vec3& wo, const Frame& frame,
                                                  int medium_behind, int medium_front, const Surface& surface,
                                                  int single, Rng& rng, std::uint64_t& rays) const {
   const auto light = sample_emitter_point(scene_, rng);

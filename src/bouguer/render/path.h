@@ -52,6 +52,11 @@ class PathIntegrator {
   SampledSpectrum<N> next_event(const Hit& hit, const Vec3& wo, const Frame& frame, int medium_behind,
                                 int medium_front, const Surface& surface, int single, Rng& rng,
                                 std::uint64_t& rays) const;
+  SampledSpectrum<N> area_light(const Hit& hit, const Vec3& wo, const Frame& frame, int medium_behind,
+                                int medium_front, const Surface& surface, int single, Rng& rng,
+                                std::uint64_t& rays) const;
+  SampledSpectrum<N> delta_lights(const Hit& hit, const Vec3& wo, const Frame& frame, int medium_behind,
+                                  int medium_front, const Surface& surface, int single, std::uint64_t& rays) const;
   SampledSpectrum<N> eval_bsdf(const Surface& surface, const Frame& frame, const Vec3& wo, const Vec3& wi,
                                int medium, int single, double& pdf) const;
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "bouguer/materials/bsdf.h"
 #include "bouguer/spectra/cie.h"
@@ -45,6 +47,7 @@ SpectralTables make_spectral_tables(const RenderScene& scene) {
     t.ior_reference.push_back(ior_at(m.ior, kReferenceWavelengthNm));
   }
   for (const EmissionDesc& e : scene.emissions) t.emission.push_back(tabulate_spectrum(e.radiance));
+  for (const DeltaLightDesc& l : scene.delta_lights) t.delta_intensity.push_back(tabulate_spectrum(l.intensity));
   for (const MaterialDesc& d : scene.materials) {
     const auto* diffuse = std::get_if<DiffuseDesc>(&d);
     const auto* conductor = std::get_if<ConductorDesc>(&d);
@@ -74,6 +77,7 @@ void fill_spectral_scene(const SpectralTables& t, const std::array<double, N>& n
   fill(out.sigma_a_per_m, t.sigma_a);
   fill(out.ior_at, t.ior);
   fill(out.emission, t.emission);
+  fill(out.delta_intensity, t.delta_intensity);
   out.absorbing = t.absorbing;
   out.dispersive = t.dispersive;
   out.ior = t.ior_reference;
@@ -97,6 +101,7 @@ SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBas
     s.dispersive.push_back(is_dispersive(m.ior));
   }
   for (const EmissionDesc& e : scene.emissions) s.emission.push_back(basis.emission(e.radiance));
+  for (const DeltaLightDesc& l : scene.delta_lights) s.delta_intensity.push_back(basis.emission(l.intensity));
   for (const MaterialDesc& d : scene.materials) {
     SampledMaterial<N> m;
     if (const auto* diffuse = std::get_if<DiffuseDesc>(&d)) {
@@ -122,6 +127,27 @@ SampledSpectrum<N> conductor_fresnel(double cos_theta_i, double eta_i, const Sam
   for (std::size_t i = 0; i < N; ++i)
     f[i] = static_cast<float>(fresnel_conductor(cos_theta_i, eta_i, {double(m.n[i]), double(m.k[i])}));
   return f;
+}
+
+std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, const Vec3& point) {
+  if (light.type == DeltaLightType::distant)
+    return DeltaLightSample{-light.direction, std::numeric_limits<double>::infinity(), 1.0};
+  const Vec3 to = light.position_m - point;
+  const double d2 = dot(to, to);
+  if (d2 == 0.0) return std::nullopt;
+  const Vec3 wi = to / std::sqrt(d2);
+  double falloff = 1.0;
+  if (light.type == DeltaLightType::spot) {
+    // Smoothstep between the cone's edge and the start of the falloff (as pbrt's spot light).
+    const double cos_theta = dot(-wi, light.direction);
+    const double cos_end = std::cos(light.cone_deg * std::numbers::pi / 180.0);
+    const double cos_start = std::cos(light.falloff_deg * std::numbers::pi / 180.0);
+    if (cos_theta <= cos_end) return std::nullopt;
+    const double t = cos_start > cos_end ? std::clamp((cos_theta - cos_end) / (cos_start - cos_end), 0.0, 1.0) : 1.0;
+    falloff = t * t * (3.0 - 2.0 * t);
+  }
+  if (falloff == 0.0) return std::nullopt;
+  return DeltaLightSample{wi, std::sqrt(d2), falloff / d2};
 }
 
 std::optional<LightSample> sample_emitter_point(const RenderScene& scene, Rng& rng) {

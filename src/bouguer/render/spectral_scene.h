@@ -28,6 +28,7 @@ struct SpectralScene {
   std::vector<bool> dispersive;                   // per medium: n varies over 360–830 nm
   std::vector<SampledSpectrum<N>> emission;       // per emission
   std::vector<SampledMaterial<N>> materials;      // per opaque material
+  std::vector<SampledSpectrum<N>> delta_intensity;  // per point, spot or distant light
   SampledSpectrum<N> background;
 
   SampledSpectrum<N> transmittance(int medium, double length_m) const {
@@ -46,6 +47,7 @@ struct SpectralTables {
     float at(double nm) const;
   };
   std::vector<Table> sigma_a, ior, emission, reflectance, n, k;  // per medium / emission / material
+  std::vector<Table> delta_intensity;                            // per delta light
   std::vector<bool> absorbing, dispersive, conductor;
   std::vector<double> ior_reference, alpha;
   Table background;
@@ -60,6 +62,16 @@ void fill_spectral_scene(const SpectralTables& tables, const std::array<double, 
 // Fresnel reflectance of a conductor for each wavelength.
 template <std::size_t N>
 SampledSpectrum<N> conductor_fresnel(double cos_theta_i, double eta_i, const SampledMaterial<N>& m);
+
+// A point, spot or distant light seen from `point`: the direction towards it, the distance
+// (infinite for distant lights), and the factor on its intensity spectrum that gives the incident
+// radiance-times-solid-angle: falloff / distance² (point, spot) or 1 (distant).
+struct DeltaLightSample {
+  Vec3 wi;
+  double distance_m = 0.0;
+  double factor = 0.0;
+};
+std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, const Vec3& point);
 
 // A point on the emitters, uniform by area.
 struct LightSample {

@@ -79,36 +79,54 @@ SampledSpectrum<N> WhittedIntegrator<N>::opaque(const Ray& ray, const Hit& hit, 
   return tr * f * radiance({offset_ray_origin(hit, r), r}, medium, depth + 1, w, rng, rays);
 }
 
-// One emitter point per call, chosen by area; the camera's samples per pixel average them.
+// f·|cos θi| of an opaque material lit from wi, seen from wo, with n on wo's side.
+template <std::size_t N>
+SampledSpectrum<N> opaque_bsdf(const SampledMaterial<N>& material, const Vec3& n, const Vec3& wo, const Vec3& wi,
+                               double eta) {
+  const Frame frame(n);
+  const Vec3 wo_local = frame.to_local(wo), wi_local = frame.to_local(wi);
+  if (!material.conductor) return material.reflectance * static_cast<float>(DiffuseBsdf{}.eval(wo_local, wi_local));
+  const Vec3 wm = normalize(wo + wi);
+  return conductor_fresnel(std::min(1.0, dot(wi, wm)), eta, material) *
+         static_cast<float>(ConductorBsdf{{material.alpha}}.eval(wo_local, wi_local));
+}
+
+// One emitter point per call, chosen by area (the camera's samples per pixel average them), and
+// every point, spot and distant light.
 template <std::size_t N>
 SampledSpectrum<N> WhittedIntegrator<N>::direct_light(const Hit& hit, const Vec3& wo, int medium,
                                                       const SampledMaterial<N>& material, Rng& rng,
                                                       std::uint64_t& rays) const {
-  const auto light = sample_emitter_point(scene_, rng);
-  if (!light) return {};
   const Vec3 n = dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal;  // opaque surfaces are two-sided
+  // The light arriving from wi over `distance_m`, or nothing when blocked.
+  auto unblocked = [&](const Vec3& wi, double distance_m) {
+    if (dot(wi, n) <= 0.0) return false;
+    const Vec3 origin = offset_ray_origin(hit, wi);
+    ++rays;
+    return !scene_.rays.intersect({origin, wi, std::isinf(distance_m) ? distance_m : distance_m * (1.0 - 1e-4)});
+  };
+  SampledSpectrum<N> sum;
+  for (std::size_t i = 0; i < scene_.delta_lights.size(); ++i) {
+    const auto light = sample_delta_light(scene_.delta_lights[i], hit.point);
+    const bool infinite = light && std::isinf(light->distance_m);
+    if (!light || (infinite && s_.absorbing[medium]) || !unblocked(light->wi, light->distance_m)) continue;
+    const SampledSpectrum<N> tr =
+        infinite ? SampledSpectrum<N>::constant(1.0f) : s_.transmittance(medium, light->distance_m);
+    sum += opaque_bsdf(material, n, wo, light->wi, s_.ior[medium]) * s_.delta_intensity[i] * tr *
+           static_cast<float>(light->factor);
+  }
+  const auto light = sample_emitter_point(scene_, rng);
+  if (!light) return sum;
   const Vec3 to_light = light->point - hit.point;
   const double dist = length(to_light);
-  if (dist == 0.0) return {};
+  if (dist == 0.0) return sum;
   const Vec3 wi = to_light / dist;
   const int emission = scene_.surfaces[light->geometry].emission;
   const bool lit = dot(wi, light->normal) < 0.0 || scene_.emissions[emission].two_sided;
-  if (dot(wi, n) <= 0.0 || !lit) return {};
-  const Vec3 origin = offset_ray_origin(hit, wi);
-  ++rays;
-  if (scene_.rays.intersect({origin, wi, length(light->point - origin) * (1.0 - 1e-4)})) return {};
+  if (!lit || !unblocked(wi, dist)) return sum;
   const double pdf = emitter_pdf_solid_angle(scene_, hit.point, light->point, light->normal);
-  const Frame frame(n);
-  const Vec3 wo_local = frame.to_local(wo), wi_local = frame.to_local(wi);
-  SampledSpectrum<N> f;
-  if (material.conductor) {
-    const Vec3 wm = normalize(wo + wi);
-    f = conductor_fresnel(std::min(1.0, dot(wi, wm)), s_.ior[medium], material) *
-        static_cast<float>(ConductorBsdf{{material.alpha}}.eval(wo_local, wi_local));
-  } else {
-    f = material.reflectance * static_cast<float>(DiffuseBsdf{}.eval(wo_local, wi_local));
-  }
-  return f * s_.emission[emission] * s_.transmittance(medium, dist) * static_cast<float>(1.0 / pdf);
+  return sum + opaque_bsdf(material, n, wo, wi, s_.ior[medium]) * s_.emission[emission] *
+                   s_.transmittance(medium, dist) * static_cast<float>(1.0 / pdf);
 }
 
 template class WhittedIntegrator<kFullBins>;

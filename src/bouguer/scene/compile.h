@@ -39,6 +39,7 @@ struct RenderScene {
   std::vector<EmissionDesc> emissions;
   std::vector<MaterialDesc> materials;
   EmissionDesc background;
+  std::vector<DeltaLightDesc> delta_lights;
   std::vector<EmissiveTriangle> lights;
   std::vector<double> light_cdf;  // cumulative area fractions, last = 1
   double light_area_m2 = 0.0;

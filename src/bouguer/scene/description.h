@@ -77,6 +77,20 @@ struct ObjectDesc {
   double roughness = 0.0;  // interfaces: GGX alpha of the dielectric boundary (0: smooth)
 };
 
+// Lights without area (they cannot be hit, only sampled). Spectra use the normalisation of
+// spectra/cie.h: a point or spot light of scale s has intensity Y = s (per steradian), a distant
+// light of scale s gives irradiance Y = s on a surface facing it.
+enum class DeltaLightType { point, spot, distant };
+
+struct DeltaLightDesc {
+  DeltaLightType type = DeltaLightType::point;
+  Vec3 position_m{};
+  Vec3 direction{0, -1, 0};  // spot: the cone axis; distant: the direction light travels
+  double cone_deg = 30.0;    // spot: half-angle where the light ends
+  double falloff_deg = 25.0; // spot: half-angle where the smooth falloff starts
+  Spectrum intensity = ConstantSpectrum{1.0};
+};
+
 struct SceneDesc {
   std::filesystem::path file;
   CameraDesc camera;
@@ -84,6 +98,7 @@ struct SceneDesc {
   std::string world_medium = "air";
   std::map<std::string, MediumDesc> media;  // predefined vacuum and air included
   std::vector<ObjectDesc> objects;
+  std::vector<DeltaLightDesc> lights;
   EmissionDesc background;
 };
 

@@ -486,6 +486,40 @@ RenderSettings render_settings(const json& j, const Where& w) {
   return r;
 }
 
+DeltaLightDesc delta_light(const json& j, const Where& w) {
+  expect_keys(j, w, {"type", "position", "look_at", "direction", "cone_deg", "falloff_deg", "spectrum", "scale"});
+  if (!j.contains("type")) w.fail("needs 'type' (point, spot, distant)");
+  const std::string type = text(j["type"], w / "type");
+  DeltaLightDesc l;
+  if (type == "point") l.type = DeltaLightType::point;
+  else if (type == "spot") l.type = DeltaLightType::spot;
+  else if (type == "distant") l.type = DeltaLightType::distant;
+  else (w / "type").fail("unknown light '{}'{}", type, suggestion(type, {"point", "spot", "distant"}));
+  if (l.type != DeltaLightType::distant) {
+    if (!j.contains("position")) w.fail("a {} light needs 'position'", type);
+    l.position_m = length_vec3(j["position"], w / "position");
+  }
+  if (l.type != DeltaLightType::point) {
+    if (j.contains("direction") == j.contains("look_at")) w.fail("give either 'direction' or 'look_at'");
+    const Vec3 d = j.contains("direction") ? vec3(j["direction"], w / "direction")
+                                           : length_vec3(j["look_at"], w / "look_at") - l.position_m;
+    if (length(d) == 0.0) w.fail("the light's direction is zero");
+    l.direction = normalize(d);
+  }
+  if (l.type == DeltaLightType::spot) {
+    if (j.contains("cone_deg")) l.cone_deg = number(j["cone_deg"], w / "cone_deg");
+    l.falloff_deg = j.contains("falloff_deg") ? number(j["falloff_deg"], w / "falloff_deg") : 0.8 * l.cone_deg;
+    if (!(l.cone_deg > 0.0 && l.cone_deg <= 90.0)) (w / "cone_deg").fail("must be between 0 and 90 degrees");
+    if (!(l.falloff_deg >= 0.0 && l.falloff_deg <= l.cone_deg)) (w / "falloff_deg").fail("must be between 0 and cone_deg");
+  }
+  // The same spectrum keys as an emitter: named illuminants are scaled to Y = scale.
+  json spectrum_keys = json::object();
+  for (const char* k : {"spectrum", "scale"})
+    if (j.contains(k)) spectrum_keys[k] = j[k];
+  l.intensity = emission(spectrum_keys, w, false).radiance;
+  return l;
+}
+
 ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   expect_keys(j, w,
               {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material", "roughness"});
@@ -546,7 +580,7 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
     fail("{}:{}:{}: malformed JSON: {}", path.string(), line, column, why);
   }
   const Where top{&path, ""};
-  expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "background"});
+  expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "lights", "background"});
   SceneDesc s;
   s.file = path;
   s.media["vacuum"] = {"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false};
@@ -566,6 +600,11 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
   const Where wo = top / "objects";
   array(root["objects"], wo);
   for (std::size_t i = 0; i < root["objects"].size(); ++i) s.objects.push_back(object(root["objects"][i], wo[i], i));
+  if (root.contains("lights")) {
+    const Where wl = top / "lights";
+    array(root["lights"], wl);
+    for (std::size_t i = 0; i < root["lights"].size(); ++i) s.lights.push_back(delta_light(root["lights"][i], wl[i]));
+  }
   if (root.contains("background")) s.background = emission(root["background"], top / "background", false);
   // Every medium named by an object must exist.
   std::vector<std::string> names;
