@@ -2,7 +2,7 @@
 BUILD ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps configure build demo test bench clean
+.PHONY: all deps configure build demo test bench convergence clean
 
 all: build
 
@@ -24,6 +24,10 @@ test: build
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)
+
+# Samples and seconds each spectral mode needs to reach mean ΔE00 < 1 (several minutes).
+convergence: build
+	@bash scripts/convergence.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) out

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# make convergence: for each showcase scene, the samples per pixel and seconds that the full and
+# hero modes need to reach mean CIEDE2000 < 1 against a long reference render (full, 4096 spp,
+# another seed). Writes the table into docs/performance.md between the BENCH:convergence markers.
+set -euo pipefail
+build=${1:-build}
+doc=docs/performance.md
+mkdir -p out/convergence
+machine="$(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'))"
+resolution=240x180
+reference_spp=4096
+
+seconds_of() { tr -d '\n ' < "$1" | sed -E 's/.*"seconds":([0-9.e+-]+),.*/\1\n/'; }
+mean_of() { echo "$1" | sed -E 's/.*"mean":([^,}]*).*/\1/'; }
+
+table=$(
+  echo "Measured on $(date -u +%Y-%m-%d), $machine, Release build; $resolution, \`--integrator path\`;"
+  echo "reference: full, $reference_spp spp, seed 1000. A mode's row: the first power-of-two spp whose"
+  echo "render (seed 1) has mean ΔE00 < 1 against the reference."
+  echo
+  echo "| scene | reference seconds | mode | spp to ΔE00 < 1 | seconds | mean ΔE00 there |"
+  echo "|---|---|---|---|---|---|"
+  for scene in scenes/showcase/*.json; do
+    name=$(basename "$scene" .json)
+    ref=out/convergence/$name-reference.exr
+    "$build/bouguer" render "$scene" --integrator path --spectral full --spp $reference_spp --seed 1000 \
+      --resolution $resolution -o "$ref" --stats-json out/convergence/$name-reference.json --quiet
+    ref_seconds=$(seconds_of out/convergence/$name-reference.json)
+    for mode in full hero; do
+      found="> 1024 | - | -"
+      for spp in 4 8 16 32 64 128 256 512 1024; do
+        img=out/convergence/$name-$mode-$spp.exr
+        "$build/bouguer" render "$scene" --integrator path --spectral $mode --spp $spp --seed 1 \
+          --resolution $resolution -o "$img" --stats-json out/convergence/$name-$mode-$spp.json --quiet
+        mean=$(mean_of "$("$build/bouguer" compare "$img" "$ref" --json)")
+        if awk -v m="$mean" 'BEGIN { exit !(m < 1.0) }'; then
+          found=$(printf '%s | %.2f | %.3f' "$spp" "$(seconds_of out/convergence/$name-$mode-$spp.json)" "$mean")
+          break
+        fi
+      done
+      printf '| %s | %.1f | %s | %s |\n' "$name" "$ref_seconds" "$mode" "$found"
+    done
+  done
+)
+awk -v body="$table" '
+  $0 == "<!-- BENCH:convergence:begin -->" { print; print body; skip = 1; next }
+  $0 == "<!-- BENCH:convergence:end -->" { skip = 0 }
+  !skip { print }' "$doc" > "$doc.tmp" && mv "$doc.tmp" "$doc"
+echo "convergence: table written to $doc"
