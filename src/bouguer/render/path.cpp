@@ -136,15 +136,7 @@ SampledSpectrum<N> PathIntegrator<N>::eval_bsdf(const Surface& surface, const Fr
     pdf = bsdf.pdf(lo, li);
     return SampledSpectrum<N>::constant(static_cast<float>(bsdf.eval(lo, li)));
   }
-  const SampledMaterial<N>& m = s_.materials[surface.material];
-  if (m.conductor) {
-    const ConductorBsdf bsdf{{m.alpha}};
-    pdf = bsdf.pdf(lo, li);
-    return conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), eta(medium, single), m) *
-           static_cast<float>(bsdf.eval(lo, li));
-  }
-  pdf = DiffuseBsdf{}.pdf(lo, li);
-  return m.reflectance * static_cast<float>(DiffuseBsdf{}.eval(lo, li));
+  return eval_opaque(s_.materials[surface.material], frame, wo, wi, eta(medium, single), pdf);
 }
 
 template <std::size_t N>
@@ -164,18 +156,12 @@ SampledSpectrum<N> PathIntegrator<N>::delta_lights(const Hit& hit, const Vec3& w
     const auto light = sample_delta_light(scene_.delta_lights[i], hit.point);
     if (!light) continue;
     const int medium = dot(light->wi, frame.n) > 0.0 ? medium_front : medium_behind;
-    const bool infinite = std::isinf(light->distance_m);
-    if (infinite && s_.absorbing[medium]) continue;  // no light crosses an infinite absorber
+    const SampledSpectrum<N> incident = delta_light_incident(s_, i, *light, medium);
+    if (incident.is_zero()) continue;
     double pdf = 0.0;
     const SampledSpectrum<N> f = eval_bsdf(surface, frame, wo, light->wi, medium, single, pdf);
-    if (f.is_zero()) continue;
-    const Vec3 origin = offset_ray_origin(hit, light->wi);
-    ++rays;
-    const double t_max = infinite ? light->distance_m
-                                  : length(scene_.delta_lights[i].position_m - origin) * (1.0 - 1e-4);
-    if (scene_.rays.intersect({origin, light->wi, t_max})) continue;
-    const SampledSpectrum<N> tr = infinite ? SampledSpectrum<N>::constant(1.0f) : s_.transmittance(medium, light->distance_m);
-    sum += f * s_.delta_intensity[i] * tr * static_cast<float>(light->factor);
+    if (f.is_zero() || !unoccluded(scene_, hit, light->wi, light->distance_m, rays)) continue;
+    sum += f * incident;
   }
   return sum;
 }
@@ -196,10 +182,7 @@ SampledSpectrum<N> PathIntegrator<N>::area_light(const Hit& hit, const Vec3& wo,
   const int medium = dot(wi, frame.n) > 0.0 ? medium_front : medium_behind;
   double bsdf_pdf = 0.0;
   const SampledSpectrum<N> f = eval_bsdf(surface, frame, wo, wi, medium, single, bsdf_pdf);
-  if (f.is_zero()) return {};
-  const Vec3 origin = offset_ray_origin(hit, wi);
-  ++rays;
-  if (scene_.rays.intersect({origin, wi, length(light->point - origin) * (1.0 - 1e-4)})) return {};
+  if (f.is_zero() || !unoccluded(scene_, hit, wi, dist, rays)) return {};
   const double light_pdf = emitter_pdf_solid_angle(scene_, hit.point, light->point, light->normal);
   const auto w = static_cast<float>(power_heuristic(light_pdf, bsdf_pdf) / light_pdf);
   return f * s_.emission[emission] * s_.transmittance(medium, dist) * w;

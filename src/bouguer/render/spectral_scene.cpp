@@ -150,6 +150,36 @@ std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, 
   return DeltaLightSample{wi, std::sqrt(d2), falloff / d2};
 }
 
+template <std::size_t N>
+SampledSpectrum<N> delta_light_incident(const SpectralScene<N>& s, std::size_t i, const DeltaLightSample& light,
+                                        int medium) {
+  if (!std::isinf(light.distance_m))
+    return s.delta_intensity[i] * s.transmittance(medium, light.distance_m) * static_cast<float>(light.factor);
+  if (s.absorbing[medium]) return {};
+  return s.delta_intensity[i] * static_cast<float>(light.factor);
+}
+
+bool unoccluded(const RenderScene& scene, const Hit& hit, const Vec3& wi, double distance_m, std::uint64_t& rays) {
+  const Vec3 origin = offset_ray_origin(hit, wi);
+  ++rays;
+  // Stop just short of the light, so its own surface never blocks it.
+  const double t_max = std::isinf(distance_m) ? distance_m : distance_m * (1.0 - 1e-4);
+  return !scene.rays.intersect({origin, wi, t_max});
+}
+
+template <std::size_t N>
+SampledSpectrum<N> eval_opaque(const SampledMaterial<N>& m, const Frame& frame, const Vec3& wo, const Vec3& wi,
+                               double eta, double& pdf) {
+  const Vec3 lo = frame.to_local(wo), li = frame.to_local(wi);
+  if (!m.conductor) {
+    pdf = DiffuseBsdf{}.pdf(lo, li);
+    return m.reflectance * static_cast<float>(DiffuseBsdf{}.eval(lo, li));
+  }
+  const ConductorBsdf bsdf{{m.alpha}};
+  pdf = bsdf.pdf(lo, li);
+  return conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), eta, m) * static_cast<float>(bsdf.eval(lo, li));
+}
+
 std::optional<LightSample> sample_emitter_point(const RenderScene& scene, Rng& rng) {
   if (scene.lights.empty()) return std::nullopt;
   const double u = rng.next_double();
@@ -177,10 +207,19 @@ template struct SpectralScene<3>;
 template SpectralScene<kFullBins> make_spectral_scene(const RenderScene&, const SpectralBasis<kFullBins>&);
 template SpectralScene<3> make_spectral_scene(const RenderScene&, const SpectralBasis<3>&);
 template SampledSpectrum<kFullBins> conductor_fresnel(double, double, const SampledMaterial<kFullBins>&);
+template SampledSpectrum<kFullBins> delta_light_incident(const SpectralScene<kFullBins>&, std::size_t, const DeltaLightSample&, int);
+template SampledSpectrum<kFullBins> eval_opaque(const SampledMaterial<kFullBins>&, const Frame&, const Vec3&, const Vec3&, double,
+                                        double&);
 template SampledSpectrum<3> conductor_fresnel(double, double, const SampledMaterial<3>&);
+template SampledSpectrum<3> delta_light_incident(const SpectralScene<3>&, std::size_t, const DeltaLightSample&, int);
+template SampledSpectrum<3> eval_opaque(const SampledMaterial<3>&, const Frame&, const Vec3&, const Vec3&, double,
+                                        double&);
 template struct SpectralScene<kHeroCount>;
 template void fill_spectral_scene(const SpectralTables&, const std::array<double, kHeroCount>&,
                                   SpectralScene<kHeroCount>&);
 template SampledSpectrum<kHeroCount> conductor_fresnel(double, double, const SampledMaterial<kHeroCount>&);
+template SampledSpectrum<kHeroCount> delta_light_incident(const SpectralScene<kHeroCount>&, std::size_t, const DeltaLightSample&, int);
+template SampledSpectrum<kHeroCount> eval_opaque(const SampledMaterial<kHeroCount>&, const Frame&, const Vec3&, const Vec3&, double,
+                                        double&);
 
 }  // namespace bouguer

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "bouguer/core/frame.h"
 #include "bouguer/render/rng.h"
 #include "bouguer/render/spectral_sampling.h"
 #include "bouguer/scene/compile.h"
@@ -72,6 +73,22 @@ struct DeltaLightSample {
   double factor = 0.0;
 };
 std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, const Vec3& point);
+
+// Light from delta light i arriving through `medium`: intensity × falloff / d² × transmittance;
+// zero when a distant light would have to cross an infinite absorber.
+template <std::size_t N>
+SampledSpectrum<N> delta_light_incident(const SpectralScene<N>& s, std::size_t i, const DeltaLightSample& light,
+                                        int medium);
+
+// Whether nothing lies between the hit and a light `distance_m` away along wi (infinite: a distant
+// light); traces one shadow ray from the offset origin, counted in `rays`.
+bool unoccluded(const RenderScene& scene, const Hit& hit, const Vec3& wi, double distance_m, std::uint64_t& rays);
+
+// f·|cos θi| of an opaque material (frame.n on wo's side), in world directions, and the density its
+// own sampling draws wi with. `eta` is the index of the medium around it (for conductor Fresnel).
+template <std::size_t N>
+SampledSpectrum<N> eval_opaque(const SampledMaterial<N>& m, const Frame& frame, const Vec3& wo, const Vec3& wi,
+                               double eta, double& pdf);
 
 // A point on the emitters, uniform by area.
 struct LightSample {

@@ -79,41 +79,25 @@ SampledSpectrum<N> WhittedIntegrator<N>::opaque(const Ray& ray, const Hit& hit, 
   return tr * f * radiance({offset_ray_origin(hit, r), r}, medium, depth + 1, w, rng, rays);
 }
 
-// f·|cos θi| of an opaque material lit from wi, seen from wo, with n on wo's side.
-template <std::size_t N>
-SampledSpectrum<N> opaque_bsdf(const SampledMaterial<N>& material, const Vec3& n, const Vec3& wo, const Vec3& wi,
-                               double eta) {
-  const Frame frame(n);
-  const Vec3 wo_local = frame.to_local(wo), wi_local = frame.to_local(wi);
-  if (!material.conductor) return material.reflectance * static_cast<float>(DiffuseBsdf{}.eval(wo_local, wi_local));
-  const Vec3 wm = normalize(wo + wi);
-  return conductor_fresnel(std::min(1.0, dot(wi, wm)), eta, material) *
-         static_cast<float>(ConductorBsdf{{material.alpha}}.eval(wo_local, wi_local));
-}
-
 // One emitter point per call, chosen by area (the camera's samples per pixel average them), and
 // every point, spot and distant light.
 template <std::size_t N>
 SampledSpectrum<N> WhittedIntegrator<N>::direct_light(const Hit& hit, const Vec3& wo, int medium,
                                                       const SampledMaterial<N>& material, Rng& rng,
                                                       std::uint64_t& rays) const {
-  const Vec3 n = dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal;  // opaque surfaces are two-sided
-  // The light arriving from wi over `distance_m`, or nothing when blocked.
-  auto unblocked = [&](const Vec3& wi, double distance_m) {
-    if (dot(wi, n) <= 0.0) return false;
-    const Vec3 origin = offset_ray_origin(hit, wi);
-    ++rays;
-    return !scene_.rays.intersect({origin, wi, std::isinf(distance_m) ? distance_m : distance_m * (1.0 - 1e-4)});
+  const Frame frame(dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal);  // opaque surfaces are two-sided
+  // f·|cos θi| toward wi, when wi leaves the lit side and nothing blocks it over `distance_m`.
+  auto shade = [&](const Vec3& wi, double distance_m) -> SampledSpectrum<N> {
+    if (dot(wi, frame.n) <= 0.0 || !unoccluded(scene_, hit, wi, distance_m, rays)) return {};
+    double pdf = 0.0;
+    return eval_opaque(material, frame, wo, wi, s_.ior[medium], pdf);
   };
   SampledSpectrum<N> sum;
   for (std::size_t i = 0; i < scene_.delta_lights.size(); ++i) {
     const auto light = sample_delta_light(scene_.delta_lights[i], hit.point);
-    const bool infinite = light && std::isinf(light->distance_m);
-    if (!light || (infinite && s_.absorbing[medium]) || !unblocked(light->wi, light->distance_m)) continue;
-    const SampledSpectrum<N> tr =
-        infinite ? SampledSpectrum<N>::constant(1.0f) : s_.transmittance(medium, light->distance_m);
-    sum += opaque_bsdf(material, n, wo, light->wi, s_.ior[medium]) * s_.delta_intensity[i] * tr *
-           static_cast<float>(light->factor);
+    if (!light) continue;
+    const SampledSpectrum<N> incident = delta_light_incident(s_, i, *light, medium);
+    if (!incident.is_zero()) sum += shade(light->wi, light->distance_m) * incident;
   }
   const auto light = sample_emitter_point(scene_, rng);
   if (!light) return sum;
@@ -123,10 +107,10 @@ SampledSpectrum<N> WhittedIntegrator<N>::direct_light(const Hit& hit, const Vec3
   const Vec3 wi = to_light / dist;
   const int emission = scene_.surfaces[light->geometry].emission;
   const bool lit = dot(wi, light->normal) < 0.0 || scene_.emissions[emission].two_sided;
-  if (!lit || !unblocked(wi, dist)) return sum;
+  if (!lit) return sum;
   const double pdf = emitter_pdf_solid_angle(scene_, hit.point, light->point, light->normal);
-  return sum + opaque_bsdf(material, n, wo, wi, s_.ior[medium]) * s_.emission[emission] *
-                   s_.transmittance(medium, dist) * static_cast<float>(1.0 / pdf);
+  return sum + shade(wi, dist) * s_.emission[emission] * s_.transmittance(medium, dist) *
+                   static_cast<float>(1.0 / pdf);
 }
 
 template class WhittedIntegrator<kFullBins>;
