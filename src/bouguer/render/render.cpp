@@ -125,23 +125,19 @@ void render_hero(const RenderScene& scene, const RenderOptions& options, Film& f
 
 Film render(const RenderScene& scene, const RenderOptions& options, RenderStats& stats) {
   const auto start = std::chrono::steady_clock::now();
-  const bool full = scene.render.spectral == SpectralMode::full;
-  if (options.keep_spectra && scene.render.spectral == SpectralMode::hero)
-    fail("spectral output needs --spectral full (hero carries different wavelengths per sample)");
+  if (options.keep_spectra && scene.render.spectral != SpectralMode::full)
+    fail("spectral output needs --spectral full (rgb3 carries R, G, B; hero other wavelengths per sample)");
   if (scene.render.integrator == IntegratorType::whitted)
     for (const Surface& surface : scene.surfaces)
       if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0)
         fail("{}: object '{}': a rough interface needs the path tracer (--integrator path)", scene.file.string(),
              surface.object);
-  if (options.keep_spectra && !full) fail("spectral output needs --spectral full (rgb3 carries R, G, B, not spectra)");
+  const auto full_basis = make_full_basis();
   std::vector<double> wavelengths;
-  if (options.keep_spectra) {
-    const auto basis = make_full_basis();
-    wavelengths.assign(basis.wavelength_nm.begin(), basis.wavelength_nm.end());
-  }
+  if (options.keep_spectra) wavelengths.assign(full_basis.wavelength_nm.begin(), full_basis.wavelength_nm.end());
   Film film(scene.camera.width_px, scene.camera.height_px, std::move(wavelengths));
   switch (scene.render.spectral) {
-    case SpectralMode::full: render_fixed(scene, make_full_basis(), options, film, stats); break;
+    case SpectralMode::full: render_fixed(scene, full_basis, options, film, stats); break;
     case SpectralMode::rgb3: render_fixed(scene, make_rgb3_basis(), options, film, stats); break;
     case SpectralMode::hero: render_hero(scene, options, film, stats); break;
   }
