@@ -194,6 +194,40 @@ TEST(Bsdf, Reciprocity) {
   }
 }
 
+// With energy compensation, a lossless rough interface scatters all light from every direction:
+// the mean sample weight (reflection + transmission) is 1. The tolerance is 4 standard errors of
+// the estimate (the weights' own spread over n samples) plus 0.2 % for the tabulation.
+TEST(Bsdf, RoughDielectricCompensationKeepsAllEnergy) {
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const double alpha : {0.08, 0.3, 0.7}) {
+    for (const auto& [eta_out, eta_in] : {std::pair{1.0, 1.5}, std::pair{1.33, 1.5}, std::pair{1.0, 2.42}}) {
+      const DielectricAlbedo table = DielectricAlbedo::compute(alpha, eta_out, eta_in);
+      const RoughDielectricBsdf plain{{alpha}, eta_out, eta_in}, compensated{{alpha}, eta_out, eta_in, &table};
+      for (const double mu : {0.05, 0.3, 0.7, 0.99}) {
+        for (const double side : {1.0, -1.0}) {
+          const Vec3 wo{std::sqrt(1.0 - mu * mu), 0.0, side * mu};
+          const int n = 100000;
+          double sum = 0.0, sum2 = 0.0, plain_sum = 0.0;
+          for (int i = 0; i < n; ++i) {
+            const double a = u(rng), b = u(rng), c = u(rng);
+            if (const auto s = compensated.sample(wo, a, b, c)) {
+              sum += s->weight;
+              sum2 += s->weight * s->weight;
+            }
+            if (const auto s = plain.sample(wo, a, b, c)) plain_sum += s->weight;
+          }
+          const double mean = sum / n, sigma = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / n);
+          const std::string what = "alpha " + std::to_string(alpha) + " eta " + std::to_string(eta_out) + "|" +
+                                   std::to_string(eta_in) + " cos " + std::to_string(side * mu);
+          EXPECT_NEAR(mean, 1.0, 4.0 * sigma + 0.002) << what << " (single scattering: " << plain_sum / n << ")";
+          EXPECT_LE(plain_sum / n, 1.0 + 4.0 * sigma) << what;
+        }
+      }
+    }
+  }
+}
+
 // The microfacet distribution is normalised: ∫ D(m) cos θm dωm = 1.
 TEST(Bsdf, GgxIsNormalised) {
   for (const double alpha : {0.05, 0.3, 0.9}) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "bouguer/materials/fresnel.h"
 
@@ -120,8 +121,9 @@ double RoughDielectricBsdf::eval(const Vec3& wo, const Vec3& wi) const {
   const auto e = dielectric_event(*this, wo, wi);
   if (!e) return 0.0;
   const double dg = ggx.D(e->wm) * ggx.G(e->o.wo, e->o.wi);
-  if (e->reflection) return e->fresnel * dg / (4.0 * e->o.wo.z);
-  return e->fresnel * dg * std::abs(e->cos_im * e->cos_om) * e->o.eta_i * e->o.eta_i /
+  const double scale = compensation ? 1.0 / compensation->at(wo.z > 0.0, std::abs(wo.z)) : 1.0;
+  if (e->reflection) return scale * e->fresnel * dg / (4.0 * e->o.wo.z);
+  return scale * e->fresnel * dg * std::abs(e->cos_im * e->cos_om) * e->o.eta_i * e->o.eta_i /
          (e->o.wo.z * e->denom * e->denom);
 }
 
@@ -155,6 +157,46 @@ std::optional<BsdfSample> RoughDielectricBsdf::sample(const Vec3& wo_in, double 
   const double p = pdf(wo_in, wi);
   if (!(p > 0.0)) return std::nullopt;
   return BsdfSample{wi, p, eval(wo_in, wi) / p, transmitted};
+}
+
+double DielectricAlbedo::at(bool from_outside, double cos_theta) const {
+  const auto& table = from_outside ? outside : inside;
+  // Entries sit at cosines (i + 0.5) / kCosines; clamp beyond the first and the last.
+  const double x = std::clamp(cos_theta * kCosines - 0.5, 0.0, kCosines - 1.0);
+  const int i = std::min(static_cast<int>(x), kCosines - 2);
+  const double t = x - i;
+  return (1.0 - t) * table[i] + t * table[i + 1];
+}
+
+DielectricAlbedo DielectricAlbedo::compute(double alpha, double eta_outside, double eta_inside) {
+  DielectricAlbedo out;
+  const RoughDielectricBsdf bsdf{{alpha}, eta_outside, eta_inside};
+  for (int side = 0; side < 2; ++side) {
+    for (int c = 0; c < kCosines; ++c) {
+      const double mu = (c + 0.5) / kCosines;
+      const Vec3 up{std::sqrt(1.0 - mu * mu), 0.0, mu};
+      const Vec3 wo = side == 0 ? up : Vec3{up.x, 0.0, -mu};
+      const double eta_o = side == 0 ? eta_outside : eta_inside, eta_i = side == 0 ? eta_inside : eta_outside;
+      double sum = 0.0;
+      // Jittered strata rather than cell midpoints: the last cells in u1 hold GGX's long tail of
+      // steep microfacets, where most of the loss is, and midpoints would miss it.
+      std::mt19937_64 rng(static_cast<std::uint64_t>(side * kCosines + c));
+      auto jitter = [&rng] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+      for (int a = 0; a < kGrid; ++a) {
+        for (int b = 0; b < kGrid; ++b) {
+          const double u1 = (a + jitter()) / kGrid, u2 = (b + jitter()) / kGrid;
+          // Both branches at once, each weighted by its Fresnel probability: uc = 0 reflects
+          // whenever F > 0, uc = 1 transmits whenever F < 1.
+          const Vec3 up_wo = side == 0 ? wo : -wo;
+          const double f = fresnel_dielectric(dot(up_wo, bsdf.ggx.sample_visible_normal(up_wo, u1, u2)), eta_o, eta_i);
+          if (const auto r = bsdf.sample(wo, 0.0, u1, u2); r && !r->transmitted) sum += f * r->weight;
+          if (const auto t = bsdf.sample(wo, 1.0, u1, u2); t && t->transmitted) sum += (1.0 - f) * t->weight;
+        }
+      }
+      (side == 0 ? out.outside : out.inside)[c] = static_cast<float>(sum / (kGrid * kGrid));
+    }
+  }
+  return out;
 }
 
 double fresnel_conductor(double cos_theta_i, double eta_i, std::complex<double> n_t) {

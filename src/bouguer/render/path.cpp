@@ -115,8 +115,10 @@ auto PathIntegrator<N>::scatter(const Ray& ray, const Hit& hit, const Surface& s
   // A rough dielectric interface: the local +z is the surface normal, the "front" medium's side.
   const Frame frame(hit.normal);
   light += beta * next_event(hit, wo, frame, surface.medium_behind, surface.medium_front, surface, single, rng, rays);
-  const RoughDielectricBsdf bsdf{
-      {surface.roughness}, eta(surface.medium_front, single), eta(surface.medium_behind, single)};
+  const RoughDielectricBsdf bsdf{{surface.roughness},
+                                 eta(surface.medium_front, single),
+                                 eta(surface.medium_behind, single),
+                                 &scene_.dielectric_albedo[surface.albedo]};
   const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
   const auto s = bsdf.sample(frame.to_local(wo), uc, u1, u2);
   if (!s) return std::nullopt;
@@ -131,8 +133,10 @@ SampledSpectrum<N> PathIntegrator<N>::eval_bsdf(const Surface& surface, const Fr
                                                 const Vec3& wi, int medium, int single, double& pdf) const {
   const Vec3 lo = frame.to_local(wo), li = frame.to_local(wi);
   if (surface.kind == SurfaceKind::interface) {
-    const RoughDielectricBsdf bsdf{
-        {surface.roughness}, eta(surface.medium_front, single), eta(surface.medium_behind, single)};
+    const RoughDielectricBsdf bsdf{{surface.roughness},
+                                   eta(surface.medium_front, single),
+                                   eta(surface.medium_behind, single),
+                                   &scene_.dielectric_albedo[surface.albedo]};
     pdf = bsdf.pdf(lo, li);
     return SampledSpectrum<N>::constant(static_cast<float>(bsdf.eval(lo, li)));
   }

@@ -1,5 +1,8 @@
 #include "bouguer/scene/compile.h"
 
+#include <map>
+#include <tuple>
+
 #include "bouguer/core/error.h"
 
 namespace bouguer {
@@ -48,6 +51,7 @@ RenderScene compile(const SceneDesc& desc) {
   s.delta_lights = desc.lights;
   for (const auto& [name, m] : desc.media) s.media.push_back(m);
   s.world_medium = medium_index(s, desc.world_medium);
+  std::map<std::tuple<double, double, double>, int> albedo_index;  // (alpha, eta front, eta behind)
 
   for (const ObjectDesc& o : desc.objects) {
     std::vector<ShapePart> parts = make_shape(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
@@ -78,6 +82,14 @@ RenderScene compile(const SceneDesc& desc) {
       Surface surface = base;
       surface.medium_behind = pick(p.behind);
       surface.medium_front = pick(p.in_front);
+      if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0) {
+        const auto key = std::make_tuple(surface.roughness, ior_at(s.media[surface.medium_front].ior, kReferenceWavelengthNm),
+                                         ior_at(s.media[surface.medium_behind].ior, kReferenceWavelengthNm));
+        const auto [it, added] = albedo_index.try_emplace(key, static_cast<int>(s.dielectric_albedo.size()));
+        if (added)
+          s.dielectric_albedo.push_back(DielectricAlbedo::compute(std::get<0>(key), std::get<1>(key), std::get<2>(key)));
+        surface.albedo = it->second;
+      }
       const std::uint32_t id = s.rays.add(p.mesh);
       if (id != s.surfaces.size()) fail("internal: geometry ids out of order");
       s.surfaces.push_back(surface);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bouguer/geometry/ray_scene.h"
+#include "bouguer/materials/bsdf.h"
 #include "bouguer/scene/description.h"
 
 namespace bouguer {
@@ -20,6 +21,7 @@ struct Surface {
   int emission = -1;       // index into emissions (emitters)
   int material = -1;       // index into materials (opaque surfaces)
   double roughness = 0.0;  // interfaces: GGX alpha (0: smooth)
+  int albedo = -1;         // rough interfaces: index into RenderScene::dielectric_albedo
   std::string object;      // for messages
 };
 
@@ -43,6 +45,9 @@ struct RenderScene {
   std::vector<EmissiveTriangle> lights;
   std::vector<double> light_cdf;  // cumulative area fractions, last = 1
   double light_area_m2 = 0.0;
+  // Energy compensation of rough interfaces, tabulated with the two media's indices at
+  // kReferenceWavelengthNm (the albedo varies by well under 1 % over a glass's dispersion).
+  std::vector<DielectricAlbedo> dielectric_albedo;
 };
 
 RenderScene compile(const SceneDesc& desc);
