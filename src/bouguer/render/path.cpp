@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bouguer/materials/bsdf.h"
 #include "bouguer/materials/fresnel.h"
@@ -29,7 +30,13 @@ SampledSpectrum<N> PathIntegrator<N>::radiance(Ray ray, int medium, double wavel
     ++rays;
     const auto hit = scene_.rays.intersect(ray);
     if (!hit) {
-      if (medium < 0 || !s_.absorbing[medium]) l += beta * s_.background;
+      if (medium < 0 || !s_.absorbing[medium]) {
+        // An environment map is also reached by next-event estimation: weight against it.
+        const double w = (prev_pdf == 0.0 || !s_.environment)
+                             ? 1.0
+                             : power_heuristic(prev_pdf, s_.environment->pdf(ray.direction));
+        l += beta * s_.background_radiance(ray.direction) * static_cast<float>(w);
+      }
       break;
     }
     const Surface& surface = scene_.surfaces[hit->geometry];
@@ -147,8 +154,27 @@ template <std::size_t N>
 SampledSpectrum<N> PathIntegrator<N>::next_event(const Hit& hit, const Vec3& wo, const Frame& frame,
                                                  int medium_behind, int medium_front, const Surface& surface,
                                                  int single, Rng& rng, std::uint64_t& rays) const {
-  return area_light(hit, wo, frame, medium_behind, medium_front, surface, single, rng, rays) +
-         delta_lights(hit, wo, frame, medium_behind, medium_front, surface, single, rays);
+  SampledSpectrum<N> sum = area_light(hit, wo, frame, medium_behind, medium_front, surface, single, rng, rays) +
+                           delta_lights(hit, wo, frame, medium_behind, medium_front, surface, single, rays);
+  if (s_.environment) sum += environment_light(hit, wo, frame, medium_behind, medium_front, surface, single, rng, rays);
+  return sum;
+}
+
+// Direct light from one direction of the environment map, weighted against BSDF sampling.
+template <std::size_t N>
+SampledSpectrum<N> PathIntegrator<N>::environment_light(const Hit& hit, const Vec3& wo, const Frame& frame,
+                                                        int medium_behind, int medium_front, const Surface& surface,
+                                                        int single, Rng& rng, std::uint64_t& rays) const {
+  const double u1 = rng.next_double(), u2 = rng.next_double();
+  const auto light = s_.environment->sample(u1, u2);
+  if (!light) return {};
+  const int medium = dot(light->wi, frame.n) > 0.0 ? medium_front : medium_behind;
+  if (medium >= 0 && s_.absorbing[medium]) return {};  // an infinite absorber lets nothing through
+  double bsdf_pdf = 0.0;
+  const SampledSpectrum<N> f = eval_bsdf(surface, frame, wo, light->wi, medium, single, bsdf_pdf);
+  if (f.is_zero() || !unoccluded(scene_, hit, light->wi, std::numeric_limits<double>::infinity(), rays)) return {};
+  const auto w = static_cast<float>(power_heuristic(light->pdf, bsdf_pdf) / light->pdf);
+  return f * s_.environment_radiance(light->texel) * w;
 }
 
 template <std::size_t N>

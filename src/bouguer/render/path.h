@@ -52,6 +52,9 @@ class PathIntegrator {
   SampledSpectrum<N> next_event(const Hit& hit, const Vec3& wo, const Frame& frame, int medium_behind,
                                 int medium_front, const Surface& surface, int single, Rng& rng,
                                 std::uint64_t& rays) const;
+  SampledSpectrum<N> environment_light(const Hit& hit, const Vec3& wo, const Frame& frame, int medium_behind,
+                                       int medium_front, const Surface& surface, int single, Rng& rng,
+                                       std::uint64_t& rays) const;
   SampledSpectrum<N> area_light(const Hit& hit, const Vec3& wo, const Frame& frame, int medium_behind,
                                 int medium_front, const Surface& surface, int single, Rng& rng,
                                 std::uint64_t& rays) const;

@@ -58,6 +58,7 @@ SpectralTables make_spectral_tables(const RenderScene& scene) {
     t.alpha.push_back(conductor ? conductor->roughness : 0.0);
   }
   t.background = tabulate_spectrum(scene.background.radiance);
+  if (scene.environment) t.environment = &*scene.environment;
   return t;
 }
 
@@ -85,6 +86,9 @@ void fill_spectral_scene(const SpectralTables& t, const std::array<double, N>& n
   for (std::size_t i = 0; i < out.materials.size(); ++i)
     out.materials[i] = {t.conductor[i], at(t.reflectance[i]), at(t.n[i]), at(t.k[i]), t.alpha[i]};
   out.background = at(t.background);
+  out.environment = t.environment;
+  out.env_nm = nm;
+  for (std::size_t i = 0; i < N; ++i) out.env_white[i] = static_cast<float>(d65_unit_luminance(nm[i]));
 }
 
 template <std::size_t N>
@@ -118,6 +122,19 @@ SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBas
     s.materials.push_back(m);
   }
   s.background = basis.emission(scene.background.radiance);
+  if (scene.environment) {
+    s.environment = &*scene.environment;
+    s.env_nm = basis.wavelength_nm;
+    // Full: D65's mean over each bin (the sigmoid factor is smooth, taken at the bin centre).
+    if (basis.mode != SpectralMode::rgb3) {
+      TabulatedSpectrum d65;
+      for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
+        d65.wavelength_nm.push_back(nm);
+        d65.value.push_back(d65_unit_luminance(nm));
+      }
+      s.env_white = basis.emission(d65);
+    }
+  }
   return s;
 }
 

@@ -31,6 +31,28 @@ struct SpectralScene {
   std::vector<SampledMaterial<N>> materials;      // per opaque material
   std::vector<SampledSpectrum<N>> delta_intensity;  // per point, spot or distant light
   SampledSpectrum<N> background;
+  // The environment map, when the scene has one (it replaces `background`): texel spectra are
+  // evaluated at env_nm and multiplied by D65 there (env_white: bin means in full mode); rgb3
+  // takes the texels' RGB directly.
+  const EnvironmentMap* environment = nullptr;
+  std::array<double, N> env_nm{};
+  SampledSpectrum<N> env_white;
+
+  SampledSpectrum<N> environment_radiance(int texel) const {
+    SampledSpectrum<N> l;
+    if (basis.mode == SpectralMode::rgb3) {
+      const Vec3f& c = environment->rgb[texel];
+      for (std::size_t i = 0; i < N && i < 3; ++i) l[i] = std::array{c.x, c.y, c.z}[i];
+      return l;
+    }
+    const RgbIlluminantSpectrum& s = environment->spectra[texel];
+    for (std::size_t i = 0; i < N; ++i) l[i] = static_cast<float>(s.scale * s.poly(env_nm[i])) * env_white[i];
+    return l;
+  }
+  // What a ray leaving the scene in direction d sees.
+  SampledSpectrum<N> background_radiance(const Vec3& d) const {
+    return environment ? environment_radiance(environment->texel(d)) : background;
+  }
 
   SampledSpectrum<N> transmittance(int medium, double length_m) const {
     if (medium < 0 || !absorbing[medium]) return SampledSpectrum<N>::constant(1.0f);
@@ -52,6 +74,7 @@ struct SpectralTables {
   std::vector<bool> absorbing, dispersive, conductor;
   std::vector<double> ior_reference, alpha;
   Table background;
+  const EnvironmentMap* environment = nullptr;
 };
 
 SpectralTables make_spectral_tables(const RenderScene& scene);

@@ -17,7 +17,7 @@ SampledSpectrum<N> WhittedIntegrator<N>::radiance(const Ray& ray, int medium, in
   const auto hit = scene_.rays.intersect(ray);
   if (!hit) {
     if (medium >= 0 && s_.absorbing[medium]) return {};  // an infinite path through an absorber
-    return s_.background;
+    return s_.background_radiance(ray.direction);
   }
   const Surface& surface = scene_.surfaces[hit->geometry];
   const bool from_front = dot(ray.direction, hit->normal) < 0.0;

@@ -48,6 +48,7 @@ RenderScene compile(const SceneDesc& desc) {
   s.camera = desc.camera;
   s.render = desc.render;
   s.background = desc.background;
+  if (desc.environment) s.environment = load_environment(*desc.environment);
   s.delta_lights = desc.lights;
   for (const auto& [name, m] : desc.media) s.media.push_back(m);
   s.world_medium = medium_index(s, desc.world_medium);

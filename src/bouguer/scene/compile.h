@@ -41,6 +41,7 @@ struct RenderScene {
   std::vector<EmissionDesc> emissions;
   std::vector<MaterialDesc> materials;
   EmissionDesc background;
+  std::optional<EnvironmentMap> environment;  // replaces the background when present
   std::vector<DeltaLightDesc> delta_lights;
   std::vector<EmissiveTriangle> lights;
   std::vector<double> light_cdf;  // cumulative area fractions, last = 1

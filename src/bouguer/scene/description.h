@@ -13,6 +13,7 @@
 #include "bouguer/geometry/shapes.h"
 #include "bouguer/geometry/transform.h"
 #include "bouguer/media/ior.h"
+#include "bouguer/scene/environment.h"
 #include "bouguer/spectra/spectrum.h"
 
 namespace bouguer {
@@ -99,7 +100,8 @@ struct SceneDesc {
   std::map<std::string, MediumDesc> media;  // predefined vacuum and air included
   std::vector<ObjectDesc> objects;
   std::vector<DeltaLightDesc> lights;
-  EmissionDesc background;
+  EmissionDesc background;                     // used when there is no environment map
+  std::optional<EnvironmentDesc> environment;  // "background": {"environment": "sky.exr", ...}
 };
 
 }  // namespace bouguer

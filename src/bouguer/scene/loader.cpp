@@ -15,6 +15,7 @@
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
 #include "bouguer/spectra/cie.h"
+#include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {
 namespace {
@@ -113,6 +114,15 @@ std::vector<double> numbers(const json& j, const Where& w) {
   return out;
 }
 
+// {"rgb": [r, g, b]}: a linear Rec.709 colour, lifted to a spectrum by rgb_to_spectrum.h.
+Vec3 rgb_value(const json& j, const Where& w) {
+  expect_keys(j, w, {"rgb"});
+  const Vec3 rgb = vec3(j["rgb"], w / "rgb");
+  for (int i = 0; i < 3; ++i)
+    if (!(std::array{rgb.x, rgb.y, rgb.z}[i] >= 0.0)) (w / "rgb")[i].fail("must not be negative");
+  return rgb;
+}
+
 // {"wavelength_nm": [...], "value": [...]} or {"csv": "file.csv"}: the table form shared by
 // absorption, IOR, reflectance and emission data. `extra` lists the caller's other keys.
 TabulatedSpectrum table(const json& j, const Where& w, std::vector<std::string> extra, bool allow_negative = false) {
@@ -154,12 +164,28 @@ EmissionDesc emission(const json& j, const Where& w, bool allow_two_sided) {
     if (!spd)
       (w / "spectrum").fail("unknown illuminant '{}' (known: {})", s.get<std::string>(), fmt::join(illuminant_names(), ", "));
     e.radiance = normalised_to_luminance(*spd, scale);
+  } else if (s.is_object() && s.contains("rgb")) {
+    e.radiance = scaled(Spectrum{rgb_to_illuminant(rgb_value(s, w / "spectrum"))}, scale);
   } else {
     const Spectrum t = table(s, w / "spectrum", {});
     const bool normalise = j.contains("normalise") && boolean(j["normalise"], w / "normalise");
     e.radiance = normalise ? normalised_to_luminance(t, scale) : scaled(t, scale);
   }
   if (j.contains("two_sided")) e.two_sided = boolean(j["two_sided"], w / "two_sided");
+  return e;
+}
+
+// {"environment": "sky.exr", "scale": 1, "rotate_deg": 0}: a lat-long map (scene/environment.h).
+EnvironmentDesc environment(const json& j, const Where& w) {
+  expect_keys(j, w, {"environment", "scale", "rotate_deg"});
+  EnvironmentDesc e;
+  e.file = w.resolve(text(j["environment"], w / "environment"));
+  const std::string ext = e.file.extension().string();
+  if (ext != ".exr" && ext != ".pfm") (w / "environment").fail("an environment map must be an .exr or .pfm file");
+  if (!std::filesystem::exists(e.file)) (w / "environment").fail("no such file: {}", e.file.string());
+  if (j.contains("scale")) e.scale = number(j["scale"], w / "scale");
+  if (!(e.scale >= 0.0)) (w / "scale").fail("must not be negative (got {})", e.scale);
+  if (j.contains("rotate_deg")) e.rotate_deg = number(j["rotate_deg"], w / "rotate_deg");
   return e;
 }
 
@@ -291,7 +317,9 @@ MaterialDesc material(const json& j, const Where& w) {
     expect_keys(j, w, {"type", "reflectance"});
     DiffuseDesc d;
     if (j.contains("reflectance")) {
-      d.reflectance = spectral_value(j["reflectance"], w / "reflectance");
+      const json& r = j["reflectance"];
+      d.reflectance = r.is_object() && r.contains("rgb") ? Spectrum{rgb_to_reflectance(rgb_value(r, w / "reflectance"))}
+                                                        : spectral_value(r, w / "reflectance");
       if (max_value(d.reflectance) > 1.0 || min_value(d.reflectance) < 0.0)
         (w / "reflectance").fail("a reflectance must lie between 0 and 1");
     }
@@ -605,7 +633,13 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
     array(root["lights"], wl);
     for (std::size_t i = 0; i < root["lights"].size(); ++i) s.lights.push_back(delta_light(root["lights"][i], wl[i]));
   }
-  if (root.contains("background")) s.background = emission(root["background"], top / "background", false);
+  if (root.contains("background")) {
+    const json& b = root["background"];
+    if (b.is_object() && b.contains("environment"))
+      s.environment = environment(b, top / "background");
+    else
+      s.background = emission(b, top / "background", false);
+  }
   // Every medium named by an object must exist.
   std::vector<std::string> names;
   for (const auto& [name, m] : s.media) names.push_back(name);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bouguer/core/error.h"
+#include "bouguer/spectra/cie.h"
 
 namespace bouguer {
 
@@ -42,6 +43,17 @@ double eval(const TabulatedSpectrum& s, double wavelength_nm) {
   return s.value[lo] + t * (s.value[hi] - s.value[lo]);
 }
 
+double SigmoidPolynomial::operator()(double nm) const {
+  const double x = (c0 * nm + c1) * nm + c2;
+  if (std::isinf(x)) return x > 0.0 ? 1.0 : 0.0;
+  return 0.5 + x / (2.0 * std::sqrt(1.0 + x * x));
+}
+
+double d65_unit_luminance(double wavelength_nm) {
+  static const Spectrum d65 = named_illuminant("D65", 1.0);
+  return eval(d65, wavelength_nm);
+}
+
 double eval(const Spectrum& s, double wavelength_nm) {
   struct Visitor {
     double nm;
@@ -50,6 +62,8 @@ double eval(const Spectrum& s, double wavelength_nm) {
     double operator()(const BlackbodySpectrum& b) const {
       return b.scale * planck_radiance_per_nm(nm, b.temperature_k);
     }
+    double operator()(const SigmoidPolynomial& p) const { return p(nm); }
+    double operator()(const RgbIlluminantSpectrum& r) const { return r.scale * r.poly(nm) * d65_unit_luminance(nm); }
   };
   return std::visit(Visitor{wavelength_nm}, s);
 }
@@ -63,6 +77,16 @@ Spectrum scaled(const Spectrum& s, double factor) {
       return t;
     }
     Spectrum operator()(const BlackbodySpectrum& b) const { return BlackbodySpectrum{b.temperature_k, b.scale * f}; }
+    Spectrum operator()(const SigmoidPolynomial& p) const {
+      // A sigmoid times a factor is no longer a sigmoid: tabulate at 1 nm.
+      TabulatedSpectrum t;
+      for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
+        t.wavelength_nm.push_back(nm);
+        t.value.push_back(p(nm) * f);
+      }
+      return t;
+    }
+    Spectrum operator()(const RgbIlluminantSpectrum& r) const { return RgbIlluminantSpectrum{r.scale * f, r.poly}; }
   };
   return std::visit(Visitor{factor}, s);
 }

@@ -29,7 +29,25 @@ struct BlackbodySpectrum {
   double scale = 1.0;
 };
 
-using Spectrum = std::variant<ConstantSpectrum, TabulatedSpectrum, BlackbodySpectrum>;
+// S(c0 λ² + c1 λ + c2) with the sigmoid S(x) = 1/2 + x / (2 √(1 + x²)), λ in nm: a smooth
+// spectrum with values in [0, 1], the form RGB reflectances are lifted to (rgb_to_spectrum.h).
+struct SigmoidPolynomial {
+  double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+  double operator()(double wavelength_nm) const;
+};
+
+// scale · S(poly(λ)) · D65(λ), D65 normalised to luminance 1: an RGB radiance lifted to a spectrum
+// (rgb_to_spectrum.h).
+struct RgbIlluminantSpectrum {
+  double scale = 0.0;
+  SigmoidPolynomial poly;
+};
+
+using Spectrum = std::variant<ConstantSpectrum, TabulatedSpectrum, BlackbodySpectrum, SigmoidPolynomial,
+                              RgbIlluminantSpectrum>;
+
+// D65 normalised to luminance Y = 1, at 1 nm (the white of RgbIlluminantSpectrum).
+double d65_unit_luminance(double wavelength_nm);
 
 // Validates the invariants above (and finite values); `what` names the data in the error message.
 TabulatedSpectrum make_tabulated(std::vector<double> wavelength_nm, std::vector<double> value,

@@ -1,0 +1,110 @@
+#include "bouguer/scene/environment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "bouguer/core/error.h"
+#include "bouguer/io/image_io.h"
+#include "bouguer/spectra/rgb_to_spectrum.h"
+
+namespace bouguer {
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+// Index of the interval of a CDF (size n + 1, from 0 to 1) that holds u.
+int find_interval(const double* cdf, int n, double u) {
+  const double* it = std::upper_bound(cdf, cdf + n + 1, u);
+  return std::clamp(static_cast<int>(it - cdf) - 1, 0, n - 1);
+}
+}  // namespace
+
+EnvironmentMap make_environment(int width, int height, const std::vector<float>& rgb, double scale,
+                                double rotate_deg) {
+  EnvironmentMap m;
+  m.width = width;
+  m.height = height;
+  m.rotate_rad = rotate_deg * kPi / 180.0;
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  m.spectra.resize(n);
+  m.rgb.resize(n);
+  m.texel_probability.assign(n, 0.0);
+  m.row_cdf.assign(height + 1, 0.0);
+  m.column_cdf.assign(static_cast<std::size_t>(height) * (width + 1), 0.0);
+  std::vector<double> row_weight(height, 0.0);
+  for (int j = 0; j < height; ++j) {
+    const double sin_theta = std::sin(kPi * (j + 0.5) / height);
+    double* cdf = &m.column_cdf[static_cast<std::size_t>(j) * (width + 1)];
+    for (int i = 0; i < width; ++i) {
+      const std::size_t t = static_cast<std::size_t>(j) * width + i;
+      const Vec3 c{rgb[3 * t] * scale, rgb[3 * t + 1] * scale, rgb[3 * t + 2] * scale};
+      m.rgb[t] = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+      m.spectra[t] = rgb_to_illuminant(c);
+      // Luminance of linear Rec.709; negative (out-of-gamut) components do not count.
+      const double y = 0.2126 * std::max(0.0, c.x) + 0.7152 * std::max(0.0, c.y) + 0.0722 * std::max(0.0, c.z);
+      const double w = y * sin_theta;
+      m.texel_probability[t] = w;
+      cdf[i + 1] = cdf[i] + w;
+    }
+    row_weight[j] = cdf[width];
+    if (cdf[width] > 0.0)
+      for (int i = 1; i <= width; ++i) cdf[i] /= cdf[width];
+    m.row_cdf[j + 1] = m.row_cdf[j] + row_weight[j];
+  }
+  m.total_weight = m.row_cdf[height];
+  if (m.total_weight > 0.0) {
+    for (double& c : m.row_cdf) c /= m.total_weight;
+    for (double& p : m.texel_probability) p /= m.total_weight;
+  }
+  return m;
+}
+
+EnvironmentMap load_environment(const EnvironmentDesc& desc) {
+  const Film image = read_image(desc.file);
+  if (image.width < 2 || image.height < 2) fail("{}: an environment map needs at least 2 × 2 pixels", desc.file.string());
+  for (float v : image.rgb)
+    if (!std::isfinite(v)) fail("{}: the environment map holds a non-finite value", desc.file.string());
+  return make_environment(image.width, image.height, image.rgb, desc.scale, desc.rotate_deg);
+}
+
+int EnvironmentMap::texel(const Vec3& d) const {
+  const double phi = std::atan2(d.x, -d.z) - rotate_rad;  // −π .. π before rotation
+  double u = phi / (2.0 * kPi) + 0.5;
+  u -= std::floor(u);
+  const double v = std::acos(std::clamp(d.y, -1.0, 1.0)) / kPi;
+  const int i = std::min(static_cast<int>(u * width), width - 1);
+  const int j = std::min(static_cast<int>(v * height), height - 1);
+  return j * width + i;
+}
+
+Vec3 EnvironmentMap::direction(double column, double row) const {
+  const double phi = 2.0 * kPi * column / width - kPi + rotate_rad, theta = kPi * row / height;
+  const double s = std::sin(theta);
+  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+}
+
+std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u2) const {
+  if (total_weight <= 0.0) return std::nullopt;
+  const int j = find_interval(row_cdf.data(), height, u1);
+  const double* cdf = &column_cdf[static_cast<std::size_t>(j) * (width + 1)];
+  const int i = find_interval(cdf, width, u2);
+  const int t = j * width + i;
+  if (texel_probability[t] <= 0.0) return std::nullopt;
+  // The numbers' positions inside the chosen intervals are again uniform: the point within the
+  // texel, uniform in (φ, θ).
+  const double row = j + std::clamp((u1 - row_cdf[j]) / (row_cdf[j + 1] - row_cdf[j]), 0.0, 1.0);
+  const double column = i + std::clamp((u2 - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0, 1.0);
+  const double sin_theta = std::sin(kPi * row / height);
+  if (sin_theta <= 0.0) return std::nullopt;
+  // Density in image space p_t·W·H; dω = 2π² sin θ du dv.
+  return Sample{direction(column, row), texel_probability[t] * width * height / (2.0 * kPi * kPi * sin_theta), t};
+}
+
+double EnvironmentMap::pdf(const Vec3& d) const {
+  if (total_weight <= 0.0) return 0.0;
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - d.y * d.y));
+  if (sin_theta <= 0.0) return 0.0;
+  return texel_probability[texel(d)] * width * height / (2.0 * kPi * kPi * sin_theta);
+}
+
+}  // namespace bouguer

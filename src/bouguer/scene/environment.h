@@ -1,0 +1,58 @@
+#pragma once
+// An environment light: a latitude-longitude image of the radiance arriving from every direction,
+// infinitely far away. Texel (column i, row j) of a W × H map covers the directions
+//   φ = 2π (i + ½) / W − π measured from −z towards +x (so the image centre looks along −z),
+//   θ = π (j + ½) / H from +y (the top row is straight up),
+// turned about +y by `rotate_deg`. Each texel is constant over its patch (no filtering), which
+// makes the sampling density below exact.
+//
+// Colour: the file's linear Rec.709 RGB (OpenEXR) times `scale`, each texel lifted to a spectrum
+// with rgb_to_illuminant (Jakob & Hanika 2019): RGB (1, 1, 1) is D65 at luminance Y = 1.
+//
+// Sampling: a texel with probability p_t ∝ luminance × sin θ (≈ its solid angle), then uniformly
+// in (φ, θ) within it; the solid-angle density is p_t · W H / (2π² sin θ) at the sampled θ.
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "bouguer/core/math.h"
+#include "bouguer/spectra/spectrum.h"
+
+namespace bouguer {
+
+struct EnvironmentDesc {
+  std::filesystem::path file;
+  double scale = 1.0;
+  double rotate_deg = 0.0;
+};
+
+struct EnvironmentMap {
+  int width = 0, height = 0;
+  std::vector<RgbIlluminantSpectrum> spectra;  // per texel, scale applied
+  std::vector<Vec3f> rgb;                      // per texel, linear Rec.709, scale applied (rgb3 mode)
+  double rotate_rad = 0.0;
+  std::vector<double> row_cdf;     // height + 1 entries, 0 .. 1
+  std::vector<double> column_cdf;  // height × (width + 1), each row 0 .. 1
+  std::vector<double> texel_probability;
+  double total_weight = 0.0;  // Σ luminance × sin θ; 0: nothing to sample
+
+  int texel(const Vec3& world_direction) const;
+  Vec3 direction(double column, double row) const;  // continuous texel coordinates
+
+  struct Sample {
+    Vec3 wi;
+    double pdf = 0.0;  // per steradian
+    int texel = 0;
+  };
+  std::optional<Sample> sample(double u1, double u2) const;
+  double pdf(const Vec3& world_direction) const;
+};
+
+// Reads the image (an Error naming the file when it cannot) and builds the sampling tables.
+EnvironmentMap load_environment(const EnvironmentDesc& desc);
+
+// From an image already in memory (width × height, linear Rec.709, rows from the top).
+EnvironmentMap make_environment(int width, int height, const std::vector<float>& rgb, double scale,
+                                double rotate_deg);
+
+}  // namespace bouguer
