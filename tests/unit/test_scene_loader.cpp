@@ -57,6 +57,9 @@ TEST(SceneLoader, BadScenesFailWithOneClearLine) {
       {"flat_interface.json", "a flat shape cannot bound medium 'glass'"},
       {"impossible_ior.json", "media.glass.ior: a refractive index must be between 1 and 5"},
       {"not_an_object.json", "expected an object"},
+      {"missing_environment.json", "background.environment: no such file"},
+      {"negative_rgb.json", "reflectance.rgb[1]: must not be negative"},
+      {"corrupt_environment.json", "not_an_image.exr"},
   };
   for (const auto& c : cases) {
     try {

@@ -48,7 +48,13 @@ RenderScene compile(const SceneDesc& desc) {
   s.camera = desc.camera;
   s.render = desc.render;
   s.background = desc.background;
-  if (desc.environment) s.environment = load_environment(*desc.environment);
+  if (desc.environment) {
+    try {
+      s.environment = load_environment(*desc.environment);
+    } catch (const Error& e) {
+      fail("{}: background.environment: {}", desc.file.string(), e.what());
+    }
+  }
   s.delta_lights = desc.lights;
   for (const auto& [name, m] : desc.media) s.media.push_back(m);
   s.world_medium = medium_index(s, desc.world_medium);
