@@ -225,7 +225,25 @@ def convert_wines():
             f"Fit: c1 = {c1:.6g}, c2 = {c2:.6g}, s = {s:.6g} nm."], rows)
 
 
+def convert_water():
+    rows = []
+    for r in read_rows(SHARED / "water" / "ioccg_2018.csv")[1:]:
+        if in_domain(r):
+            rows.append([r[0].strip(), r[1].strip()])
+    write_table(ROOT / "data" / "materials" / "water.csv", [
+        "water: pure water, absorption coefficient a_w (natural log, per metre), 5 nm, 360-830 nm.",
+        "Measured (consensus compilation): IOCCG Protocol Series (2018), Inherent Optical Property",
+        "Measurements and Protocols: Absorption Coefficient, Neeley & Mannino (eds.), IOCCG Ocean Optics and",
+        "Biogeochemistry Protocols for Satellite Ocean Colour Sensor Validation, Vol. 1.0; stitched from",
+        "Morel et al. 2007 (360-415 nm), Pope & Fry 1997 (420-725 nm, integrating cavity, doi:10.1364/AO.36.008710)",
+        "and Kou, Labrie & Chylek 1993 (730-830 nm). File ioccg_2018.csv of raphidoc/aw (commit d20909b0),",
+        "staged in shared/data/water; column a_w copied as printed. Pure water at about 20-22 degC, no salt.",
+        "Licence: the numbers are published measurements; the carrying repository is MIT (c) 2025 Raphael Mabit.",
+    ], ["wavelength_nm", "sigma_a_per_m"], rows)
+
+
 if __name__ == "__main__":
     main()
     convert_glasses()
     convert_wines()
+    convert_water()

@@ -49,17 +49,23 @@ TEST(SpectralModes, VisibleWavelengthSamplingIsNormalisedAndInverted) {
 }
 
 // Dispersion: a dense-flint ball lens spreads a white slit into colour fringes. Both modes are
-// unbiased, so their image means agree. Tolerance: 4 standard deviations of the difference, from
-// the spread of image means over 6 seeds at this sample count (relative sd: full 0.4 % per
-// channel; hero 0.5 % in R and G, 1.0 % in B) -> 2.5 % (R, G) and 4.5 % (B).
-TEST(SpectralModes, FullAndHeroAgreeOnADispersiveScene) {
+// unbiased, so they converge to the same image: at 65536 spp (16 × 16 pixels) the mean ΔE00
+// between them is 0.28, no more than between two full renders with different seeds (0.32), i.e.
+// the noise floor; the requirement is < 0.5. Before the wavelength strata were shuffled per pixel,
+// hero paired each stratum with one sub-pixel cell and reached only 0.61 (max 12.9) here.
+// The image means agree too: tolerance 4 standard deviations of the difference, from the spread of
+// image means over seeds at this sample count (relative sd under 0.3 % per channel) -> 1.5 %.
+TEST(SpectralModes, FullAndHeroConvergeOnADispersiveScene) {
   const SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "tests" / "ball-lens-slit.json");
-  const Vec3 full = image_mean(render_desc(desc, SpectralMode::full, 2048, 32));
-  const Vec3 hero = image_mean(render_desc(desc, SpectralMode::hero, 2048, 32));
-  const double tolerance[3] = {0.025, 0.025, 0.045};
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(hero[c] / full[c], 1.0, tolerance[c]) << "channel " << c;
-  std::printf("ball lens image mean: full (%.5f %.5f %.5f), hero (%.5f %.5f %.5f)\n", full.x, full.y, full.z, hero.x,
-              hero.y, hero.z);
+  const Film full = render_desc(desc, SpectralMode::full, 65536, 16);
+  const Film hero = render_desc(desc, SpectralMode::hero, 65536, 16);
+  const ImageDifference d = compare_images(full, hero);
+  std::printf("ball lens, full vs hero at 65536 spp: mean ΔE00 %.3f, p95 %.3f, max %.2f\n", d.mean, d.p95, d.max);
+  EXPECT_LT(d.mean, 0.5);
+  const Vec3 mf = image_mean(full), mh = image_mean(hero);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mh[c] / mf[c], 1.0, 0.015) << "channel " << c;
+  std::printf("ball lens image mean: full (%.5f %.5f %.5f), hero (%.5f %.5f %.5f)\n", mf.x, mf.y, mf.z, mh.x, mh.y,
+              mh.z);
 }
 
 // Without dispersion, full mode carries every bin on one path: a pixel's samples differ only in

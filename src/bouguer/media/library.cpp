@@ -6,7 +6,7 @@
 #include "bouguer/io/spectrum_csv.h"
 
 namespace bouguer::data {
-extern const std::string_view red_glass, light_blue_glass, red_wine, white_wine;
+extern const std::string_view red_glass, light_blue_glass, red_wine, white_wine, water;
 }  // namespace bouguer::data
 
 namespace bouguer {
@@ -18,8 +18,9 @@ struct Entry {
   const std::string_view* table;
 };
 
-// Refractive indices: typical crown/filter glass 1.52; wine (water with about 12 % ethanol) 1.343.
-const std::array<Entry, 4> kEntries = {{
+// Refractive indices: typical crown/filter glass 1.52; wine (water with about 12 % ethanol) 1.343;
+// water 1.333.
+const std::array<Entry, 5> kEntries = {{
     {"red-glass",
      "Hoya 25A red sharp-cut filter glass (edge near 603 nm); stands in for the paper's red glass with an abrupt "
      "absorption edge",
@@ -51,6 +52,12 @@ const std::array<Entry, 4> kEntries = {{
      "band: PhET Beer's Law Lab drink-mix molar absorptivity (phetsims/beers-law-lab); targets: "
      "maryserviss/commercial_muscadine_wines",
      1.343, &data::white_wine},
+    {"water", "pure water (no salt, about 20 degC): nearly clear, blue-green at metres of depth",
+     "absorption coefficient a_w, 5 nm, 360-830 nm: IOCCG 2018 consensus of Morel et al. 2007 (360-415 nm), "
+     "Pope & Fry 1997 integrating-cavity measurements (420-725 nm) and Kou et al. 1993 (730-830 nm)",
+     "IOCCG Protocol Series (2018), Inherent Optical Property Measurements and Protocols: Absorption Coefficient, "
+     "Neeley & Mannino (eds.); Pope & Fry, Appl. Opt. 36, 8710 (1997); via raphidoc/aw",
+     1.333, &data::water},
 }};
 
 std::vector<LibraryMaterial> load_library() {

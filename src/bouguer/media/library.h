@@ -16,7 +16,7 @@ struct LibraryMaterial {
   std::string_view measured;     // what was measured: quantity, path length, range; or "fitted model"
   std::string_view citation;
   double default_ior = 1.5;      // at the sodium d line
-  TabulatedSpectrum sigma_a_per_m;  // 1 nm, 360–830 nm
+  TabulatedSpectrum sigma_a_per_m;  // as tabulated (1 or 5 nm), covering 360–830 nm
 };
 
 // nullptr for an unknown name.

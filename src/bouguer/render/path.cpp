@@ -48,7 +48,8 @@ SampledSpectrum<N> PathIntegrator<N>::radiance(Ray ray, int medium, double wavel
         const double w = prev_pdf == 0.0 ? 1.0
                                          : power_heuristic(prev_pdf, emitter_pdf_solid_angle(scene_, prev_point,
                                                                                              hit->point, hit->normal));
-        l += beta * s_.emission[surface.emission] * static_cast<float>(w);
+        l += beta * s_.emission[surface.emission] *
+             static_cast<float>(w * emitted_factor(scene_.emissions[surface.emission], -ray.direction));
       }
       break;
     }
@@ -215,7 +216,8 @@ SampledSpectrum<N> PathIntegrator<N>::area_light(const Hit& hit, const Vec3& wo,
   if (f.is_zero() || !unoccluded(scene_, hit, wi, dist, rays)) return {};
   const double light_pdf = emitter_pdf_solid_angle(scene_, hit.point, light->point, light->normal);
   const auto w = static_cast<float>(power_heuristic(light_pdf, bsdf_pdf) / light_pdf);
-  return f * s_.emission[emission] * s_.transmittance(medium, dist) * w;
+  return f * s_.emission[emission] * s_.transmittance(medium, dist) *
+         (w * static_cast<float>(emitted_factor(scene_.emissions[emission], -wi)));
 }
 
 template class PathIntegrator<kFullBins>;

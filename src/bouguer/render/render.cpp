@@ -31,6 +31,27 @@ std::array<double, 2> subpixel(int s, int spp, Rng& rng) {
   return {jx, jy};
 }
 
+// Wavelength numbers stratified over a pixel's samples: sample s gets (order[s] + offset) / spp.
+// The order is shuffled per pixel, on a stream of its own (the camera sampling stays unchanged),
+// so that the stratum is independent of the sub-pixel position, which is stratified by the sample
+// index too: paired in index order, each wavelength would see its own part of the pixel, a bias at
+// every edge where the image depends on wavelength (dispersion). Used for the hero wavelengths and
+// for the wavelength a path keeps at a dispersive interface.
+class WavelengthStrata {
+ public:
+  WavelengthStrata(std::uint64_t seed, std::uint64_t pixel, int spp) : order_(spp) {
+    Rng rng(seed ^ 0x9e3779b97f4a7c15ULL, pixel);
+    offset_ = rng.next_double();
+    std::iota(order_.begin(), order_.end(), 0);
+    for (int i = spp - 1; i > 0; --i) std::swap(order_[i], order_[rng.next_u32() % static_cast<std::uint32_t>(i + 1)]);
+  }
+  double u(int s) const { return (order_[s] + offset_) / static_cast<double>(order_.size()); }
+
+ private:
+  std::vector<int> order_;
+  double offset_ = 0.0;
+};
+
 // Runs pixel(x, y, rng, rays) for every pixel, tiles in parallel, each pixel with its own stream.
 template <typename PixelFn>
 void for_each_pixel(const RenderScene& scene, const RenderOptions& options, int w, int h, RenderStats& stats,
@@ -81,20 +102,10 @@ void render_fixed(const RenderScene& scene, const SpectralBasis<N>& basis, const
   const int spp = scene.render.spp;
   for_each_pixel(scene, options, film.width, film.height, stats, [&](int x, int y, Rng& rng, std::uint64_t& rays) {
     SampledSpectrum<N> sum;
-    // The wavelength kept at a dispersive interface is stratified over the pixel's samples, in an
-    // order shuffled per pixel so that it is independent of the sub-pixel position (which is
-    // stratified by the sample index too): otherwise each wavelength would see a different part
-    // of the pixel, a bias at every edge.
-    // Its own stream, so the camera sampling is unchanged by it.
-    Rng strata(scene.render.seed ^ 0x9e3779b97f4a7c15ULL, static_cast<std::uint64_t>(y) * film.width + x);
-    const double offset = strata.next_double();
-    std::vector<int> order(spp);
-    std::iota(order.begin(), order.end(), 0);
-    for (int i = spp - 1; i > 0; --i) std::swap(order[i], order[strata.next_u32() % static_cast<std::uint32_t>(i + 1)]);
+    const WavelengthStrata strata(scene.render.seed, static_cast<std::uint64_t>(y) * film.width + x, spp);
     for (int s = 0; s < spp; ++s) {
       const auto [u, v] = subpixel(s, spp, rng);
-      const double wavelength_u = (order[s] + offset) / spp;
-      sum += trace(scene, spectral, camera.generate_ray(x + u, y + v), wavelength_u, rng, rays);
+      sum += trace(scene, spectral, camera.generate_ray(x + u, y + v), strata.u(s), rng, rays);
     }
     const SampledSpectrum<N> mean = sum / static_cast<float>(spp);
     set_pixel(film, x, y, basis.to_linear_srgb(mean));
@@ -110,10 +121,11 @@ void render_hero(const RenderScene& scene, const RenderOptions& options, Film& f
   for_each_pixel(scene, options, film.width, film.height, stats, [&](int x, int y, Rng& rng, std::uint64_t& rays) {
     SpectralScene<kHeroCount> spectral;
     Vec3 xyz;
+    const WavelengthStrata strata(scene.render.seed, static_cast<std::uint64_t>(y) * film.width + x, spp);
     for (int s = 0; s < spp; ++s) {
       const auto [u, v] = subpixel(s, spp, rng);
-      // Stratified over the pixel's samples: sample s draws its hero from the s-th stratum.
-      const HeroWavelengths w = sample_hero_wavelengths((s + rng.next_double()) / spp / kHeroCount);
+      // The heroes are stratified over the pixel's samples, in the shuffled order.
+      const HeroWavelengths w = sample_hero_wavelengths(strata.u(s) / kHeroCount);
       fill_spectral_scene(tables, w.nm, spectral);
       xyz += hero_to_xyz(trace(scene, spectral, camera.generate_ray(x + u, y + v), rng.next_double(), rng, rays), w);
     }

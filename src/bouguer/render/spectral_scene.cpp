@@ -146,6 +146,14 @@ SampledSpectrum<N> conductor_fresnel(double cos_theta_i, double eta_i, const Sam
   return f;
 }
 
+double spot_falloff(double cos_theta, double cone_deg, double falloff_deg) {
+  const double cos_end = std::cos(cone_deg * std::numbers::pi / 180.0);
+  const double cos_start = std::cos(falloff_deg * std::numbers::pi / 180.0);
+  if (cos_theta <= cos_end) return 0.0;
+  const double t = cos_start > cos_end ? std::clamp((cos_theta - cos_end) / (cos_start - cos_end), 0.0, 1.0) : 1.0;
+  return t * t * (3.0 - 2.0 * t);
+}
+
 std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, const Vec3& point) {
   if (light.type == DeltaLightType::distant)
     return DeltaLightSample{-light.direction, std::numeric_limits<double>::infinity(), 1.0};
@@ -153,16 +161,8 @@ std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, 
   const double d2 = dot(to, to);
   if (d2 == 0.0) return std::nullopt;
   const Vec3 wi = to / std::sqrt(d2);
-  double falloff = 1.0;
-  if (light.type == DeltaLightType::spot) {
-    // Smoothstep between the cone's edge and the start of the falloff (as pbrt's spot light).
-    const double cos_theta = dot(-wi, light.direction);
-    const double cos_end = std::cos(light.cone_deg * std::numbers::pi / 180.0);
-    const double cos_start = std::cos(light.falloff_deg * std::numbers::pi / 180.0);
-    if (cos_theta <= cos_end) return std::nullopt;
-    const double t = cos_start > cos_end ? std::clamp((cos_theta - cos_end) / (cos_start - cos_end), 0.0, 1.0) : 1.0;
-    falloff = t * t * (3.0 - 2.0 * t);
-  }
+  const double falloff =
+      light.type == DeltaLightType::spot ? spot_falloff(dot(-wi, light.direction), light.cone_deg, light.falloff_deg) : 1.0;
   if (falloff == 0.0) return std::nullopt;
   return DeltaLightSample{wi, std::sqrt(d2), falloff / d2};
 }

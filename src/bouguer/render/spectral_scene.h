@@ -97,6 +97,14 @@ struct DeltaLightSample {
 };
 std::optional<DeltaLightSample> sample_delta_light(const DeltaLightDesc& light, const Vec3& point);
 
+// A spot's smooth falloff: 1 within falloff_deg of the axis, smoothstep to 0 at cone_deg (as pbrt).
+double spot_falloff(double cos_theta, double cone_deg, double falloff_deg);
+
+// The factor on an emitter's radiance for light leaving it in `direction` (1 but for spot disks).
+inline double emitted_factor(const EmissionDesc& e, const Vec3& direction) {
+  return e.spot ? spot_falloff(dot(direction, e.spot->axis), e.spot->cone_deg, e.spot->falloff_deg) : 1.0;
+}
+
 // Light from delta light i arriving through `medium`: intensity × falloff / d² × transmittance;
 // zero when a distant light would have to cross an infinite absorber.
 template <std::size_t N>

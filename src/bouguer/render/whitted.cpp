@@ -24,7 +24,9 @@ SampledSpectrum<N> WhittedIntegrator<N>::radiance(const Ray& ray, int medium, in
   switch (surface.kind) {
     case SurfaceKind::emitter: {
       const bool lit = from_front || scene_.emissions[surface.emission].two_sided;
-      return lit ? s_.transmittance(medium, hit->t) * s_.emission[surface.emission] : SampledSpectrum<N>{};
+      if (!lit) return {};
+      return s_.transmittance(medium, hit->t) * s_.emission[surface.emission] *
+             static_cast<float>(emitted_factor(scene_.emissions[surface.emission], -ray.direction));
     }
     case SurfaceKind::opaque:
       return opaque(ray, *hit, surface, medium, depth, weight, rng, rays);
@@ -110,7 +112,7 @@ SampledSpectrum<N> WhittedIntegrator<N>::direct_light(const Hit& hit, const Vec3
   if (!lit) return sum;
   const double pdf = emitter_pdf_solid_angle(scene_, hit.point, light->point, light->normal);
   return sum + shade(wi, dist) * s_.emission[emission] * s_.transmittance(medium, dist) *
-                   static_cast<float>(1.0 / pdf);
+                   static_cast<float>(emitted_factor(scene_.emissions[emission], -wi) / pdf);
 }
 
 template class WhittedIntegrator<kFullBins>;

@@ -48,10 +48,18 @@ struct MediumDesc {
   bool absorbing = false;
 };
 
+// A spot light's angular profile on an area emitter: full inside falloff_deg of the axis,
+// smoothstep to zero at cone_deg.
+struct SpotProfile {
+  Vec3 axis{0, -1, 0};
+  double cone_deg = 30.0, falloff_deg = 25.0;
+};
+
 // Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
 struct EmissionDesc {
   Spectrum radiance = ConstantSpectrum{0.0};
   bool two_sided = false;
+  std::optional<SpotProfile> spot;  // set for spot lights with a radius
 };
 
 struct DiffuseDesc {
@@ -90,6 +98,7 @@ struct DeltaLightDesc {
   double cone_deg = 30.0;    // spot: half-angle where the light ends
   double falloff_deg = 25.0; // spot: half-angle where the smooth falloff starts
   Spectrum intensity = ConstantSpectrum{1.0};
+  double radius_m = 0.0;  // spot: > 0 makes it a disk emitter of this radius (see the loader)
 };
 
 struct SceneDesc {

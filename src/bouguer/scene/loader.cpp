@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 #include "bouguer/core/error.h"
@@ -515,7 +516,8 @@ RenderSettings render_settings(const json& j, const Where& w) {
 }
 
 DeltaLightDesc delta_light(const json& j, const Where& w) {
-  expect_keys(j, w, {"type", "position", "look_at", "direction", "cone_deg", "falloff_deg", "spectrum", "scale"});
+  expect_keys(j, w,
+              {"type", "position", "look_at", "direction", "cone_deg", "falloff_deg", "spectrum", "scale", "radius"});
   if (!j.contains("type")) w.fail("needs 'type' (point, spot, distant)");
   const std::string type = text(j["type"], w / "type");
   DeltaLightDesc l;
@@ -539,6 +541,12 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
     l.falloff_deg = j.contains("falloff_deg") ? number(j["falloff_deg"], w / "falloff_deg") : 0.8 * l.cone_deg;
     if (!(l.cone_deg > 0.0 && l.cone_deg <= 90.0)) (w / "cone_deg").fail("must be between 0 and 90 degrees");
     if (!(l.falloff_deg >= 0.0 && l.falloff_deg <= l.cone_deg)) (w / "falloff_deg").fail("must be between 0 and cone_deg");
+    if (j.contains("radius")) {
+      l.radius_m = length_m(j["radius"], w / "radius");
+      if (!(l.radius_m > 0.0)) (w / "radius").fail("must be a positive length");
+    }
+  } else if (j.contains("radius")) {
+    (w / "radius").fail("only a spot light takes a radius");
   }
   // The same spectrum keys as an emitter: named illuminants are scaled to Y = scale.
   json spectrum_keys = json::object();
@@ -546,6 +554,31 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
     if (j.contains(k)) spectrum_keys[k] = j[k];
   l.intensity = emission(spectrum_keys, w, false).radiance;
   return l;
+}
+
+// A spot light with a radius is a one-sided disk emitter facing along its axis, with the spot's
+// angular profile. Its radiance I / A (A the disk's area) gives the point spot's on-axis intensity
+// I, so a radius changes the penumbrae and makes the lamp visible (in mirrors, through glass),
+// not the light's strength.
+ObjectDesc spot_disk(const DeltaLightDesc& l, const std::string& name) {
+  constexpr int segments = 64;
+  ObjectDesc o;
+  o.name = name;
+  o.shape = DiskShape{l.radius_m, segments};
+  const Vec3 z{0, 0, 1};
+  const double c = dot(z, l.direction);
+  Transform t;
+  if (c < -1.0 + 1e-12)
+    t = Transform::rotate_deg(180.0, {1, 0, 0});
+  else if (c < 1.0 - 1e-12)
+    t = Transform::rotate_deg(std::acos(c) * 180.0 / std::numbers::pi, cross(z, l.direction));
+  o.transform = t.then(Transform::translate(l.position_m));
+  const double area_m2 = 0.5 * segments * l.radius_m * l.radius_m * std::sin(2.0 * std::numbers::pi / segments);
+  EmissionDesc e;
+  e.radiance = scaled(l.intensity, 1.0 / area_m2);
+  e.spot = SpotProfile{l.direction, l.cone_deg, l.falloff_deg};
+  o.emission = e;
+  return o;
 }
 
 ObjectDesc object(const json& j, const Where& w, std::size_t index) {
@@ -631,7 +664,13 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
   if (root.contains("lights")) {
     const Where wl = top / "lights";
     array(root["lights"], wl);
-    for (std::size_t i = 0; i < root["lights"].size(); ++i) s.lights.push_back(delta_light(root["lights"][i], wl[i]));
+    for (std::size_t i = 0; i < root["lights"].size(); ++i) {
+      DeltaLightDesc l = delta_light(root["lights"][i], wl[i]);
+      if (l.radius_m > 0.0)
+        s.objects.push_back(spot_disk(l, fmt::format("lights[{}]", i)));
+      else
+        s.lights.push_back(l);
+    }
   }
   if (root.contains("background")) {
     const json& b = root["background"];
