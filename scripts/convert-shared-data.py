@@ -108,14 +108,14 @@ def read_aphalo(name):
     return rows
 
 
-def glass_sigma(name, thickness_mm, floor):
+def glass_sigma(name, thickness_mm, floor, surfaces=None):
     """Total transmittance of a plate -> internal transmittance -> sigma_a.
 
     The two surface losses are removed by dividing by the maximum transmittance in 380-830 nm (the
     plateau away from the absorption band). Readings below `floor` are instrument stray light /
     noise and carry no information: they are raised to `floor`, which caps sigma_a."""
     t = read_aphalo(name)
-    plateau = max(v for w, v in t.items() if 380 <= w <= 830)
+    plateau = surfaces if surfaces else max(v for w, v in t.items() if 380 <= w <= 830)
     out = []
     for w in range(DOMAIN_NM[0], DOMAIN_NM[1] + 1):
         t_int = min(1.0, max(t[w], floor) / plateau)
@@ -242,8 +242,140 @@ def convert_water():
     ], ["wavelength_nm", "sigma_a_per_m"], rows)
 
 
+# Uncoated glass of n = 1.52 at normal incidence, both surfaces with their multiple reflections:
+# T = 2n / (n^2 + 1). Used where no band-free plateau exists to calibrate against.
+UNCOATED_152 = 2 * 1.52 / (1.52 ** 2 + 1)
+
+MORE_GLASSES = [
+    # out name, source file, thickness mm, floor, surfaces (None: plateau), description
+    ("orange-glass.csv", "Heliopan-Orange-22-SH-PMC-2.2mm-52mm-ABS.csv", 2.2, 0.0005, None,
+     "orange-glass: Heliopan 22 orange sharp-cut filter glass, coated, 2.2 mm plate; edge near 568 nm."),
+    ("deep-red-glass.csv", "Heliopan-RG665-2.3mm-46mm-ABS.CSV", 2.3, 0.0005, None,
+     "deep-red-glass: Heliopan filter of Schott RG665 glass, 2.3 mm plate; edge near 651 nm."),
+    ("pale-blue-glass.csv", "Hoya-82A-HMC-2.1mm-52mm-ABS.CSV", 2.1, 0.0005, 0.975,
+     "pale-blue-glass: Hoya 82A light-balancing glass, multicoated, 2.1 mm plate; 91 % at 400 nm sloping to 70 % at 660 nm."),
+    ("yellow-glass.csv", "Tangsinuo-JB450-2.0mm-52mm-ABS.CSV", 2.0, 0.0005, UNCOATED_152,
+     "yellow-glass: JB450 yellow long-pass glass (Tangsinuo), uncoated, 2.0 mm plate; edge near 460 nm."),
+    ("cobalt-blue-glass.csv", "Tangsinuo-ZB1-2.0mm-52mm-ABS.CSV", 2.0, 0.0005, UNCOATED_152,
+     "cobalt-blue-glass: ZB1 violet-blue glass (Tangsinuo), cobalt-like: passes blue and a red/NIR leak above 700 nm; 2.0 mm."),
+    ("blue-green-glass.csv", "Tangsinuo-QB21AR-2.0mm-52mm-ABS.CSV", 2.0, 0.0005, None,
+     "blue-green-glass: QB21 copper-type blue-green glass (Tangsinuo), AR coated, 2.0 mm plate; half maximum near 620 nm."),
+]
+
+
+def convert_more_glasses():
+    for out, src, mm, floor, surfaces, what in MORE_GLASSES:
+        rows, plateau = glass_sigma(src, mm, floor, surfaces)
+        how = (f"T_internal = T_total / {plateau:.4f} (" +
+               ("the maximum over 380-830 nm: coated surfaces" if surfaces is None else
+                "0.975: multicoated surfaces, the maximum 0.919 being inside the absorption" if surfaces == 0.975 else
+                "2n/(n^2+1) for uncoated n = 1.52 surfaces with multiple reflections") + ")")
+        write_material(out, [
+            what,
+            "Measured: total spectral transmittance (%), Agilent 8453 diode-array spectrophotometer, 1 nm,",
+            f"single sample, by P. J. Aphalo; file {src} of the photobiologyFilters",
+            "R package (github.com/aphalo/photobiologyfilters, commit f881fb17), staged in",
+            "shared/data/photobiologyFilters-aphalo. Cite: Aphalo, P. J. (2015) UV4Plants Bulletin 2015:1, 21-29.",
+            f"Conversion: {how}; readings below {floor * 100:g} % (noise floor) raised to it, so sigma_a is",
+            f"capped there; sigma_a = -ln(T_internal) / {mm} mm.",
+            MATERIAL_LICENCE_APHALO], rows)
+
+
+PHET_DYES = [
+    # out name, column, description
+    ("cobalt-chloride.csv", "CoCl2", "cobalt(II) chloride, aqueous (pink)"),
+    ("cobalt-nitrate.csv", "CoNO3_2", "cobalt(II) nitrate, aqueous (red-pink)"),
+    ("nickel-chloride.csv", "NiCl2", "nickel(II) chloride, aqueous (green)"),
+    ("copper-sulfate.csv", "CuSO4", "copper(II) sulfate, aqueous (blue)"),
+    ("potassium-dichromate.csv", "K2Cr2O7", "potassium dichromate, aqueous (orange)"),
+    ("potassium-chromate.csv", "K2CrO4", "potassium chromate, aqueous (yellow)"),
+    ("potassium-permanganate.csv", "KMnO4_sim_2014", "potassium permanganate, aqueous (purple); PhET's revised 2014 data"),
+]
+
+
+def convert_dyes():
+    rows = [r for r in read_rows(SHARED / "phet-beers-law-lab" / "molar_absorptivity_380_780nm.csv")
+            if not r[0].startswith("#")]
+    header, data = rows[0], rows[1:]
+    for out, column, what in PHET_DYES:
+        k = header.index(column)
+        table = [[d[0], f"{LN10 * 100.0 * max(0.0, float(d[k])):.6g}"] for d in data]
+        write_table(ROOT / "data" / "materials" / out, [
+            f"{out[:-4]}: {what}. Molar: sigma_a per metre per mol/L (the scene's 'concentration' in mol/L).",
+            "Measured: decadic molar absorptivity epsilon [L/(mol cm)], 380-780 nm, 1 nm, by J. Chamberlain for",
+            "PhET Interactive Simulations (University of Colorado Boulder), 'Beer's Law Lab'",
+            f"(github.com/phetsims/beers-law-lab, commit df9701f6), column {column} of",
+            "shared/data/phet-beers-law-lab/molar_absorptivity_380_780nm.csv. Teaching-lab data, not a reference",
+            "standard (see that SOURCE.txt). Conversion: sigma_a = ln(10) * 100 * epsilon (negative noise -> 0).",
+            "Outside 380-780 nm the renderer holds the end values (flagged by bouguer material --info).",
+            "Licence: GPL-3.0, as the beers-law-lab repository."], ["wavelength_nm", "sigma_a_per_m_per_mol_l"], table)
+
+
+def convert_gems():
+    import math
+    fade_m = 0.005
+    rows = read_rows(SHARED / "gems-spectralrender-ive" / "gem_relative_absorption.csv")[1:]
+    for gem, out in (("Ruby", "ruby.csv"), ("Emerald", "emerald.csv")):
+        table = [[r[1], f"{-math.log(1.0 - min(0.99, float(r[2]))) / fade_m:.6g}"] for r in rows if r[0] == gem]
+        write_table(ROOT / "data" / "materials" / out, [
+            f"{out[:-4]}: {gem.lower()}, relative absorption curve of Ive's SpectralRender minerals (POV-Ray), 380-730 nm.",
+            "NOT a measurement: S_ABS is a renderer-authored relative absorptance of undocumented provenance (see",
+            "shared/data/gems-spectralrender-ive/SOURCE.txt); bands are plausible (ruby: Cr3+ near 410 and 550 nm).",
+            "Source: syanenko/povgems (commit 7e4d9aea), spectral_minerals.inc by Ive (LILYsoft), public domain.",
+            "Conversion: SpectralRender's transmittance is (1 - S_ABS) per 'fade distance', a free parameter;",
+            f"here the fade distance is set to {fade_m * 1000:g} mm (a medium stone): sigma_a = -ln(1 - S_ABS) / 5 mm,",
+            "S_ABS capped at 0.99 (ruby reaches 1.0 at 380-385 nm, which would be an infinite coefficient).",
+            "Outside 380-730 nm the renderer holds the end values (flagged by bouguer material --info)."],
+            ["wavelength_nm", "sigma_a_per_m"], table)
+
+
+def convert_olive_oil():
+    table = []
+    for line in open(SHARED / "olive-oil-evoodec" / "spectra" / "fresh_evoo.csv"):
+        if line.startswith("#") or not line.strip():
+            continue
+        nm, a = line.strip().split(";")
+        table.append((int(float(nm)), max(0.0, float(a))))
+    table.sort()
+    write_table(ROOT / "data" / "materials" / "olive-oil.csv", [
+        "olive-oil: fresh extra-virgin olive oil, measured decadic absorbance of the neat oil, 390-720 nm, 1 nm.",
+        "Source: S. Jurinovich and V. Domenici, J. Chem. Educ. 99(2), 787-798 (2022), doi:10.1021/acs.jchemed.1c01015;",
+        "file spectra/fresh_evoo.csv of sandroj87/EVOODec (commit 8df8655e), staged in shared/data/olive-oil-evoodec.",
+        "The optical path is not recorded; EVOODec assumes 1 cm, taken here: sigma_a = ln(10) * 100 * A.",
+        "Negative baseline noise near 720 nm set to 0. Outside 390-720 nm the renderer holds the end values.",
+        "Licence: GPL-3.0, as the EVOODec repository."],
+        ["wavelength_nm", "sigma_a_per_m"], [[str(w), f"{LN10 * 100.0 * a:.6g}"] for w, a in table])
+
+
+def convert_beer():
+    import math
+    coef = {r[0]: float(r[1]) for r in read_rows(SHARED / "beer-delange-model" / "beer_absorbance_model.txt")
+            if not r[0].startswith("#") and r[0] != "coefficient"}
+    srm = 10.0
+    a430 = srm / coef["srm_to_A430_divisor"]
+    table = []
+    for w in range(DOMAIN_NM[0], DOMAIN_NM[1] + 1):
+        x = w - coef["lambda_ref"]
+        a = a430 * (coef["w1"] * math.exp(-x / coef["tau1"]) + coef["w2"] * math.exp(-x / coef["tau2"]))
+        table.append([str(w), f"{LN10 * 100.0 * a:.6g}"])
+    write_table(ROOT / "data" / "materials" / "beer.csv", [
+        "beer: an amber beer of colour SRM 10 (EBC 19.7), A. J. deLange's spectral model: FITTED MODEL, the mean",
+        "spectral shape of 99 beers, not one measured beer. A(lambda) per cm = A430 (0.02465 exp(-(lambda-430)/17.591)",
+        "+ 0.97535 exp(-(lambda-430)/82.122)), A430 = SRM / 12.7. 'concentration' scales the SRM (2 = SRM 20).",
+        "Source: A. J. deLange, 'Color', in C. W. Bamforth (ed.), Brewing Materials and Processes, Academic Press",
+        "2016, pp. 199-249, doi:10.1016/B978-0-12-799954-8.00011-3; coefficients as recorded in",
+        "shared/data/beer-delange-model (read from aschet/olfarve, MIT). Valid 380-780 nm; evaluated here over",
+        "360-830 nm (the formula extrapolated, flagged by bouguer material --info). sigma_a = ln(10) * 100 * A."],
+        ["wavelength_nm", "sigma_a_per_m"], table)
+
+
 if __name__ == "__main__":
     main()
     convert_glasses()
     convert_wines()
     convert_water()
+    convert_more_glasses()
+    convert_dyes()
+    convert_gems()
+    convert_olive_oil()
+    convert_beer()

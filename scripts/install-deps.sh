@@ -16,6 +16,9 @@ packages=(
   libtinyobjloader-dev # OBJ meshes
   libgtest-dev         # tests
   libbenchmark-dev     # micro-benchmarks
+  libcairo2-dev        # plots (bouguer material --plot): SVG, PNG and PDF from one drawing
+  chromium             # the report page is checked in a real browser (headless) by the tests
+  fonts-dejavu-core    # a font for plot labels and the report screenshot
 )
 
 missing=()

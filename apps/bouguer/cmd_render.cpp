@@ -130,7 +130,7 @@ Command add_render_command(CLI::App& parent) {
   app->add_option("--integrator", o->integrator, "whitted (the paper's ray tracer) or path (unbiased path tracing)")
       ->check(CLI::IsMember({"whitted", "path"}));
   app->add_option("--spectral", o->spectral,
-                  "Wavelengths carried: full (48 bins), hero (4 sampled per path) or rgb3 (the paper's RGB)")
+                  "Wavelengths carried: full (96 bins), hero (4 sampled per path) or rgb3 (the paper's RGB)")
       ->check(CLI::IsMember({"full", "hero", "rgb3"}));
   app->add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT (overrides the scene)");
   app->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));

@@ -14,6 +14,8 @@ struct Command {
 Command add_color_command(CLI::App& parent);
 Command add_render_command(CLI::App& parent);
 Command add_compare_command(CLI::App& parent);
+Command add_material_command(CLI::App& parent);
+Command add_report_command(CLI::App& parent);
 
 // Validators shared by subcommands.
 extern const CLI::Validator kFiniteNonNegative;

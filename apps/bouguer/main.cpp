@@ -39,7 +39,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<bouguer::cli::Command> commands = {bouguer::cli::add_render_command(app),
                                                        bouguer::cli::add_compare_command(app),
-                                                       bouguer::cli::add_color_command(app)};
+                                                       bouguer::cli::add_color_command(app),
+                                                       bouguer::cli::add_material_command(app),
+                                                       bouguer::cli::add_report_command(app)};
 
   try {
     app.parse(argc, argv);

@@ -88,19 +88,31 @@ TEST(Ior, AbbeFormReproducesItsDefinition) {
 // Every library entry loads, is finite and non-negative over the domain, and names its source.
 TEST(Library, EveryEntryIsCompleteAndPhysical) {
   const auto names = library_material_names();
-  for (const char* required : {"red-glass", "light-blue-glass", "red-wine", "white-wine"})
+  for (const char* required : {"red-glass", "light-blue-glass", "red-wine", "white-wine", "water"})
     EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
+  int glasses = 0, molar = 0, gems = 0;
   for (const auto& name : names) {
     const LibraryMaterial* m = find_library_material(name);
     ASSERT_NE(m, nullptr) << name;
     EXPECT_FALSE(m->citation.empty()) << name;
     EXPECT_FALSE(m->measured.empty()) << name;
     EXPECT_GE(m->default_ior, 1.0);
+    EXPECT_FALSE(m->description.empty()) << name;
+    // Measured range inside the domain; data beyond it is extended by a stated rule.
+    EXPECT_GE(m->measured_min_nm, kLambdaMinNm) << name;
+    EXPECT_LE(m->measured_max_nm, kLambdaMaxNm) << name;
+    EXPECT_EQ(m->extended(), m->measured_min_nm > kLambdaMinNm || m->measured_max_nm < kLambdaMaxNm) << name;
+    glasses += name.find("glass") != std::string::npos;
+    molar += m->molar;
+    gems += name == "ruby" || name == "emerald";
     for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
       const double s = eval(m->sigma_a_per_m, nm);
       ASSERT_TRUE(std::isfinite(s) && s >= 0.0) << name << " at " << nm;
     }
   }
+  EXPECT_GE(glasses, 6);
+  EXPECT_GE(molar, 5);
+  EXPECT_GE(gems, 1);
   EXPECT_EQ(find_library_material("blue-glass"), nullptr);
 }
 

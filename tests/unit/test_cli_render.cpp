@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bouguer/io/image_io.h"
+#include "bouguer/render/spectral_sampling.h"
 #include "support/test_support.h"
 
 namespace bouguer {
@@ -36,7 +37,7 @@ TEST(CliRender, StatsJsonSpectralExrAndSummaryLine) {
   EXPECT_EQ(j["resolution"][0], 40);
   EXPECT_GT(j["rays"].get<double>(), 40.0 * 30 * 2);
   const Film spectral = read_exr(dir / "s.exr");
-  EXPECT_EQ(spectral.wavelengths_nm.size(), 48u);
+  EXPECT_EQ(spectral.wavelengths_nm.size(), kFullBins);
   EXPECT_EQ(spectral.rgb, read_exr(dir / "a.exr").rgb);
   // rgb3 carries no spectrum to write.
   const auto bad = test::run_bouguer({"render", kExample, "--resolution", "8x8", "--spectral", "rgb3",

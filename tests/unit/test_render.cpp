@@ -46,14 +46,19 @@ Film render_text(const std::string& json, int threads = 1) {
   return render(scene, options, stats);
 }
 
-// The closed form T = (1−R)²τ / (1 − R²τ²), τ = exp(−σ_a d), in the mode's own wavelengths.
+// The closed form T = (1−R)²τ / (1 − R²τ²), τ = exp(−σ_a d), in the mode's own wavelengths. In
+// full mode each bin's τ is the mean over its sub-bin points (spectral_sampling.h); the renderer
+// takes that mean per segment, so the series of reflections sums powers of the mean.
 template <std::size_t N>
 Vec3 slab_closed_form(const SpectralBasis<N>& basis, const Spectrum& sigma_a_per_m, double thickness_m) {
   const double r = fresnel_dielectric(1.0, 1.0, 1.5);
-  const auto sigma = basis.at_wavelengths(sigma_a_per_m);
+  const auto mean_tau = basis.mode == SpectralMode::full
+                            ? sub_bin_transmittance(basis.at_sub_bins(sigma_a_per_m), static_cast<float>(thickness_m))
+                            : beer_lambert_transmittance(basis.at_wavelengths(sigma_a_per_m),
+                                                         static_cast<float>(thickness_m));
   auto l = basis.emission(named_illuminant("D65"));
   for (std::size_t i = 0; i < N; ++i) {
-    const double tau = std::exp(-double(sigma[i]) * thickness_m);
+    const double tau = mean_tau[i];
     l[i] = static_cast<float>(l[i] * (1 - r) * (1 - r) * tau / (1 - r * r * tau * tau));
   }
   return basis.to_linear_srgb(l);

@@ -18,4 +18,7 @@ std::optional<std::string> nearest_name(std::string_view name, const std::vector
 // otherwise " (known: a, b, c)".
 std::string suggestion(std::string_view name, const std::vector<std::string>& candidates);
 
+// RFC 4648 base64 (for data: URIs in self-contained pages).
+std::string base64_encode(std::string_view bytes);
+
 }  // namespace bouguer

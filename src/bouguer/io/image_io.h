@@ -7,6 +7,7 @@
 //   spectral EXR: Fichet, Pacanowski, Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3),
 //        2021: one channel per wavelength named S0.<nm with comma decimal>nm plus R, G, B preview.
 #include <filesystem>
+#include <string>
 
 #include "bouguer/render/film.h"
 
@@ -16,6 +17,9 @@ void write_png(const std::filesystem::path& path, const Film& film);
 void write_exr(const std::filesystem::path& path, const Film& film);
 void write_pfm(const std::filesystem::path& path, const Film& film);
 void write_spectral_exr(const std::filesystem::path& path, const Film& film);  // film must keep spectra
+
+// The PNG file's bytes (8-bit sRGB), for embedding.
+std::string encode_png(const Film& film);
 
 // Chooses the writer by extension (.png, .exr, .pfm); an unknown extension is an Error.
 void write_image(const std::filesystem::path& path, const Film& film);

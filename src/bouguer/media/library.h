@@ -16,7 +16,14 @@ struct LibraryMaterial {
   std::string_view measured;     // what was measured: quantity, path length, range; or "fitted model"
   std::string_view citation;
   double default_ior = 1.5;      // at the sodium d line
-  TabulatedSpectrum sigma_a_per_m;  // as tabulated (1 or 5 nm), covering 360–830 nm
+  // σ_a per metre as tabulated (1, 5 or 20 nm); for a solute (molar), per metre per mol/L, so the
+  // scene's concentration is in mol/L and must be given.
+  TabulatedSpectrum sigma_a_per_m;
+  bool molar = false;
+  double measured_min_nm = 360.0, measured_max_nm = 830.0;  // where the data is not extended
+  // How values outside the measured range are made (empty: the data covers 360–830 nm).
+  std::string_view extension;
+  bool extended() const { return !extension.empty(); }
 };
 
 // nullptr for an unknown name.

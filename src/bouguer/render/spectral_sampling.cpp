@@ -25,6 +25,21 @@ SampledSpectrum<N> SpectralBasis<N>::emission(const Spectrum& s) const {
 }
 
 template <std::size_t N>
+SubBinValues<N> SpectralBasis<N>::at_sub_bins(const Spectrum& s) const {
+  SubBinValues<N> out;
+  for (int k = 0; k < kSubBins; ++k)
+    for (std::size_t b = 0; b < N; ++b) {
+      if (bin_nm[b].empty()) {  // not a binned mode: the point value
+        out[k][b] = static_cast<float>(eval(s, wavelength_nm[b]));
+        continue;
+      }
+      const double lo = bin_nm[b].front() - 0.5, width = static_cast<double>(bin_nm[b].size());
+      out[k][b] = static_cast<float>(eval(s, lo + width * (k + 0.5) / kSubBins));
+    }
+  return out;
+}
+
+template <std::size_t N>
 SampledSpectrum<N> SpectralBasis<N>::at_wavelengths(const Spectrum& s) const {
   SampledSpectrum<N> out;
   for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<float>(eval(s, wavelength_nm[i]));

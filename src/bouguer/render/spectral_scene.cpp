@@ -97,6 +97,7 @@ SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBas
   s.basis = basis;
   for (const MediumDesc& m : scene.media) {
     s.sigma_a_per_m.push_back(basis.at_wavelengths(m.sigma_a_per_m));
+    if (basis.mode == SpectralMode::full) s.sigma_sub.push_back(basis.at_sub_bins(m.sigma_a_per_m));
     s.absorbing.push_back(m.absorbing);
     s.ior.push_back(ior_at(m.ior, kReferenceWavelengthNm));
     SampledSpectrum<N> n;

@@ -54,9 +54,15 @@ struct SpectralScene {
     return environment ? environment_radiance(environment->texel(d)) : background;
   }
 
+  // Full mode: σ_a at kSubBins points inside each bin, per medium (spectral_sampling.h). Empty
+  // in the other modes, which carry exact wavelengths.
+  std::vector<SubBinValues<N>> sigma_sub;
+
   SampledSpectrum<N> transmittance(int medium, double length_m) const {
     if (medium < 0 || !absorbing[medium]) return SampledSpectrum<N>::constant(1.0f);
-    return beer_lambert_transmittance(sigma_a_per_m[medium], static_cast<float>(length_m));
+    const auto l = static_cast<float>(length_m);
+    if (sigma_sub.empty()) return beer_lambert_transmittance(sigma_a_per_m[medium], l);
+    return sub_bin_transmittance(sigma_sub[medium], l);
   }
 };
 

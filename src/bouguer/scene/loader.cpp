@@ -15,6 +15,7 @@
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
+#include "bouguer/scene/material_file.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
@@ -260,7 +261,23 @@ Absorption absorption(const json& j, const Where& w) {
     const std::string name = text(j["library"], w / "library");
     const LibraryMaterial* m = find_library_material(name);
     if (!m) (w / "library").fail("unknown material '{}'{}", name, suggestion(name, library_material_names()));
+    if (m->molar && !j.contains("concentration"))
+      w.fail("'{}' is a solute: give its 'concentration' in mol/L", name);
     return {scaled(m->sigma_a_per_m, concentration), m->default_ior};
+  }
+  if (j.contains("csv") && !j.contains("unit")) {
+    // A material file that names its own unit (scene/material_file.h).
+    expect_keys(j, w, {"csv", "concentration"});
+    const fs::path path = w.resolve(text(j["csv"], w / "csv"));
+    MaterialFile f;
+    try {
+      f = load_material_csv(path);
+    } catch (const Error& e) {
+      bouguer::fail("{}: {}: {}", w.file->string(), w.path, e.what());
+    }
+    if (f.unit == AbsorptionUnit::molar_absorptivity && !j.contains("concentration"))
+      w.fail("{} is in molar_absorptivity: give 'concentration' in mol/L", path.string());
+    return {to_sigma_a_per_m(f.values, f.unit, concentration, f.thickness_m, w.path), f.ior};
   }
   const TabulatedSpectrum values = table(j, w, {"unit", "concentration", "thickness"});
   if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, absorbance_per_cm, internal_transmittance, "
