@@ -36,3 +36,7 @@ for scene in scenes/paper/*.json; do
 done
 echo "demo: summary in $summary"
 cat "$summary"
+# The same scenes once more, as one self-contained page (opens offline): images, heat maps, the
+# materials' plots, settings and times.
+"$bouguer" report --out out/report --scenes scenes/paper --quiet
+echo "demo: report in out/report/index.html"

@@ -34,6 +34,7 @@ std::vector<double> ticks(double lo, double hi, int target = 6) {
   const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2 * mag : raw / mag < 7.5 ? 5 * mag : 10 * mag;
   std::vector<double> out;
   for (double v = std::ceil(lo / step - 1e-9) * step; v <= hi + step * 1e-9; v += step) out.push_back(v);
+  if (out.empty() || out.back() < hi) out.push_back((out.empty() ? lo : out.back()) + step);  // the top covers hi
   return out;
 }
 
@@ -169,7 +170,7 @@ void draw(cairo_t* cr, const MaterialPlot& m) {
   }
 
   // 2. Internal transmittance for each thickness.
-  const Panel p2{700, 90, 440, 300, kLambdaMinNm, kLambdaMaxNm, 0.0, 1.0, false};
+  const Panel p2{700, 90, 380, 300, kLambdaMinNm, kLambdaMaxNm, 0.0, 1.0, false};
   axes(cr, p2, "Internal transmittance τ = exp(−σₐ d)", "wavelength (nm)", "τ", ticks(400, 800, 5), ticks(0, 1, 5));
   std::vector<std::pair<std::string, Rgb>> entries;
   clip_to(cr, p2);
@@ -185,7 +186,7 @@ void draw(cairo_t* cr, const MaterialPlot& m) {
     entries.emplace_back(thickness_label(a.rows[i].thickness_m), c);
   }
   cairo_restore(cr);
-  legend(cr, p2.x0 + p2.w + 8 - 80, p2.y0 + 14, entries);
+  legend(cr, p2.x0 + p2.w + 12, p2.y0 + 8, entries);
 
   // 3. Swatches: the slab's colour from thin to thick.
   const double sx = 100, sy = 490, sw = 440, row_h = 58;
