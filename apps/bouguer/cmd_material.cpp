@@ -29,13 +29,6 @@ struct MaterialOptions {
   bool info = false;
 };
 
-std::string length_text(double m) {
-  if (m >= 1.0) return fmt::format("{:g} m", m);
-  if (m >= 0.01) return fmt::format("{:g} cm", m * 100.0);
-  if (m >= 1e-3) return fmt::format("{:g} mm", m * 1e3);
-  return fmt::format("{:g} um", m * 1e6);
-}
-
 std::vector<double> parse_thicknesses(const std::string& list) {
   std::vector<double> out;
   std::size_t start = 0;
@@ -54,22 +47,6 @@ std::vector<double> parse_thicknesses(const std::string& list) {
     start = comma + 1;
   }
   std::sort(out.begin(), out.end());
-  return out;
-}
-
-// Round to two significant digits, for the default thickness series.
-double round2(double x) {
-  const double mag = std::pow(10.0, std::floor(std::log10(x)) - 1.0);
-  return std::round(x / mag) * mag;
-}
-
-// From pale to deep: around the thickness 1 / mean σ_a over 400–700 nm, by factors of two.
-std::vector<double> default_thicknesses(const Spectrum& sigma) {
-  double mean = 0.0;
-  for (int nm = 400; nm <= 700; ++nm) mean += eval(sigma, nm) / 301.0;
-  const double d = mean > 0.0 ? 1.0 / mean : 1.0;
-  std::vector<double> out;
-  for (const double f : {0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0}) out.push_back(round2(d * f));
   return out;
 }
 
@@ -103,7 +80,7 @@ void print_info(const ResolvedMaterial& r) {
   if (!f.description.empty()) fmt::print("description: {}\n", f.description);
   if (!f.source.empty()) fmt::print("source:      {}\n", f.source);
   fmt::print("unit:        {}{}\n", absorption_unit_name(f.unit),
-             f.thickness_m ? fmt::format(" at {}", length_text(*f.thickness_m)) : "");
+             f.thickness_m ? fmt::format(" at {}", format_thickness(*f.thickness_m)) : "");
   fmt::print("measured range: {:g}-{:g} nm\n", f.values.wavelength_nm.front(), f.values.wavelength_nm.back());
   if (f.values.wavelength_nm.front() > kLambdaMinNm || f.values.wavelength_nm.back() < kLambdaMaxNm)
     fmt::print("EXTENDED:    outside that range the end values are held (the table is constant beyond its ends)\n");
@@ -124,7 +101,7 @@ int run_material(const MaterialOptions& o) {
     return 0;
   }
   const std::vector<double> thicknesses =
-      o.thickness.empty() ? default_thicknesses(r.sigma_a_per_m) : parse_thicknesses(o.thickness);
+      o.thickness.empty() ? default_thickness_series(r.sigma_a_per_m) : parse_thicknesses(o.thickness);
   double reference = thicknesses[thicknesses.size() / 2];
   if (!o.reference.empty()) {
     try {
@@ -183,12 +160,12 @@ int run_material(const MaterialOptions& o) {
     return 0;
   }
   fmt::print("{}{}: slab in air, n = {:g}, normal incidence, under {} (Y = 1); RGB fitted at {}\n", r.name,
-             concentration.empty() ? "" : " at " + concentration, r.ior, o.illuminant, length_text(reference));
+             concentration.empty() ? "" : " at " + concentration, r.ior, o.illuminant, format_thickness(reference));
   fmt::print("{:>10}  {:>7} {:>7} {:>7}  {:<8} {:>7} {:>7} {:>7}  {:<8} {:>6}  {:<8} {:>6}\n", "thickness", "T450",
              "T550", "T650", "spectral", "R", "G", "B", "rgb3", "ΔE00", "fitted", "ΔE00");
   for (const ThicknessRow& row : a.rows)
     fmt::print("{:>10}  {:>7.4f} {:>7.4f} {:>7.4f}  {:<8} {:>7.4f} {:>7.4f} {:>7.4f}  {:<8} {:>6.2f}  {:<8} {:>6.2f}\n",
-               length_text(row.thickness_m), row.internal_transmittance[0], row.internal_transmittance[1],
+               format_thickness(row.thickness_m), row.internal_transmittance[0], row.internal_transmittance[1],
                row.internal_transmittance[2], row.spectral.hex, row.spectral.linear_srgb.x, row.spectral.linear_srgb.y,
                row.spectral.linear_srgb.z, row.rgb3.hex, row.delta_e_rgb3, row.fitted.hex, row.delta_e_fitted);
   fmt::print("T: internal transmittance at 450/550/650 nm; R G B: linear Rec.709 of the light through the slab\n");

@@ -54,18 +54,6 @@ std::string img(const std::string& mime, const std::string& bytes, const std::st
                      base64_encode(bytes));
 }
 
-std::vector<double> thickness_series(const Spectrum& sigma) {
-  double mean = 0.0;
-  for (int nm = 400; nm <= 700; ++nm) mean += eval(sigma, nm) / 301.0;
-  const double d = mean > 0.0 ? 1.0 / mean : 1.0;
-  std::vector<double> out;
-  for (const double f : {0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0}) {
-    const double x = d * f, mag = std::pow(10.0, std::floor(std::log10(x)) - 1.0);
-    out.push_back(std::round(x / mag) * mag);
-  }
-  return out;
-}
-
 constexpr const char* kStyle = R"(
 body { font-family: "DejaVu Sans", sans-serif; margin: 2em auto; max-width: 1280px; color: #222; }
 h1 { margin-bottom: 0.2em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 2em; }
@@ -158,7 +146,7 @@ int run_report(const ReportOptions& o) {
       if (std::find(plotted.begin(), plotted.end(), medium_name) != plotted.end()) continue;
       plotted.push_back(medium_name);
       const double n = ior_at(medium.ior, kReferenceWavelengthNm);
-      const std::vector<double> thick = thickness_series(medium.sigma_a_per_m);
+      const std::vector<double> thick = default_thickness_series(medium.sigma_a_per_m);
       MaterialPlot plot;
       plot.name = medium_name;
       plot.sigma_a_per_m = medium.sigma_a_per_m;

@@ -20,12 +20,6 @@
 namespace bouguer {
 namespace {
 
-// A typical thickness for each material: one over its mean σ_a in 400–700 nm (colour well formed).
-double characteristic_thickness_m(const Spectrum& sigma) {
-  double mean = 0.0;
-  for (int nm = 400; nm <= 700; ++nm) mean += eval(sigma, nm) / 301.0;
-  return 1.0 / mean;
-}
 
 // The slab test of #3: a slab of the library material between a D65 panel (Y = 1) and an
 // orthographic camera, in vacuum, rendered in full spectrum by the Whitted tracer (exact: every
@@ -62,7 +56,7 @@ TEST(Material, ColourOfThicknessEqualsTheRenderedSlab) {
     const LibraryMaterial& m = *find_library_material(name);
     const double c = m.molar ? 0.01 : 1.0;
     const Spectrum sigma = scaled(m.sigma_a_per_m, c);
-    const double d0 = characteristic_thickness_m(sigma);
+    const double d0 = default_thickness_series(sigma)[3];  // about 1 / mean σ_a: the colour well formed
     for (const double d : {d0, d0 / 4}) {
       const ThicknessAnalysis a = analyse_thicknesses(sigma, m.default_ior, {d}, named_illuminant("D65"), d);
       const std::string absorption =

@@ -36,6 +36,25 @@ std::string srgb_hex(const Vec3& c) {
   return fmt::format("#{:02X}{:02X}{:02X}", srgb_encode_8bit(c.x), srgb_encode_8bit(c.y), srgb_encode_8bit(c.z));
 }
 
+std::vector<double> default_thickness_series(const Spectrum& sigma) {
+  double mean = 0.0;
+  for (int nm = 400; nm <= 700; ++nm) mean += eval(sigma, nm) / 301.0;
+  const double d = mean > 0.0 ? 1.0 / mean : 1.0;
+  std::vector<double> out;
+  for (const double f : {0.125, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0}) {
+    const double x = d * f, step = std::pow(10.0, std::floor(std::log10(x)) - 1.0);
+    out.push_back(std::round(x / step) * step);
+  }
+  return out;
+}
+
+std::string format_thickness(double m, bool ascii_only) {
+  if (m >= 1.0) return fmt::format("{:g} m", m);
+  if (m >= 0.01) return fmt::format("{:g} cm", m * 100.0);
+  if (m >= 1e-3) return fmt::format("{:g} mm", m * 1e3);
+  return fmt::format("{:g} {}", m * 1e6, ascii_only ? "um" : "µm");
+}
+
 double slab_transmittance(double sigma_a_per_m, double thickness_m, double r) {
   const double tau = std::exp(-sigma_a_per_m * thickness_m);
   return (1.0 - r) * (1.0 - r) * tau / (1.0 - r * r * tau * tau);

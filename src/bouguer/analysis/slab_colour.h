@@ -55,4 +55,11 @@ double slab_transmittance(double sigma_a_per_m, double thickness_m, double surfa
 
 std::string srgb_hex(const Vec3& linear_srgb);
 
+// Seven thicknesses from pale to deep: factors of two from 1/8 to 8 around 1 / (mean σ_a over
+// 400–700 nm), rounded to two significant digits. What `bouguer material` and the report show.
+std::vector<double> default_thickness_series(const Spectrum& sigma_a_per_m);
+
+// "250 µm", "2 mm", "1.6 cm", "27 m" (ascii "um" with ascii_only).
+std::string format_thickness(double thickness_m, bool ascii_only = false);
+
 }  // namespace bouguer

@@ -45,13 +45,6 @@ std::string label(double v) {
   return fmt::format("{:g}", v);
 }
 
-std::string thickness_label(double m) {
-  if (m >= 1.0) return fmt::format("{:g} m", m);
-  if (m >= 0.01) return fmt::format("{:g} cm", m * 100.0);
-  if (m >= 1e-3) return fmt::format("{:g} mm", m * 1e3);
-  return fmt::format("{:g} µm", m * 1e6);
-}
-
 // A plot area: data ranges mapped to a pixel rectangle; x may be logarithmic.
 struct Panel {
   double x0, y0, w, h;  // pixels: left, top, width, height of the data area
@@ -101,7 +94,7 @@ void axes(cairo_t* cr, const Panel& p, const std::string& title, const std::stri
     cairo_line_to(cr, p.px(v), p.y0 + p.h);
     cairo_stroke(cr);
     cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-    text(cr, p.px(v), p.y0 + p.h + 6, p.xlog ? thickness_label(v) : label(v), 11, 0.5, 0.0);
+    text(cr, p.px(v), p.y0 + p.h + 6, p.xlog ? format_thickness(v) : label(v), 11, 0.5, 0.0);
   }
   cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
   cairo_rectangle(cr, p.x0, p.y0, p.w, p.h);
@@ -183,7 +176,7 @@ void draw(cairo_t* cr, const MaterialPlot& m) {
       nm == kLambdaMinNm ? cairo_move_to(cr, x, y) : cairo_line_to(cr, x, y);
     }
     cairo_stroke(cr);
-    entries.emplace_back(thickness_label(a.rows[i].thickness_m), c);
+    entries.emplace_back(format_thickness(a.rows[i].thickness_m), c);
   }
   cairo_restore(cr);
   legend(cr, p2.x0 + p2.w + 12, p2.y0 + 8, entries);
@@ -209,11 +202,11 @@ void draw(cairo_t* cr, const MaterialPlot& m) {
   }
   cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
   for (std::size_t i = 0; i < a.rows.size(); ++i)
-    text(cr, sx + cw * (static_cast<double>(i) + 0.5), sy + 3 * row_h + 2, thickness_label(a.rows[i].thickness_m), 11,
+    text(cr, sx + cw * (static_cast<double>(i) + 0.5), sy + 3 * row_h + 2, format_thickness(a.rows[i].thickness_m), 11,
          0.5, 0.0);
   text(cr, sx, sy + 3 * row_h + 24,
        fmt::format("RGB fitted: per-channel σₐ chosen to match the spectral colour at {}",
-                   thickness_label(a.reference_thickness_m)),
+                   format_thickness(a.reference_thickness_m)),
        11, 0.0, 0.0);
   text(cr, sx, sy + 3 * row_h + 42, "rgb3: σₐ at 700.0, 546.1, 435.8 nm applied to R, G, B", 11, 0.0, 0.0);
 
@@ -256,7 +249,7 @@ void draw(cairo_t* cr, const MaterialPlot& m) {
   cairo_restore(cr);
   legend(cr, p4.x0 + 12, p4.y0 + 14,
          {{"rgb3 (paper's RGB tracer)", series_colour[0]},
-          {fmt::format("RGB fitted at {}", thickness_label(a.reference_thickness_m)), series_colour[1]}});
+          {fmt::format("RGB fitted at {}", format_thickness(a.reference_thickness_m)), series_colour[1]}});
 }
 
 cairo_status_t append(void* closure, const unsigned char* data, unsigned int length) {
