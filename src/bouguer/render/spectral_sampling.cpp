@@ -8,6 +8,16 @@
 
 namespace bouguer {
 
+__attribute__((target_clones("avx2", "default"))) void mean_transmittance(const float* const sigma[kSubBins],
+                                                                             std::size_t n, float length_m,
+                                                                             float* out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    float sum = 0.0f;
+    for (int k = 0; k < kSubBins; ++k) sum += exp_nonpositive(-sigma[k][i] * length_m);
+    out[i] = sum * (1.0f / kSubBins);
+  }
+}
+
 template <std::size_t N>
 SampledSpectrum<N> SpectralBasis<N>::emission(const Spectrum& s) const {
   SampledSpectrum<N> out;

@@ -35,12 +35,18 @@ inline constexpr int kSubBins = 4;
 template <std::size_t N>
 using SubBinValues = std::array<SampledSpectrum<N>, kSubBins>;
 
+// out[i] = mean over k of exp(−sigma[k][i] · length_m), i < n. Compiled for AVX2 and for the
+// baseline, chosen at load time (the hottest loop of full mode in absorbing media).
+void mean_transmittance(const float* const sigma[kSubBins], std::size_t n, float length_m, float* out);
+
 // The mean over the sub-bin points of exp(−σ_a l), per bin.
 template <std::size_t N>
 SampledSpectrum<N> sub_bin_transmittance(const SubBinValues<N>& sigma_a_per_m, float length_m) {
   SampledSpectrum<N> t;
-  for (const auto& s : sigma_a_per_m) t += beer_lambert_transmittance(s, length_m);
-  return t * (1.0f / kSubBins);
+  const float* sigma[kSubBins];
+  for (int k = 0; k < kSubBins; ++k) sigma[k] = sigma_a_per_m[k].v.data();
+  mean_transmittance(sigma, N, length_m, t.v.data());
+  return t;
 }
 
 template <std::size_t N>
