@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "bouguer/analysis/slab_colour.h"
 #include "bouguer/core/error.h"
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/spectra/cie.h"
@@ -52,11 +53,6 @@ Spectrum resolve_spectrum(const ColorOptions& o) {
   return o.normalise ? normalised_to_luminance(s, o.scale) : scaled(s, o.scale);
 }
 
-std::string hex_of(const Vec3& linear_srgb) {
-  return fmt::format("#{:02X}{:02X}{:02X}", srgb_encode_8bit(linear_srgb.x), srgb_encode_8bit(linear_srgb.y),
-                     srgb_encode_8bit(linear_srgb.z));
-}
-
 bool in_gamut(const Vec3& rgb) {
   // The CIE D65 table's white differs from the nominal sRGB white by about 2e-4.
   constexpr double eps = 1e-3;
@@ -73,7 +69,7 @@ int run_color(const ColorOptions& o) {
   const Vec3 rgb = xyz_to_linear_rgb(kRec709, spectrum_to_xyz(s, Observer::cie1931_2deg));
   const Vec3 white = spectrum_to_xyz(named_illuminant("D65"), observer);
   const Lab lab = xyz_to_lab(xyz, white);
-  const std::string hex = hex_of(rgb);
+  const std::string hex = srgb_hex(rgb);
 
   if (o.json) {
     const nlohmann::json j = {{"spectrum", o.spectrum},     {"observer", std::string(observer_name(observer))},
