@@ -62,8 +62,8 @@ TEST(Report, PassesTheBrowserCheck) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(dom.text, m, std::regex("data-images=\"([^\"]*)\""))) << dom.text.substr(0, 2000);
   EXPECT_EQ(m[1].str(), "ok: " + std::to_string(images));
-  // Anything the page logs (errors, failed loads, uncaught exceptions) shows as a CONSOLE line.
-  EXPECT_EQ(dom.text.find(":CONSOLE("), std::string::npos) << dom.text.substr(0, 2000);
+  // Anything the page logs (console calls, uncaught exceptions) shows as an INFO:CONSOLE line.
+  EXPECT_EQ(dom.text.find(":CONSOLE"), std::string::npos) << dom.text.substr(0, 2000);
 
   const fs::path shot = dir / "report.png";
   const Output screenshot =
@@ -71,7 +71,15 @@ TEST(Report, PassesTheBrowserCheck) {
   ASSERT_EQ(screenshot.code, 0) << screenshot.text;
   ASSERT_TRUE(fs::exists(shot)) << screenshot.text;
   EXPECT_GT(fs::file_size(shot), 50000u);  // a page with pictures, not a blank one
-  EXPECT_EQ(screenshot.text.find(":CONSOLE("), std::string::npos) << screenshot.text.substr(0, 2000);
+  EXPECT_EQ(screenshot.text.find(":CONSOLE"), std::string::npos) << screenshot.text.substr(0, 2000);
+
+  // The check itself can fail: the same page with a broken image and a logged error is caught.
+  std::string broken = html;
+  broken.insert(broken.find("<h2"), R"(<img alt="broken one" src="data:image/png;base64,AAAA"><script>console.error("boom")</script>)");
+  test::write_file(dir / "broken.html", broken);
+  const Output bad = run(chromium(dir / "profile-bad", "--dump-dom 'file://" + fs::absolute(dir / "broken.html").string() + "'"));
+  EXPECT_NE(bad.text.find("data-images=\"failed: broken one\""), std::string::npos);
+  EXPECT_NE(bad.text.find(":CONSOLE"), std::string::npos);
 }
 
 }  // namespace
