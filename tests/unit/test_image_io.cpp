@@ -1,12 +1,16 @@
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStandardAttributes.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <array>
 #include <cstring>
+#include <optional>
 
 #include "bouguer/core/error.h"
 #include "bouguer/io/atomic_file.h"
@@ -58,6 +62,46 @@ TEST(ImageIo, RgbExrRoundTripAndChromaticities) {
   const Imf::Chromaticities c = Imf::chromaticities(file.header());
   EXPECT_FLOAT_EQ(c.red.x, 0.64f);
   EXPECT_FLOAT_EQ(c.white.x, 0.3127f);
+}
+
+// One-pixel RGB EXR written with OpenEXR directly, with the given chromaticities (none: no attribute).
+void write_one_pixel_exr(const fs::path& path, const std::array<float, 3>& rgb,
+                         const std::optional<Imf::Chromaticities>& chromaticities) {
+  Imf::Header header(1, 1);
+  if (chromaticities) Imf::addChromaticities(header, *chromaticities);
+  Imf::FrameBuffer fb;
+  std::array<float, 3> px = rgb;
+  for (int c = 0; c < 3; ++c) {
+    header.channels().insert(std::string(1, "RGB"[c]), Imf::Channel(Imf::FLOAT));
+    fb.insert(std::string(1, "RGB"[c]),
+              Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&px[c]), sizeof(px), sizeof(px)));
+  }
+  Imf::OutputFile file(path.c_str(), header);
+  file.setFrameBuffer(fb);
+  file.writePixels(1);
+}
+
+// An EXR in other primaries is read into linear Rec.709. Reference: the Rec.709 -> ACEScg matrix with
+// Bradford adaptation D65 -> ACES white, as published with OpenColorIO's ACES config (6 digits).
+TEST(ImageIo, ExrInOtherPrimariesIsConvertedToRec709) {
+  const fs::path dir = test::scratch_dir("exr_chromaticities");
+  const double m[3][3] = {
+      {0.613097, 0.339523, 0.047379}, {0.070194, 0.916354, 0.013452}, {0.020616, 0.109570, 0.869815}};
+  const double c709[3] = {0.8, 0.3, 0.1};
+  std::array<float, 3> acescg{};
+  for (int r = 0; r < 3; ++r) acescg[r] = static_cast<float>(m[r][0] * c709[0] + m[r][1] * c709[1] + m[r][2] * c709[2]);
+  const Imf::Chromaticities ap1({0.713f, 0.293f}, {0.165f, 0.830f}, {0.128f, 0.044f}, {0.32168f, 0.33767f});
+  write_one_pixel_exr(dir / "acescg.exr", acescg, ap1);
+  const Film back = read_exr(dir / "acescg.exr");
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(back.rgb[c], c709[c], 2e-5) << c;
+
+  // Without the attribute, or with Rec.709's, the values are taken as they are.
+  write_one_pixel_exr(dir / "plain.exr", acescg, std::nullopt);
+  write_one_pixel_exr(dir / "rec709.exr", acescg, Imf::Chromaticities());
+  for (const char* name : {"plain.exr", "rec709.exr"}) {
+    const Film same = read_exr(dir / name);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(same.rgb[c], acescg[c]) << name;
+  }
 }
 
 TEST(ImageIo, PfmRoundTripAndBottomUpRows) {

@@ -7,6 +7,7 @@
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <numeric>
 #include <optional>
@@ -15,11 +16,29 @@
 #include "bouguer/core/error.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/spectra/color_space.h"
 
 namespace bouguer {
 namespace {
 
 constexpr std::size_t kFloat = sizeof(float);
+
+// The colour space an EXR's chromaticities attribute names. Coordinates within 1e-4 of Rec.709/D65
+// (floats in the file) count as Rec.709, so our own files and the common case stay bit-exact.
+std::optional<ColorSpace> exr_color_space(const Imf::Header& header) {
+  if (!Imf::hasChromaticities(header)) return std::nullopt;
+  const Imf::Chromaticities& c = Imf::chromaticities(header);
+  const auto xy = [](const Imath::V2f& v) { return Chromaticity{v.x, v.y}; };
+  const auto near = [](Chromaticity a, Chromaticity b) {
+    return std::abs(a.x - b.x) < 1e-4 && std::abs(a.y - b.y) < 1e-4;
+  };
+  ColorSpace cs{"EXR chromaticities", xy(c.red), xy(c.green), xy(c.blue), xy(c.white)};
+  if (near(cs.white, kD65White)) cs.white = kD65White;  // exactly D65: no Bradford step for float rounding
+  const bool rec709 = near(cs.red, kRec709.red) && near(cs.green, kRec709.green) && near(cs.blue, kRec709.blue) &&
+                      near(cs.white, kD65White);
+  if (rec709) return std::nullopt;
+  return cs;
+}
 
 Imf::Header make_rgb_header(const Film& film) {
   Imf::Header header(film.width, film.height);
@@ -127,6 +146,18 @@ Film read_exr(const std::filesystem::path& path) {
       fb.insert(spectral[i].second, Imf::Slice(Imf::FLOAT, spectral_base + i * kFloat, n * kFloat, n * kFloat * width));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
+    // A Film is linear Rec.709 (D65); RGB in other primaries (ACEScg, Rec.2020, ...) is converted,
+    // adapting a non-D65 white with Bradford as colour-managed pipelines do.
+    if (const auto cs = exr_color_space(file.header())) {
+      const auto column = [&](Vec3 e) { return xyz_to_linear_rgb(kRec709, linear_rgb_to_xyz(*cs, e)); };
+      const Mat3 to_709 = Mat3::from_columns(column({1, 0, 0}), column({0, 1, 0}), column({0, 0, 1}));
+      for (std::size_t i = 0; i < film.rgb.size(); i += 3) {
+        const Vec3 rgb = to_709 * Vec3{film.rgb[i], film.rgb[i + 1], film.rgb[i + 2]};
+        film.rgb[i] = static_cast<float>(rgb.x);
+        film.rgb[i + 1] = static_cast<float>(rgb.y);
+        film.rgb[i + 2] = static_cast<float>(rgb.z);
+      }
+    }
     return film;
   } catch (const Error&) {
     throw;

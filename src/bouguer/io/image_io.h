@@ -24,7 +24,8 @@ std::string encode_png(const Film& film);
 // Chooses the writer by extension (.png, .exr, .pfm); an unknown extension is an Error.
 void write_image(const std::filesystem::path& path, const Film& film);
 
-// EXR reading keeps spectral channels (S0.*nm) when the file has them.
+// EXR reading keeps spectral channels (S0.*nm) when the file has them, and converts RGB in other
+// primaries (the chromaticities attribute: ACEScg, Rec.2020, ...) to linear Rec.709.
 Film read_exr(const std::filesystem::path& path);
 Film read_pfm(const std::filesystem::path& path);
 Film read_image(const std::filesystem::path& path);  // by extension: .exr or .pfm
