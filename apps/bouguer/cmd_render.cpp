@@ -70,13 +70,9 @@ void apply_overrides(const RenderCli& o, SceneDesc& s) {
   if (o.max_depth > 0) s.render.max_depth = o.max_depth;
   if (o.seed >= 0) s.render.seed = static_cast<std::uint64_t>(o.seed);
   if (!o.resolution.empty()) {
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(o.resolution.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 1 || h < 1 ||
-        w > 16384 || h > 16384)
-      fail("--resolution: expected WIDTHxHEIGHT such as 640x480 (got '{}')", o.resolution);
-    s.camera.width_px = w;
-    s.camera.height_px = h;
+    const Resolution r = parse_resolution(o.resolution);
+    s.camera.width_px = r.width;
+    s.camera.height_px = r.height;
   }
 }
 
@@ -117,6 +113,15 @@ int run_render(const RenderCli& o) {
 }
 
 }  // namespace
+
+Resolution parse_resolution(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 1 || h < 1 || w > 16384 ||
+      h > 16384)
+    fail("--resolution: expected WIDTHxHEIGHT such as 640x480, each 1 to 16384 (got '{}')", text);
+  return {w, h};
+}
 
 Command add_render_command(CLI::App& parent) {
   auto o = std::make_shared<RenderCli>();

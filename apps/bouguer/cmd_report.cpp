@@ -89,9 +89,7 @@ int run_report(const ReportOptions& o) {
     if (e.path().extension() == ".json") scenes.push_back(e.path());
   std::sort(scenes.begin(), scenes.end());
   if (scenes.empty()) fail("--scenes: no .json scene files in '{}'", o.scenes);
-  int width = 0, height = 0;
-  if (!o.resolution.empty() && std::sscanf(o.resolution.c_str(), "%dx%d", &width, &height) != 2)
-    fail("--resolution: expected WxH, got '{}'", o.resolution);
+  const Resolution size = o.resolution.empty() ? Resolution{} : parse_resolution(o.resolution);
   fs::create_directories(o.out, ec);
   if (ec) fail("{}: cannot create the folder: {}", o.out, ec.message());
 
@@ -103,9 +101,9 @@ int run_report(const ReportOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   for (const fs::path& file : scenes) {
     SceneDesc desc = load_scene(file);
-    if (width > 0) {
-      desc.camera.width_px = width;
-      desc.camera.height_px = height;
+    if (size.width > 0) {
+      desc.camera.width_px = size.width;
+      desc.camera.height_px = size.height;
     }
     if (o.spp > 0) desc.render.spp = o.spp;
     const std::string name = file.stem().string();

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <string>
 
 namespace bouguer::cli {
 
@@ -19,5 +20,12 @@ Command add_report_command(CLI::App& parent);
 
 // Validators shared by subcommands.
 extern const CLI::Validator kFiniteNonNegative;
+
+// "640x480" -> {640, 480}; anything else (missing x, trailing text, sizes outside 1..16384) is an
+// Error naming --resolution.
+struct Resolution {
+  int width = 0, height = 0;
+};
+Resolution parse_resolution(const std::string& text);
 
 }  // namespace bouguer::cli

@@ -79,6 +79,7 @@ TEST(CliCompare, ZeroForIdenticalImagesAndPositiveForTheRgbApproach) {
 TEST(CliRender, BadOverridesAreRefused) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"render", kExample, "--resolution", "80by60"},
+        {"render", kExample, "--resolution", "80x0"}, {"render", kExample, "--resolution", "80x60x2"},
         {"render", kExample, "--spectral", "rgb"}, {"render", kExample, "--integrator", "bidirectional"},
         {"render", kExample, "--threads", "-1"}}) {
     const auto r = test::run_bouguer(args);

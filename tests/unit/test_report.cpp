@@ -82,5 +82,25 @@ TEST(Report, PassesTheBrowserCheck) {
   EXPECT_NE(bad.text.find(":CONSOLE"), std::string::npos);
 }
 
+// Bad options give one line and leave an earlier page alone.
+TEST(Report, BadInputGivesOneLineAndKeepsTheEarlierPage) {
+  const fs::path dir = test::scratch_dir("report_bad");
+  test::write_file(dir / "index.html", "earlier page");
+  const std::string scenes = (fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"report", "--out", dir.string(), "--scenes", scenes, "--resolution", "64x0"}, "--resolution"},
+      {{"report", "--out", dir.string(), "--scenes", scenes, "--resolution", "64"}, "--resolution"},
+      {{"report", "--out", dir.string(), "--scenes", scenes, "--resolution", "64x48x2"}, "--resolution"},
+      {{"report", "--out", dir.string(), "--scenes", (dir / "absent").string()}, "is not a folder"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = test::run_bouguer(args);
+    EXPECT_EQ(r.exit_code, 1) << args.back();
+    EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(test::read_file(dir / "index.html"), "earlier page");
+}
+
 }  // namespace
 }  // namespace bouguer
