@@ -48,6 +48,7 @@ Command add_compare_command(CLI::App& parent) {
   app->add_option("--heatmap", o->heatmap, "Write a PNG of the per-pixel difference");
   app->add_option("--montage", o->montage, "Write a PNG of A, B and the heat map side by side");
   app->add_option("--heatmap-max", o->heatmap_max, "ΔE00 shown at the top of the heat-map scale")
+      ->check(kFiniteNonNegative)  // CLI::PositiveNumber lets NaN through
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object: mean, median, p95, max, rmse");

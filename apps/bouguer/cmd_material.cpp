@@ -39,7 +39,7 @@ std::vector<double> parse_thicknesses(const std::string& list) {
     try {
       d = parse_length_m(item);
     } catch (const Error& e) {
-      fail("--thickness: '{}': {}", item, e.what());
+      fail("--thickness: {}", e.what());
     }
     if (!(d > 0.0)) fail("--thickness: '{}' must be a positive length", item);
     out.push_back(d);
@@ -187,6 +187,7 @@ Command add_material_command(CLI::App& parent) {
   app->add_option("--concentration", o->concentration, "mol/L for solutes (molar materials), else a factor on σ_a")
       ->check(kFiniteNonNegative);
   app->add_option("--ior", o->ior, "refractive index of the slab (default: the material's)")
+      ->check(kFiniteNonNegative)  // CLI::Range lets NaN through
       ->check(CLI::Range(1.0, 5.0));
   app->add_option("--illuminant", o->illuminant, "the light behind the slab: D65, D50, A, E, F2, F7, F11, blackbody:<K>")
       ->capture_default_str();

@@ -74,6 +74,11 @@ TEST(CliCompare, ZeroForIdenticalImagesAndPositiveForTheRgbApproach) {
   const auto sizes = test::run_bouguer({"compare", (dir / "full.exr").string(), (dir / "small.exr").string()});
   EXPECT_EQ(sizes.exit_code, 1);
   EXPECT_EQ(test::line_count(sizes.err), 1) << sizes.err;
+  // A heat-map scale of NaN is a usage error, not a black heat map.
+  const auto nan = test::run_bouguer(
+      {"compare", (dir / "full.exr").string(), (dir / "full.exr").string(), "--heatmap-max", "nan"});
+  EXPECT_EQ(nan.exit_code, 2);
+  EXPECT_EQ(test::line_count(nan.err), 1) << nan.err;
 }
 
 TEST(CliRender, BadOverridesAreRefused) {

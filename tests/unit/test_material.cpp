@@ -163,6 +163,8 @@ TEST(MaterialCli, BadInputGivesOneLine) {
       {{"material", "copper-sulfate"}, "give --concentration in mol/L"},
       {{"material", (dir / "nounit.csv").string()}, "no '# unit: ...' line"},
       {{"material", "water", "--thickness", "1 furlong"}, "--thickness"},
+      {{"material", "water", "--thickness", "2"}, "--thickness: '2' has no unit"},
+      {{"material", "water", "--thickness", "nan mm"}, "not a finite length"},
       {{"material", "water", "--plot", (dir / "x.gif").string()}, ".svg, .png or .pdf"},
   };
   for (const auto& [args, expected] : cases) {
@@ -170,6 +172,13 @@ TEST(MaterialCli, BadInputGivesOneLine) {
     EXPECT_EQ(r.exit_code, 1) << args[1];
     EXPECT_EQ(test::line_count(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+  // Command-line errors (exit 2): CLI11's range checks alone would let NaN through.
+  for (const char* ior : {"nan", "inf", "0.5"}) {
+    const auto r = test::run_bouguer({"material", "water", "--ior", ior});
+    EXPECT_EQ(r.exit_code, 2) << ior;
+    EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--ior"), std::string::npos) << r.err;
   }
 }
 

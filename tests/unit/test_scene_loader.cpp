@@ -20,6 +20,18 @@ TEST(SceneLoader, LengthsWithUnits) {
   EXPECT_DOUBLE_EQ(parse_length_m("-40 mm"), -0.04);
   EXPECT_THROW(parse_length_m("5 inches"), Error);
   EXPECT_THROW(parse_length_m("mm"), Error);
+  // A string without a unit, and NaN or infinity with one, are refused with what is wrong.
+  const auto message = [](const char* text) {
+    try {
+      parse_length_m(text);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("5").find("'5' has no unit"), std::string::npos) << message("5");
+  EXPECT_NE(message("nan").find("not a finite length"), std::string::npos) << message("nan");
+  EXPECT_NE(message("inf mm").find("not a finite length"), std::string::npos) << message("inf mm");
 }
 
 // The example scene of issue #3, exactly as written there.

@@ -631,15 +631,14 @@ double parse_length_m(const std::string& s) {
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(s.data() + i, s.data() + s.size(), v);
   if (ec != std::errc()) fail("'{}' is not a length (write e.g. \"5 mm\")", s);
+  if (!std::isfinite(v)) fail("'{}' is not a finite length", s);
   std::string unit(ptr, s.data() + s.size());
   unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
+  if (unit.empty()) fail("'{}' has no unit (write e.g. \"{} mm\"; nm, um, mm, cm, m, km)", s, s);
   static const std::vector<std::pair<std::string, double>> units = {
       {"nm", 1e-9}, {"um", 1e-6}, {"µm", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}, {"km", 1e3}};
   for (const auto& [name, factor] : units)
-    if (unit == name) {
-      if (!std::isfinite(v)) fail("'{}' is not a finite length", s);
-      return v * factor;
-    }
+    if (unit == name) return v * factor;
   fail("'{}': unknown length unit '{}' (nm, um, mm, cm, m, km)", s, unit);
 }
 
