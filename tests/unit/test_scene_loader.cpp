@@ -71,6 +71,7 @@ TEST(SceneLoader, BadScenesFailWithOneClearLine) {
       {"not_an_object.json", "expected an object"},
       {"missing_environment.json", "background.environment: no such file"},
       {"negative_rgb.json", "reflectance.rgb[1]: must not be negative"},
+      {"rgb_above_one.json", "reflectance.rgb[1]: a reflectance must lie between 0 and 1"},
       {"corrupt_environment.json", "not_an_image.exr"},
   };
   for (const auto& c : cases) {

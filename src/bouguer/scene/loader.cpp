@@ -336,8 +336,16 @@ MaterialDesc material(const json& j, const Where& w) {
     DiffuseDesc d;
     if (j.contains("reflectance")) {
       const json& r = j["reflectance"];
-      d.reflectance = r.is_object() && r.contains("rgb") ? Spectrum{rgb_to_reflectance(rgb_value(r, w / "reflectance"))}
-                                                        : spectral_value(r, w / "reflectance");
+      if (r.is_object() && r.contains("rgb")) {
+        // Checked here, before the fit would clamp it: an RGB reflectance above 1 is a mistake.
+        const Vec3 rgb = rgb_value(r, w / "reflectance");
+        for (int i = 0; i < 3; ++i)
+          if (std::array{rgb.x, rgb.y, rgb.z}[i] > 1.0)
+            (w / "reflectance" / "rgb")[i].fail("a reflectance must lie between 0 and 1");
+        d.reflectance = Spectrum{rgb_to_reflectance(rgb)};
+      } else {
+        d.reflectance = spectral_value(r, w / "reflectance");
+      }
       if (max_value(d.reflectance) > 1.0 || min_value(d.reflectance) < 0.0)
         (w / "reflectance").fail("a reflectance must lie between 0 and 1");
     }
