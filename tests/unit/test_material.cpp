@@ -158,10 +158,15 @@ TEST(MaterialCli, UserCsvWorksInTheCommandAndInAScene) {
 TEST(MaterialCli, BadInputGivesOneLine) {
   const auto dir = test::scratch_dir("material_bad");
   test::write_file(dir / "nounit.csv", "wavelength_nm,value\n400,1\n700,2\n");
+  test::write_file(dir / "twice.csv",
+                   "# unit: absorbance_per_cm\n# unit: attenuation_per_m\nwavelength_nm,value\n400,1\n700,2\n");
+  test::write_file(dir / "infrared.csv", "# unit: absorbance_per_cm\nwavelength_nm,value\n1000,1\n1100,2\n");
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"material", "red-glas"}, "did you mean 'red-glass'?"},
       {{"material", "copper-sulfate"}, "give --concentration in mol/L"},
       {{"material", (dir / "nounit.csv").string()}, "no '# unit: ...' line"},
+      {{"material", (dir / "twice.csv").string()}, "twice.csv:2: 'unit' is given twice"},
+      {{"material", (dir / "infrared.csv").string()}, "covers 1000-1100 nm, none of the range 360-830 nm"},
       {{"material", "water", "--thickness", "1 furlong"}, "--thickness"},
       {{"material", "water", "--thickness", "2"}, "--thickness: '2' has no unit"},
       {{"material", "water", "--thickness", "nan mm"}, "not a finite length"},

@@ -63,8 +63,15 @@ MaterialFile load_material_csv(const std::filesystem::path& path) {
   const std::string text = read_text(path);
   MaterialFile m;
   bool unit_seen = false;
+  std::vector<std::string> seen;
   for (const HeaderLine& h : header_lines(text)) {
     const std::string where = fmt::format("{}:{}", path.string(), h.line);
+    // A key given twice is ambiguous (which unit did the author mean?); other '#' lines are comments.
+    const bool known = h.key == "unit" || h.key == "thickness" || h.key == "ior" || h.key == "name" ||
+                       h.key == "description" || h.key == "source";
+    if (known && std::find(seen.begin(), seen.end(), h.key) != seen.end())
+      fail("{}: '{}' is given twice in the header", where, h.key);
+    if (known) seen.push_back(h.key);
     if (h.key == "unit") {
       const auto unit = absorption_unit_from_name(h.value);
       if (!unit)
@@ -106,6 +113,12 @@ MaterialFile load_material_csv(const std::filesystem::path& path) {
   m.values = spectrum_from_csv(parse_csv(text, path.string()), 1);
   for (double v : m.values.value)
     if (v < 0.0) fail("{}: values must not be negative (got {})", path.string(), v);
+  // Beyond its ends a table is held constant; a table that misses the visible range entirely would
+  // give one flat value everywhere, which is never what was meant.
+  const double lo = m.values.wavelength_nm.front(), hi = m.values.wavelength_nm.back();
+  if (hi < kLambdaMinNm || lo > kLambdaMaxNm)
+    fail("{}: the table covers {:g}-{:g} nm, none of the range {:g}-{:g} nm that colour needs", path.string(), lo, hi,
+         kLambdaMinNm, kLambdaMaxNm);
   if (m.name.empty()) m.name = path.stem().string();
   return m;
 }
