@@ -176,6 +176,29 @@ TEST(PathTracer, WhiteFurnaceRoughDielectric) {
   }
 }
 
+// Every scene the project ships (paper, showcases, examples, test scenes) loads, compiles and
+// renders a small, finite, non-black image with its own integrator: the files follow the format.
+TEST(Scenes, EveryShippedSceneRenders) {
+  int count = 0;
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(BOUGUER_SOURCE_DIR) / "scenes")) {
+    if (e.path().extension() != ".json") continue;
+    ++count;
+    SceneDesc desc = load_scene(e.path());
+    desc.camera.width_px = 24;
+    desc.camera.height_px = 16;
+    desc.render.spp = 16;
+    RenderStats stats;
+    const Film film = render(compile(desc), RenderOptions{}, stats);
+    double sum = 0.0;
+    for (float v : film.rgb) {
+      ASSERT_TRUE(std::isfinite(v)) << e.path();
+      sum += v;
+    }
+    EXPECT_GT(sum, 0.0) << e.path();
+  }
+  EXPECT_GE(count, 11);
+}
+
 // The paper's scenes hold only specular transport and directly seen emitters: the path tracer and
 // the Whitted tracer converge to the same image.
 TEST(PathTracer, ConvergesToWhittedOnThePapersScenes) {
