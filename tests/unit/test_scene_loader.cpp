@@ -72,6 +72,7 @@ TEST(SceneLoader, BadScenesFailWithOneClearLine) {
       {"missing_environment.json", "background.environment: no such file"},
       {"negative_rgb.json", "reflectance.rgb[1]: must not be negative"},
       {"rgb_above_one.json", "reflectance.rgb[1]: a reflectance must lie between 0 and 1"},
+      {"infrared_table.json", "media.glass.absorption: the table covers 1000-1100 nm, none of the range 360-830 nm"},
       {"corrupt_environment.json", "not_an_image.exr"},
   };
   for (const auto& c : cases) {

@@ -132,7 +132,14 @@ TabulatedSpectrum table(const json& j, const Where& w, std::vector<std::string> 
   expect_keys(j, w, extra);
   if (j.contains("csv")) {
     if (j.contains("wavelength_nm") || j.contains("value")) w.fail("give either 'csv' or 'wavelength_nm'/'value'");
-    return load_spectrum_csv(w.resolve(text(j["csv"], w / "csv")), {.allow_negative = allow_negative});
+    const fs::path file = w.resolve(text(j["csv"], w / "csv"));
+    TabulatedSpectrum s = load_spectrum_csv(file, {.allow_negative = allow_negative});
+    try {
+      require_visible_overlap(s, file.string());
+    } catch (const Error& e) {
+      w.fail("{}", e.what());
+    }
+    return s;
   }
   if (!j.contains("wavelength_nm") || !j.contains("value")) w.fail("needs 'wavelength_nm' and 'value' arrays (or 'csv')");
   std::vector<double> nm = numbers(j["wavelength_nm"], w / "wavelength_nm");
@@ -142,6 +149,7 @@ TabulatedSpectrum table(const json& j, const Where& w, std::vector<std::string> 
     if (!allow_negative)
       for (double x : s.value)
         if (x < 0.0) (w / "value").fail("values must not be negative (got {})", x);
+    require_visible_overlap(s, w.path);
     return s;
   } catch (const Error& e) {
     bouguer::fail("{}: {}", w.file->string(), e.what());

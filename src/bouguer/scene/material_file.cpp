@@ -113,12 +113,7 @@ MaterialFile load_material_csv(const std::filesystem::path& path) {
   m.values = spectrum_from_csv(parse_csv(text, path.string()), 1);
   for (double v : m.values.value)
     if (v < 0.0) fail("{}: values must not be negative (got {})", path.string(), v);
-  // Beyond its ends a table is held constant; a table that misses the visible range entirely would
-  // give one flat value everywhere, which is never what was meant.
-  const double lo = m.values.wavelength_nm.front(), hi = m.values.wavelength_nm.back();
-  if (hi < kLambdaMinNm || lo > kLambdaMaxNm)
-    fail("{}: the table covers {:g}-{:g} nm, none of the range {:g}-{:g} nm that colour needs", path.string(), lo, hi,
-         kLambdaMinNm, kLambdaMaxNm);
+  require_visible_overlap(m.values, path.string());
   if (m.name.empty()) m.name = path.stem().string();
   return m;
 }

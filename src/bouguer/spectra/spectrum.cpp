@@ -8,6 +8,13 @@
 
 namespace bouguer {
 
+void require_visible_overlap(const TabulatedSpectrum& s, std::string_view what) {
+  const double lo = s.wavelength_nm.front(), hi = s.wavelength_nm.back();
+  if (hi < kLambdaMinNm || lo > kLambdaMaxNm)
+    fail("{}: the table covers {:g}-{:g} nm, none of the range {:g}-{:g} nm that colour needs", what, lo, hi,
+         kLambdaMinNm, kLambdaMaxNm);
+}
+
 TabulatedSpectrum make_tabulated(std::vector<double> wavelength_nm, std::vector<double> value,
                                  std::string_view what) {
   if (wavelength_nm.empty()) fail("{}: spectrum has no data points", what);

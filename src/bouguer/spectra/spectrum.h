@@ -53,6 +53,10 @@ double d65_unit_luminance(double wavelength_nm);
 TabulatedSpectrum make_tabulated(std::vector<double> wavelength_nm, std::vector<double> value,
                                  std::string_view what);
 
+// For user tables: one that lies wholly outside kLambdaMinNm..kLambdaMaxNm would be held at one
+// flat value over all of it, which is never what was meant; an Error naming `what` instead.
+void require_visible_overlap(const TabulatedSpectrum& s, std::string_view what);
+
 double planck_radiance_per_nm(double wavelength_nm, double temperature_k);
 
 double eval(const TabulatedSpectrum& s, double wavelength_nm);
