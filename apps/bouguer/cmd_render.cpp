@@ -98,12 +98,7 @@ int run_render(const RenderCli& o) {
                               {"resolution", {film.width, film.height}},
                               {"spectral", mode_name(scene.render.spectral)},
                               {"threads", o.threads}};
-    write_atomically(o.stats_json, [&](const std::filesystem::path& temp) {
-      std::FILE* f = std::fopen(temp.c_str(), "w");
-      if (!f) fail("{}: cannot write", o.stats_json);
-      fmt::print(f, "{}\n", j.dump(2));
-      if (std::fclose(f) != 0) fail("{}: write failed", o.stats_json);
-    });
+    write_bytes_atomically(o.stats_json, j.dump(2) + "\n");
   }
   if (!o.quiet)
     fmt::print("{}: {}x{}, {} spp, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,

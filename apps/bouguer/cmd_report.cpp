@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 
 #include "bouguer/analysis/slab_colour.h"
 #include "bouguer/core/error.h"
@@ -178,11 +177,7 @@ renderer fitted at the middle thickness), and how far the RGB answers drift (ΔE
 )",
       kStyle, kCheckScript, html_escape(o.scenes), scenes.size(), total, summary, body, materials);
   const fs::path index = fs::path(o.out) / "index.html";
-  write_atomically(index, [&](const fs::path& temp) {
-    std::ofstream f(temp, std::ios::binary);
-    f << page;
-    if (!f) fail("{}: cannot write the page", index.string());
-  });
+  write_bytes_atomically(index, page);
   if (!o.quiet) fmt::print(stderr, "report: wrote {} ({:.1f} s)\n", index.string(), total);
   return 0;
 }

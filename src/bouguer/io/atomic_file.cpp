@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <fstream>
 
 #include "bouguer/core/error.h"
 
@@ -34,6 +35,15 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
     fs::remove(temp, ec);
     throw;
   }
+}
+
+void write_bytes_atomically(const fs::path& target, std::string_view bytes) {
+  write_atomically(target, [&](const fs::path& temp) {
+    std::ofstream f(temp, std::ios::binary);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    f.close();
+    if (!f) fail("{}: cannot write", target.string());
+  });
 }
 
 }  // namespace bouguer

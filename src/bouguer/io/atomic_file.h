@@ -4,6 +4,7 @@
 // file of the same name survives any failure.
 #include <filesystem>
 #include <functional>
+#include <string_view>
 
 namespace bouguer {
 
@@ -11,5 +12,8 @@ namespace bouguer {
 // temp_path and rethrows. Errors (folder missing, rename refused) name the target.
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path& temp_path)>& write);
+
+// Writes bytes already in memory (an encoded image, a page, JSON) the same way.
+void write_bytes_atomically(const std::filesystem::path& target, std::string_view bytes);
 
 }  // namespace bouguer

@@ -1,7 +1,5 @@
 #include <png.h>
 
-#include <cstdio>
-#include <memory>
 #include <vector>
 
 #include "bouguer/core/error.h"
@@ -12,20 +10,13 @@
 namespace bouguer {
 
 void write_png(const std::filesystem::path& path, const Film& film) {
-  std::vector<unsigned char> bytes(film.rgb.size());
-  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = srgb_encode_8bit(film.rgb[i]);
-  write_atomically(path, [&](const std::filesystem::path& temp) {
-    png_image image{};
-    image.version = PNG_IMAGE_VERSION;
-    image.width = static_cast<png_uint_32>(film.width);
-    image.height = static_cast<png_uint_32>(film.height);
-    image.format = PNG_FORMAT_RGB;
-    if (!png_image_write_to_file(&image, temp.c_str(), 0, bytes.data(), 0, nullptr)) {
-      const std::string reason = image.message;
-      png_image_free(&image);
-      fail("{}: PNG write failed: {}", path.string(), reason);
-    }
-  });
+  std::string bytes;
+  try {
+    bytes = encode_png(film);
+  } catch (const Error& e) {
+    fail("{}: {}", path.string(), e.what());
+  }
+  write_bytes_atomically(path, bytes);
 }
 
 std::string encode_png(const Film& film) {

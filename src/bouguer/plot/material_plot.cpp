@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 #include "bouguer/core/error.h"
 #include "bouguer/io/atomic_file.h"
@@ -284,12 +283,7 @@ void write_material_plot(const std::filesystem::path& path, const MaterialPlot& 
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   if (ext != ".svg" && ext != ".png" && ext != ".pdf")
     fail("{}: a plot is written as .svg, .png or .pdf", path.string());
-  const std::string bytes = render_material_plot(plot, ext.substr(1));
-  write_atomically(path, [&](const std::filesystem::path& temp) {
-    std::ofstream f(temp, std::ios::binary);
-    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!f) fail("{}: cannot write the plot", path.string());
-  });
+  write_bytes_atomically(path, render_material_plot(plot, ext.substr(1)));
 }
 
 }  // namespace bouguer
