@@ -112,10 +112,12 @@ int run_report(const ReportOptions& o) {
     options.threads = o.threads;
     Film films[2];
     RenderStats stats[2];
+    // One compiled scene (geometry, environment) serves both modes; only the spectral mode differs.
+    RenderScene scene = compile(desc);
     const SpectralMode modes[2] = {SpectralMode::full, SpectralMode::rgb3};
     for (int m = 0; m < 2; ++m) {
-      desc.render.spectral = modes[m];
-      films[m] = render(compile(desc), options, stats[m]);
+      scene.render.spectral = modes[m];
+      films[m] = render(scene, options, stats[m]);
     }
     const ImageDifference d = compare_images(films[0], films[1]);
     const Film heat = delta_e_heatmap(d, 10.0);
