@@ -73,12 +73,9 @@ ThicknessAnalysis analyse_thicknesses(const Spectrum& sigma_a_per_m, double ior,
 
   // The slab's spectral colour at 1 nm.
   auto spectral = [&](double d) {
-    TabulatedSpectrum through;
-    for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
-      through.wavelength_nm.push_back(nm);
-      through.value.push_back(eval(light, nm) * slab_transmittance(eval(sigma_a_per_m, nm), d, a.reflectance));
-    }
-    return colour_of_xyz(spectrum_to_xyz(through));
+    return colour_of_xyz(spectrum_to_xyz(tabulate_visible([&](double nm) {
+      return eval(light, nm) * slab_transmittance(eval(sigma_a_per_m, nm), d, a.reflectance);
+    })));
   };
   auto per_channel = [&](const Vec3& sigma, double d) {
     const Vec3& w = a.illuminant_linear_srgb;

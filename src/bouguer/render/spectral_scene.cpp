@@ -127,14 +127,7 @@ SpectralScene<N> make_spectral_scene(const RenderScene& scene, const SpectralBas
     s.environment = &*scene.environment;
     s.env_nm = basis.wavelength_nm;
     // Full: D65's mean over each bin (the sigmoid factor is smooth, taken at the bin centre).
-    if (basis.mode != SpectralMode::rgb3) {
-      TabulatedSpectrum d65;
-      for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
-        d65.wavelength_nm.push_back(nm);
-        d65.value.push_back(d65_unit_luminance(nm));
-      }
-      s.env_white = basis.emission(d65);
-    }
+    if (basis.mode != SpectralMode::rgb3) s.env_white = basis.emission(tabulate_visible(d65_unit_luminance));
   }
   return s;
 }

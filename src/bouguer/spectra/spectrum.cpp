@@ -86,12 +86,7 @@ Spectrum scaled(const Spectrum& s, double factor) {
     Spectrum operator()(const BlackbodySpectrum& b) const { return BlackbodySpectrum{b.temperature_k, b.scale * f}; }
     Spectrum operator()(const SigmoidPolynomial& p) const {
       // A sigmoid times a factor is no longer a sigmoid: tabulate at 1 nm.
-      TabulatedSpectrum t;
-      for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
-        t.wavelength_nm.push_back(nm);
-        t.value.push_back(p(nm) * f);
-      }
-      return t;
+      return tabulate_visible([&](double nm) { return p(nm) * f; });
     }
     Spectrum operator()(const RgbIlluminantSpectrum& r) const { return RgbIlluminantSpectrum{r.scale * f, r.poly}; }
   };

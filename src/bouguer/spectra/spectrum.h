@@ -23,6 +23,17 @@ struct TabulatedSpectrum {
   std::vector<double> value;
 };
 
+// f(nm) at every whole nanometre of [kLambdaMinNm, kLambdaMaxNm], as a table.
+template <typename F>
+TabulatedSpectrum tabulate_visible(F&& f) {
+  TabulatedSpectrum t;
+  for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
+    t.wavelength_nm.push_back(nm);
+    t.value.push_back(f(nm));
+  }
+  return t;
+}
+
 // Planck's law: spectral radiance in W·m⁻²·sr⁻¹·nm⁻¹ at temperature_k, times scale.
 struct BlackbodySpectrum {
   double temperature_k = 6500.0;
