@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "bouguer/analysis/slab_colour.h"
 #include "bouguer/core/error.h"
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/spectra/cie.h"

@@ -32,10 +32,6 @@ double tau_of_slab(double t, double r) {
 
 }  // namespace
 
-std::string srgb_hex(const Vec3& c) {
-  return fmt::format("#{:02X}{:02X}{:02X}", srgb_encode_8bit(c.x), srgb_encode_8bit(c.y), srgb_encode_8bit(c.z));
-}
-
 std::vector<double> default_thickness_series(const Spectrum& sigma) {
   double mean = 0.0;
   for (int nm = 400; nm <= 700; ++nm) mean += eval(sigma, nm) / 301.0;
@@ -66,6 +62,7 @@ ThicknessAnalysis analyse_thicknesses(const Spectrum& sigma_a_per_m, double ior,
   ThicknessAnalysis a;
   a.probe_nm = std::move(probe_nm);
   a.reference_thickness_m = reference_thickness_m;
+  a.ior = ior;
   a.reflectance = (ior - 1.0) * (ior - 1.0) / ((ior + 1.0) * (ior + 1.0));
   const Spectrum light = normalised_to_luminance(illuminant, 1.0);
   const Vec3 white_xyz = spectrum_to_xyz(light);

@@ -38,7 +38,8 @@ struct ThicknessRow {
 struct ThicknessAnalysis {
   std::vector<double> probe_nm;
   double reference_thickness_m = 0.0;
-  double reflectance = 0.0;         // R of one surface
+  double ior = 1.0;                 // of the slab, in air
+  double reflectance = 0.0;         // R of one surface, from ior
   Vec3 rgb3_sigma_a_per_m;          // σ_a at 700.0, 546.1, 435.8 nm
   Vec3 fitted_sigma_a_per_m;        // the fitted renderer's per-channel σ_a
   Vec3 illuminant_linear_srgb;
@@ -52,8 +53,6 @@ ThicknessAnalysis analyse_thicknesses(const Spectrum& sigma_a_per_m, double ior,
 
 // Slab transmittance (surfaces included) at one wavelength.
 double slab_transmittance(double sigma_a_per_m, double thickness_m, double surface_reflectance);
-
-std::string srgb_hex(const Vec3& linear_srgb);
 
 // Seven thicknesses from pale to deep: factors of two from 1/8 to 8 around 1 / (mean σ_a over
 // 400–700 nm), rounded to two significant digits. What `bouguer material` and the report show.

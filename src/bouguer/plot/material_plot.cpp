@@ -129,8 +129,7 @@ void draw(cairo_t* cr, const MaterialPlot& m) {
   text(cr, 24, 22, fmt::format("{}{}", m.name, m.concentration_note.empty() ? "" : " at " + m.concentration_note), 20,
        0.0, 0.5, true);
   text(cr, kWidth - 24, 22,
-       fmt::format("slab in air, n = {:.3f}, normal incidence, under {} (Y = 1); CIE 1931 2°", 
-                   (1.0 + std::sqrt(a.reflectance)) / (1.0 - std::sqrt(a.reflectance)), m.illuminant),
+       fmt::format("slab in air, n = {:.3f}, normal incidence, under {} (Y = 1); CIE 1931 2°", a.ior, m.illuminant),
        12, 1.0, 0.5);
 
   // 1. Absorption spectrum.

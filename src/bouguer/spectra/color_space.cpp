@@ -1,5 +1,7 @@
 #include "bouguer/spectra/color_space.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -56,6 +58,10 @@ double srgb_decode(double encoded) {
 unsigned char srgb_encode_8bit(double linear) {
   const double clamped = std::isnan(linear) ? 0.0 : std::clamp(linear, 0.0, 1.0);
   return static_cast<unsigned char>(std::lround(srgb_encode(clamped) * 255.0));
+}
+
+std::string srgb_hex(const Vec3& c) {
+  return fmt::format("#{:02X}{:02X}{:02X}", srgb_encode_8bit(c.x), srgb_encode_8bit(c.y), srgb_encode_8bit(c.z));
 }
 
 }  // namespace bouguer

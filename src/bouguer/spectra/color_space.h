@@ -4,6 +4,7 @@
 // Convention: XYZ coming from the renderer is relative to a D65-lit scene (the film is linear
 // Rec.709 with D65 white). Converting to a space with another white (ACEScg) applies Bradford
 // adaptation from D65 to that white, as colour-managed pipelines (OCIO/ACES) do.
+#include <string>
 #include <string_view>
 
 #include "bouguer/core/math.h"
@@ -44,5 +45,8 @@ double srgb_decode(double encoded);
 
 // 8-bit sRGB code value of a linear value: clamped to [0, 1], encoded, rounded.
 unsigned char srgb_encode_8bit(double linear);
+
+// "#RRGGBB" of a linear Rec.709 colour, each channel as srgb_encode_8bit.
+std::string srgb_hex(const Vec3& linear_rec709);
 
 }  // namespace bouguer
