@@ -1,9 +1,12 @@
 // bouguer render SCENE: load -> compile -> render -> write.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -58,14 +61,9 @@ class Progress {
   std::mutex mutex_;
 };
 
-const char* mode_name(SpectralMode m) {
-  return m == SpectralMode::full ? "full" : m == SpectralMode::hero ? "hero" : "rgb3";
-}
-
 void apply_overrides(const RenderCli& o, SceneDesc& s) {
-  if (!o.integrator.empty()) s.render.integrator = o.integrator == "path" ? IntegratorType::path : IntegratorType::whitted;
-  if (!o.spectral.empty())
-    s.render.spectral = o.spectral == "rgb3" ? SpectralMode::rgb3 : o.spectral == "hero" ? SpectralMode::hero : SpectralMode::full;
+  if (!o.integrator.empty()) s.render.integrator = find_integrator(o.integrator)->type;
+  if (!o.spectral.empty()) s.render.spectral = find_spectral_mode(o.spectral)->mode;
   if (o.spp > 0) s.render.spp = o.spp;
   if (o.max_depth > 0) s.render.max_depth = o.max_depth;
   if (o.seed >= 0) s.render.seed = static_cast<std::uint64_t>(o.seed);
@@ -76,34 +74,104 @@ void apply_overrides(const RenderCli& o, SceneDesc& s) {
   }
 }
 
+// Ctrl-C: the first stops the render after the tiles in flight (the image so far is written),
+// the second exits at once.
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_sigint(int) {
+  if (g_interrupted.exchange(true)) std::_Exit(130);
+}
+
+struct InterruptGuard {
+  struct sigaction previous {};
+  InterruptGuard() {
+    g_interrupted = false;
+    struct sigaction action {};
+    action.sa_handler = on_sigint;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &previous);
+  }
+  ~InterruptGuard() { sigaction(SIGINT, &previous, nullptr); }
+};
+
+// Renders in passes of sample ranges (the image is the same as one pass would give); returns the
+// samples per pixel every pixel has, and in `partial` how many more the interrupted pass added to
+// the pixels it reached.
+struct Passes {
+  int complete = 0, partial = 0;
+  double partial_fraction = 0.0;  // of the interrupted pass's tiles that finished
+};
+
+Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
+                     Progress& progress, RenderStats& stats) {
+  const int spp = settings.spp, pass = std::max(1, (spp + 15) / 16);
+  Passes p;
+  for (int begin = 0; begin < spp; begin += pass) {
+    const int end = std::min(spp, begin + pass);
+    double fraction = 0.0;
+    RenderControl control;
+    control.threads = threads;
+    control.cancel = &g_interrupted;
+    control.progress = [&](double f) {
+      fraction = f;
+      progress.update((begin + f * (end - begin)) / spp);
+    };
+    render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, control, stats);
+    if (g_interrupted) {
+      if (fraction >= 1.0) p.complete = end;
+      else p.partial = end - begin, p.partial_fraction = fraction;
+      return p;
+    }
+    p.complete = end;
+  }
+  return p;
+}
+
 int run_render(const RenderCli& o) {
   SceneDesc desc = load_scene(o.scene);
   apply_overrides(o, desc);
+  const RenderSettings settings = desc.render;
   const RenderScene scene = compile(desc);
+  const bool keep_spectra = !o.spectral_exr.empty();
+  check_settings(scene, settings, keep_spectra);
+  FilmBuffer buffer = make_film(scene, settings, keep_spectra);
   Progress progress(o.quiet);
-  RenderOptions options;
-  options.threads = o.threads;
-  options.keep_spectra = !o.spectral_exr.empty();
-  options.progress = [&progress](double f) { progress.update(f); };
   RenderStats stats;
-  const Film film = render(scene, options, stats);
+  Passes passes;
+  {
+    const InterruptGuard guard;
+    passes = render_passes(scene, settings, buffer, o.threads, progress, stats);
+  }
+  const bool interrupted = passes.complete < settings.spp;
+  // Light paths splat anywhere: their scale is the light paths traced per pixel.
+  const double splat_spp = passes.complete + passes.partial * passes.partial_fraction;
+  const Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
   for (const auto& output : o.outputs) write_image(output, film);
   if (!o.spectral_exr.empty()) write_spectral_exr(o.spectral_exr, film);
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
+  const std::string_view mode = spectral_mode_name(settings.spectral);
   if (!o.stats_json.empty()) {
     const nlohmann::json j = {{"seconds", stats.seconds},
                               {"rays", stats.rays},
                               {"rays_per_second", rays_per_second},
-                              {"spp", scene.render.spp},
+                              {"spp", passes.complete},
                               {"resolution", {film.width, film.height}},
-                              {"spectral", mode_name(scene.render.spectral)},
+                              {"spectral", mode},
+                              {"integrator", integrator_info(settings.integrator).name},
                               {"threads", o.threads}};
     write_bytes_atomically(o.stats_json, j.dump(2) + "\n");
   }
+  if (interrupted) {
+    fmt::print(stderr, "bouguer: interrupted: wrote the image after {} of {} samples per pixel{} -> {}\n",
+               passes.complete, settings.spp,
+               passes.partial > 0 ? fmt::format(" ({} more in the pixels the last pass reached)", passes.partial) : "",
+               fmt::join(o.outputs, ", "));
+    return 130;
+  }
   if (!o.quiet)
-    fmt::print("{}: {}x{}, {} spp, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
-               scene.render.spp, mode_name(scene.render.spectral), stats.seconds,
-               stats.rays, rays_per_second, fmt::join(o.outputs, ", "));
+    fmt::print("{}: {}x{}, {} spp, {}, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
+               settings.spp, integrator_info(settings.integrator).name, mode, stats.seconds, stats.rays,
+               rays_per_second, fmt::join(o.outputs, ", "));
   return 0;
 }
 
@@ -127,11 +195,18 @@ Command add_render_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--spectral-exr", o->spectral_exr, "Also write a spectral EXR (JCGT layout; --spectral full)");
   app->add_option("--spp", o->spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
-  app->add_option("--integrator", o->integrator, "whitted (the paper's ray tracer) or path (unbiased path tracing)")
-      ->check(CLI::IsMember({"whitted", "path"}));
-  app->add_option("--spectral", o->spectral,
-                  "Wavelengths carried: full (96 bins), hero (4 sampled per path) or rgb3 (the paper's RGB)")
-      ->check(CLI::IsMember({"full", "hero", "rgb3"}));
+  std::vector<std::string> integrators, modes;
+  std::string integrator_help = "Estimator (overrides the scene):", mode_help = "Wavelengths carried (overrides the scene):";
+  for (const IntegratorInfo& i : integrator_table()) {
+    integrators.emplace_back(i.name);
+    integrator_help += fmt::format(" {} ({});", i.name, i.summary);
+  }
+  for (const SpectralModeInfo& m : spectral_mode_table()) {
+    modes.emplace_back(m.name);
+    mode_help += fmt::format(" {} ({});", m.name, m.summary);
+  }
+  app->add_option("--integrator", o->integrator, integrator_help)->check(CLI::IsMember(integrators));
+  app->add_option("--spectral", o->spectral, mode_help)->check(CLI::IsMember(modes));
   app->add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT (overrides the scene)");
   app->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   app->add_option("--seed", o->seed, "Random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));

@@ -108,20 +108,21 @@ int run_report(const ReportOptions& o) {
     const std::string name = file.stem().string();
     if (!o.quiet) fmt::print(stderr, "report: {} ({}x{}, {} spp)\n", name, desc.camera.width_px, desc.camera.height_px,
                              desc.render.spp);
-    RenderOptions options;
-    options.threads = o.threads;
+    RenderControl control;
+    control.threads = o.threads;
     Film films[2];
     RenderStats stats[2];
-    // One compiled scene (geometry, environment) serves both modes; only the spectral mode differs.
-    RenderScene scene = compile(desc);
+    // One compiled scene (geometry, environment) serves both modes; only the settings differ.
+    const RenderScene scene = compile(desc);
     const SpectralMode modes[2] = {SpectralMode::full, SpectralMode::rgb3};
     for (int m = 0; m < 2; ++m) {
-      scene.render.spectral = modes[m];
-      films[m] = render(scene, options, stats[m]);
+      RenderSettings settings = desc.render;
+      settings.spectral = modes[m];
+      films[m] = render(scene, settings, control, stats[m]);
     }
     const ImageDifference d = compare_images(films[0], films[1]);
     const Film heat = delta_e_heatmap(d, 10.0);
-    const std::string integrator = desc.render.integrator == IntegratorType::path ? "path" : "whitted";
+    const std::string integrator(integrator_info(desc.render.integrator).name);
     summary += fmt::format(
         "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}×{2}</td><td>{3}</td><td>{4}</td><td>{5:.2f}</td><td>{6:.2f}</td>"
         "<td>{7:.2f}</td><td>{8:.2f}</td><td>{9:.2f}</td><td>{10:.1f}</td></tr>\n",

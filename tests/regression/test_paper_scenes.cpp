@@ -11,6 +11,7 @@
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_support.h"
 
 namespace bouguer {
 namespace {
@@ -25,8 +26,7 @@ Film render_small(const std::string& name, SpectralMode mode) {
   desc.camera.height_px /= 5;
   desc.render.spp = 4;
   desc.render.spectral = mode;
-  RenderStats stats;
-  return render(compile(desc), {}, stats);
+  return test::render_desc(desc);
 }
 
 class PaperScene : public ::testing::TestWithParam<std::string> {};

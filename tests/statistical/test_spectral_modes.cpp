@@ -9,6 +9,7 @@
 #include "bouguer/render/spectral_sampling.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_support.h"
 
 namespace bouguer {
 namespace {
@@ -19,8 +20,7 @@ Film render_desc(SceneDesc desc, SpectralMode mode, int spp, int size, std::uint
   desc.render.spp = spp;
   desc.render.seed = seed;
   desc.camera.width_px = desc.camera.height_px = size;
-  RenderStats stats;
-  return render(compile(desc), {}, stats);
+  return test::render_desc(desc);
 }
 
 Vec3 image_mean(const Film& f) {

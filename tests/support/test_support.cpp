@@ -8,6 +8,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "bouguer/render/render.h"
+#include "bouguer/scene/compile.h"
+#include "bouguer/scene/loader.h"
+
 namespace bouguer::test {
 namespace fs = std::filesystem;
 
@@ -65,6 +69,15 @@ int line_count(const std::string& text) {
   const auto n = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
   return text.back() == '\n' ? n : n + 1;
 }
+
+Film render_desc(const SceneDesc& desc, int threads) {
+  RenderControl control;
+  control.threads = threads;
+  RenderStats stats;
+  return render(compile(desc), desc.render, control, stats);
+}
+
+Film render_text(const std::string& json, int threads) { return render_desc(parse_scene(json, "test.json"), threads); }
 
 fs::path shared_data(const std::string& relative) { return fs::path(BOUGUER_SHARED_DATA_DIR) / relative; }
 

@@ -26,3 +26,15 @@ int line_count(const std::string& text);
 std::filesystem::path shared_data(const std::string& relative);
 
 }  // namespace bouguer::test
+
+#include "bouguer/scene/description.h"
+#include "bouguer/render/film.h"
+
+namespace bouguer::test {
+
+// Compiles the description and renders it with its own settings on `threads` threads (0: all).
+Film render_desc(const SceneDesc& desc, int threads = 0);
+// The same from scene-file text.
+Film render_text(const std::string& json, int threads = 0);
+
+}  // namespace bouguer::test

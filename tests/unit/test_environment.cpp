@@ -14,6 +14,7 @@
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/environment.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_support.h"
 
 namespace bouguer {
 namespace {
@@ -33,12 +34,7 @@ fs::path write_map(const std::string& name, int w, int h, const std::function<Ve
   return p;
 }
 
-Film render_text(const std::string& json) {
-  RenderOptions options;
-  options.threads = 2;
-  RenderStats stats;
-  return render(compile(parse_scene(json, "test.json")), options, stats);
-}
+Film render_text(const std::string& json) { return test::render_text(json, 2); }
 
 Vec3 mean_rgb(const Film& f) {
   Vec3 sum;

@@ -38,8 +38,7 @@ Vec3 rendered_slab(const std::string& absorption, double thickness_m) {
     ]
   }})",
                                         thickness_m + 0.1, absorption, thickness_m, -(thickness_m / 2 + 0.05));
-  RenderStats stats;
-  const Film f = render(compile(parse_scene(scene, "slab.json")), {}, stats);
+  const Film f = test::render_text(scene);
   const Vec3f c = f.rgb_at(0, 0);
   return {c.x, c.y, c.z};
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -13,6 +14,7 @@
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/spectra/cie.h"
+#include "support/test_support.h"
 
 namespace bouguer {
 namespace {
@@ -38,13 +40,7 @@ std::string slab_scene(double thickness_mm, const std::string& absorption, const
                      resolution, resolution, integrator, spectral, spp, absorption, thickness_mm);
 }
 
-Film render_text(const std::string& json, int threads = 1) {
-  const RenderScene scene = compile(parse_scene(json, "test.json"));
-  RenderOptions options;
-  options.threads = threads;
-  RenderStats stats;
-  return render(scene, options, stats);
-}
+Film render_text(const std::string& json, int threads = 1) { return test::render_text(json, threads); }
 
 // The closed form T = (1−R)²τ / (1 − R²τ²), τ = exp(−σ_a d), in the mode's own wavelengths. In
 // full mode each bin's τ is the mean over its sub-bin points (spectral_sampling.h); the renderer
@@ -187,8 +183,7 @@ TEST(Scenes, EveryShippedSceneRenders) {
     desc.camera.width_px = 24;
     desc.camera.height_px = 16;
     desc.render.spp = 16;
-    RenderStats stats;
-    const Film film = render(compile(desc), RenderOptions{}, stats);
+    const Film film = test::render_desc(desc);
     double sum = 0.0;
     for (float v : film.rgb) {
       ASSERT_TRUE(std::isfinite(v)) << e.path();
@@ -200,22 +195,30 @@ TEST(Scenes, EveryShippedSceneRenders) {
 }
 
 // The paper's scenes hold only specular transport and directly seen emitters: the path tracer and
-// the Whitted tracer converge to the same image.
-TEST(PathTracer, ConvergesToWhittedOnThePapersScenes) {
-  for (const char* name : {"pyramid-red-glass", "pyramid-light-blue-glass", "truncated-cube-red-glass"}) {
-    SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (std::string(name) + ".json"));
-    desc.camera.width_px = desc.camera.height_px = 40;
-    desc.render.spp = 4096;
-    RenderStats stats;
-    RenderOptions options;
-    const Film whitted = render(compile(desc), options, stats);
-    desc.render.integrator = IntegratorType::path;
-    const Film path = render(compile(desc), options, stats);
-    const ImageDifference d = compare_images(whitted, path);
-    std::printf("%s: path vs whitted, mean ΔE00 %.3f, p95 %.3f\n", name, d.mean, d.p95);
-    EXPECT_LT(d.mean, 0.3) << name;
-  }
+// the Whitted tracer converge to the same image. One test per scene (ctest runs them side by
+// side), 24 × 24 pixels at 4096 spp: the mean ΔE00 is set by the path tracer's noise per pixel,
+// which the pixel count does not change.
+class PathVersusWhitted : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PathVersusWhitted, ConvergeToTheSameImage) {
+  SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (GetParam() + ".json"));
+  desc.camera.width_px = desc.camera.height_px = 24;
+  desc.render.spp = 4096;
+  const Film whitted = test::render_desc(desc);
+  desc.render.integrator = IntegratorType::path;
+  const Film path = test::render_desc(desc);
+  const ImageDifference d = compare_images(whitted, path);
+  std::printf("%s: path vs whitted, mean ΔE00 %.3f, p95 %.3f\n", GetParam().c_str(), d.mean, d.p95);
+  EXPECT_LT(d.mean, 0.3) << GetParam();
 }
+
+INSTANTIATE_TEST_SUITE_P(PathTracer, PathVersusWhitted,
+                         ::testing::Values("pyramid-red-glass", "pyramid-light-blue-glass", "truncated-cube-red-glass"),
+                         [](const ::testing::TestParamInfo<std::string>& p) {
+                           std::string n = p.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
 
 // Light through glass reaches a diffuse floor only along BSDF-sampled paths: under a red glass
 // block the path tracer shows a red shadow, where the Whitted tracer's shadow rays are blocked.

@@ -2,7 +2,9 @@
 // The image a render produces: linear Rec.709 (D65 white) floats, three per pixel, rows from the
 // top; optionally each pixel's spectrum at `wavelengths_nm` (radiance in the emitters' units: a
 // named illuminant with scale 1 has luminance Y = 1, see spectra/cie.h).
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -27,6 +29,52 @@ struct Film {
   void set_rgb(int x, int y, const Vec3f& value);
   std::span<float> spectrum_at(int x, int y);
   std::span<const float> spectrum_at(int x, int y) const;
+};
+
+}  // namespace bouguer
+
+namespace bouguer {
+
+// What one render accumulates, pixel by pixel: weighted sums of camera samples and a splat
+// buffer for light paths that land anywhere on the film; resolve() turns them into the image.
+// Deterministic under any split of the work: a pixel's samples are added by one thread at a time
+// in sample order (so sample ranges rendered one after another sum in the same order as one
+// render), and splats are added as fixed-point integers (so their sum does not depend on the
+// order threads add them in).
+class FilmBuffer {
+ public:
+  FilmBuffer(int width_px, int height_px, std::vector<double> spectrum_wavelengths_nm = {});
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool has_spectra() const { return !wavelengths_nm_.empty(); }
+
+  // One camera sample of pixel (x, y): its linear Rec.709 value and, when the film keeps
+  // spectra, its values at the spectrum wavelengths.
+  void add_sample(int x, int y, const Vec3& rgb, double weight, std::span<const float> spectrum = {}) {
+    const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+    for (std::size_t c = 0; c < 3; ++c) rgb_sum_[3 * p + c] += weight * rgb[c];
+    weight_sum_[p] += weight;
+    const std::size_t n = wavelengths_nm_.size();
+    for (std::size_t i = 0; i < n && i < spectrum.size(); ++i) spectral_sum_[n * p + i] += weight * spectrum[i];
+  }
+  // Light arriving at a film position (pixels) from a light path; safe from any thread.
+  void add_splat(double film_x, double film_y, const Vec3& rgb, std::span<const float> spectrum = {});
+
+  // The image: each pixel's weighted mean plus its splats times splat_scale (1 / light paths per
+  // pixel). Splats that did not fit the fixed-point range are counted in saturated_splats().
+  Film resolve(double splat_scale) const;
+  std::uint64_t saturated_splats() const { return saturated_.load(); }
+
+ private:
+  static constexpr double kSplatUnit = 1.0 / (1 << 20);  // fixed-point step of the splat sums
+  void add_fixed(std::int64_t& cell, double value);
+
+  int width_ = 0, height_ = 0;
+  std::vector<double> wavelengths_nm_;
+  std::vector<double> rgb_sum_, weight_sum_, spectral_sum_;
+  std::vector<std::int64_t> splat_rgb_, splat_spectral_;
+  std::atomic<std::uint64_t> saturated_{0};
 };
 
 }  // namespace bouguer

@@ -1,26 +1,28 @@
 #pragma once
-// The tile loop: every pixel's samples, tiles in parallel (oneTBB), each pixel with its own
-// random stream seeded from (seed, pixel), so the image never depends on the thread count.
+// Rendering a compiled scene: a film for the camera (keeping spectra when asked), filled by the
+// settings' integrator over any pixel region and sample range (render/integrator.h), then
+// resolved into the image.
 #include <cstdint>
-#include <functional>
 
-#include "bouguer/render/film.h"
-#include "bouguer/scene/compile.h"
+#include "bouguer/render/integrator.h"
 
 namespace bouguer {
 
-struct RenderOptions {
-  int threads = 0;             // 0: all cores
-  bool keep_spectra = false;   // film keeps each pixel's spectrum (full mode only)
-  // Called now and then with the fraction done (from whichever thread finished a tile).
-  std::function<void(double fraction_done)> progress;
-};
+// The film a render of this scene fills; spectra at the full mode's bin centres when asked.
+FilmBuffer make_film(const RenderScene& scene, const RenderSettings& settings, bool keep_spectra);
 
-struct RenderStats {
-  double seconds = 0.0;
-  std::uint64_t rays = 0;
-};
+// Checks that the settings fit the scene (an Error naming the scene file otherwise).
+void check_settings(const RenderScene& scene, const RenderSettings& settings, bool keep_spectra);
 
-Film render(const RenderScene& scene, const RenderOptions& options, RenderStats& stats);
+// Renders `region` × `samples` into `film` with the settings' integrator; stats are added to.
+void render_into(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
+                 SampleRange samples, const RenderControl& control, RenderStats& stats);
+
+// The whole image in one call: every pixel, every sample.
+Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
+            RenderStats& stats, bool keep_spectra = false);
+
+// The image of a film after `samples_done` samples per pixel (splats scaled by 1 / that).
+Film resolve(const FilmBuffer& film, int samples_done);
 
 }  // namespace bouguer

@@ -18,6 +18,19 @@ __attribute__((target_clones("avx2", "default"))) void mean_transmittance(const 
   }
 }
 
+__attribute__((target_clones("avx2", "default"))) void weighted_sums3(const float* values,
+                                                                         const float* const weight[3], std::size_t n,
+                                                                         float out[3]) {
+  for (int c = 0; c < 3; ++c) {
+    float part[8] = {};
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8)
+      for (std::size_t k = 0; k < 8; ++k) part[k] += weight[c][i + k] * values[i + k];
+    for (; i < n; ++i) part[i % 8] += weight[c][i] * values[i];
+    out[c] = ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
+  }
+}
+
 template <std::size_t N>
 SampledSpectrum<N> SpectralBasis<N>::emission(const Spectrum& s) const {
   SampledSpectrum<N> out;
@@ -66,6 +79,7 @@ Vec3 SpectralBasis<N>::to_linear_srgb(const SampledSpectrum<N>& v) const {
 
 template struct SpectralBasis<kFullBins>;
 template struct SpectralBasis<3>;
+template struct SpectralBasis<kHeroCount>;
 
 double sample_visible_wavelength(double u) { return 538.0 - 138.888889 * std::atanh(0.85691062 - 1.82750197 * u); }
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bouguer/core/math.h"
-#include "bouguer/scene/description.h"
+#include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/spectra/sampled_spectrum.h"
 #include "bouguer/spectra/spectrum.h"
 
@@ -38,6 +38,11 @@ using SubBinValues = std::array<SampledSpectrum<N>, kSubBins>;
 // out[i] = mean over k of exp(−sigma[k][i] · length_m), i < n. Compiled for AVX2 and for the
 // baseline, chosen at load time (the hottest loop of full mode in absorbing media).
 void mean_transmittance(const float* const sigma[kSubBins], std::size_t n, float length_m, float* out);
+
+// out[c] = Σ_i weight[c][i] · values[i] for c < 3, i < n, with eight partial sums in a fixed order
+// (the same in every run), compiled for AVX2 and the baseline: a full-mode sample's colour,
+// computed for every camera sample.
+void weighted_sums3(const float* values, const float* const weight[3], std::size_t n, float out[3]);
 
 // The mean over the sub-bin points of exp(−σ_a l), per bin.
 template <std::size_t N>

@@ -1,9 +1,11 @@
 #include "bouguer/scene/compile.h"
 
 #include <map>
+#include <numbers>
 #include <tuple>
 
 #include "bouguer/core/error.h"
+#include "bouguer/spectra/cie.h"
 
 namespace bouguer {
 namespace {
@@ -11,7 +13,19 @@ namespace {
 int medium_index(const RenderScene& s, const std::string& name) {
   for (std::size_t i = 0; i < s.media.size(); ++i)
     if (s.media[i].name == name) return static_cast<int>(i);
-  return -1;  // the loader has checked every name
+  return -1;  // the builder has checked every name
+}
+
+int add_spectrum(RenderScene& s, std::variant<Spectrum, IorModel> source, SpectrumRole role) {
+  s.spectra.push_back({std::move(source), role});
+  return static_cast<int>(s.spectra.size()) - 1;
+}
+
+bool is_dispersive(const IorModel& ior) {
+  const double n0 = ior_at(ior, kLambdaMinNm);
+  for (double nm = kLambdaMinNm + 1.0; nm <= kLambdaMaxNm; nm += 1.0)
+    if (std::abs(ior_at(ior, nm) - n0) > 1e-7) return true;
+  return false;
 }
 
 // An interface must enclose its medium: the object's own volume (all parts with the object
@@ -32,12 +46,84 @@ void check_closed(const std::vector<ShapePart>& parts, const ObjectDesc& o, cons
       fail("{}: object '{}': its contents do not form a closed volume: {}", desc.file.string(), o.name, *problem);
 }
 
-void add_lights(RenderScene& s, std::uint32_t geometry, const Mesh& m) {
+// A spot light with a radius is a one-sided disk emitter facing along its axis, with the spot's
+// angular profile. Its radiance I / A (A the disk's area) gives the point spot's on-axis intensity
+// I, so a radius changes the penumbrae and makes the lamp visible (in mirrors, through glass),
+// not the light's strength.
+ObjectDesc spot_disk(const DeltaLightDesc& l, const std::string& name) {
+  constexpr int segments = 64;
+  ObjectDesc o;
+  o.name = name;
+  o.shape = DiskShape{l.radius_m, segments};
+  const Vec3 z{0, 0, 1};
+  const double c = dot(z, l.direction);
+  Transform t;
+  if (c < -1.0 + 1e-12)
+    t = Transform::rotate_deg(180.0, {1, 0, 0});
+  else if (c < 1.0 - 1e-12)
+    t = Transform::rotate_deg(std::acos(c) * 180.0 / std::numbers::pi, cross(z, l.direction));
+  o.transform = t.then(Transform::translate(l.position_m));
+  const double area_m2 = 0.5 * segments * l.radius_m * l.radius_m * std::sin(2.0 * std::numbers::pi / segments);
+  EmissionDesc e;
+  e.radiance = scaled(l.intensity, 1.0 / area_m2);
+  e.spot = SpotProfile{l.direction, l.cone_deg, l.falloff_deg};
+  o.emission = e;
+  return o;
+}
+
+void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, const Mesh& m, const EmissionDesc& e) {
+  const int radiance = add_spectrum(s, e.radiance, SpectrumRole::radiance);
+  surface.first_light = static_cast<int>(s.lights.size());
   for (std::uint32_t i = 0; i < m.triangles.size(); ++i) {
     const auto& t = m.triangles[i];
-    const double area = 0.5 * length(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
-    if (area > 0.0) s.lights.push_back({geometry, i, area});
+    AreaLight a;
+    a.geometry = geometry;
+    a.primitive = i;
+    a.p0 = m.positions[t[0]], a.p1 = m.positions[t[1]], a.p2 = m.positions[t[2]];
+    const Vec3 c = cross(a.p1 - a.p0, a.p2 - a.p0);
+    a.area_m2 = 0.5 * length(c);
+    a.normal = a.area_m2 > 0.0 ? normalize(c) : Vec3{0, 0, 1};
+    a.radiance = radiance;
+    a.two_sided = e.two_sided;
+    a.spot = e.spot;
+    s.lights.push_back(a);
   }
+}
+
+void add_delta_light(RenderScene& s, const DeltaLightDesc& l) {
+  const int spectrum = add_spectrum(s, l.intensity, SpectrumRole::radiance);
+  s.delta_lights.push_back(static_cast<int>(s.lights.size()));
+  switch (l.type) {
+    case DeltaLightType::point: s.lights.push_back(PointLight{l.position_m, spectrum}); break;
+    case DeltaLightType::spot:
+      s.lights.push_back(SpotLight{l.position_m, {l.direction, l.cone_deg, l.falloff_deg}, spectrum});
+      break;
+    case DeltaLightType::distant: s.lights.push_back(DistantLight{l.direction, spectrum}); break;
+  }
+}
+
+SceneBounds bounds_of(const RenderScene& s) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi = -lo;
+  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g)
+    for (const Vec3& p : s.rays.mesh(g).positions)
+      for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  if (s.surfaces.empty()) return {};
+  const Vec3 centre = (lo + hi) * 0.5;
+  return {centre, std::max(length(hi - centre), 1e-3)};
+}
+
+void add_lights_distributions(RenderScene& s) {
+  s.bounds = bounds_of(s);
+  std::vector<double> luminance_of(s.spectra.size(), 0.0);
+  for (std::size_t i = 0; i < s.spectra.size(); ++i)
+    if (const auto* sp = std::get_if<Spectrum>(&s.spectra[i].source)) luminance_of[i] = luminance(*sp);
+  std::vector<bool> area, all(s.lights.size(), true);
+  for (const Light& l : s.lights) {
+    s.light_power.push_back(power(l, s.bounds, [&](int id) { return id < 0 ? 0.0 : luminance_of[static_cast<std::size_t>(id)]; }));
+    area.push_back(std::holds_alternative<AreaLight>(l));
+  }
+  s.area_lights = LightDistribution::by_power(s.light_power, area);
+  s.emitters = LightDistribution::by_power(s.light_power, all);
 }
 
 }  // namespace
@@ -46,21 +132,29 @@ RenderScene compile(const SceneDesc& desc) {
   RenderScene s;
   s.file = desc.file;
   s.camera = desc.camera;
-  s.render = desc.render;
-  s.background = desc.background;
   if (desc.environment) {
     try {
-      s.environment = load_environment(*desc.environment);
+      s.environment = std::make_unique<const EnvironmentMap>(load_environment(*desc.environment));
     } catch (const Error& e) {
       fail("{}: background.environment: {}", desc.file.string(), e.what());
     }
   }
-  s.delta_lights = desc.lights;
-  for (const auto& [name, m] : desc.media) s.media.push_back(m);
+  for (const auto& [name, m] : desc.media) {
+    SceneMedium sm;
+    sm.name = name;
+    sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
+    sm.ior = add_spectrum(s, m.ior, SpectrumRole::point);
+    sm.ior_reference = ior_at(m.ior, kReferenceWavelengthNm);
+    sm.dispersive = is_dispersive(m.ior);
+    s.media.push_back(std::move(sm));
+  }
   s.world_medium = medium_index(s, desc.world_medium);
   std::map<std::tuple<double, double, double>, int> albedo_index;  // (alpha, eta front, eta behind)
 
-  for (const ObjectDesc& o : desc.objects) {
+  std::vector<ObjectDesc> objects = desc.objects;
+  for (std::size_t i = 0; i < desc.lights.size(); ++i)
+    if (desc.lights[i].radius_m > 0.0) objects.push_back(spot_disk(desc.lights[i], fmt::format("lights[{}]", i)));
+  for (const ObjectDesc& o : objects) {
     std::vector<ShapePart> parts = make_shape(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
     for (ShapePart& p : parts) p.mesh = transformed(std::move(p.mesh), o.transform);
     Surface base;
@@ -74,12 +168,16 @@ RenderScene compile(const SceneDesc& desc) {
       check_closed(parts, o, desc);
     } else if (o.emission) {
       base.kind = SurfaceKind::emitter;
-      base.emission = static_cast<int>(s.emissions.size());
-      s.emissions.push_back(*o.emission);
     } else {
       base.kind = SurfaceKind::opaque;
       base.material = static_cast<int>(s.materials.size());
-      s.materials.push_back(*o.material);
+      if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
+        s.materials.push_back(DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance)});
+      else {
+        const auto& c = std::get<ConductorDesc>(*o.material);
+        s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),
+                                                add_spectrum(s, c.k, SpectrumRole::point), c.roughness});
+      }
     }
     const int inside = o.inside ? medium_index(s, *o.inside) : -1;
     const int outside = medium_index(s, o.outside.value_or(desc.world_medium));
@@ -90,23 +188,30 @@ RenderScene compile(const SceneDesc& desc) {
       surface.medium_behind = pick(p.behind);
       surface.medium_front = pick(p.in_front);
       if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0) {
-        const auto key = std::make_tuple(surface.roughness, ior_at(s.media[surface.medium_front].ior, kReferenceWavelengthNm),
-                                         ior_at(s.media[surface.medium_behind].ior, kReferenceWavelengthNm));
+        const auto key = std::make_tuple(surface.roughness, s.media[static_cast<std::size_t>(surface.medium_front)].ior_reference,
+                                         s.media[static_cast<std::size_t>(surface.medium_behind)].ior_reference);
         const auto [it, added] = albedo_index.try_emplace(key, static_cast<int>(s.dielectric_albedo.size()));
         if (added)
           s.dielectric_albedo.push_back(DielectricAlbedo::compute(std::get<0>(key), std::get<1>(key), std::get<2>(key)));
         surface.albedo = it->second;
       }
       const std::uint32_t id = s.rays.add(p.mesh);
-      if (id != s.surfaces.size()) fail("internal: geometry ids out of order");
+      if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
+      if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission);
       s.surfaces.push_back(surface);
-      if (base.kind == SurfaceKind::emitter) add_lights(s, id, p.mesh);
     }
   }
   s.rays.commit();
-  for (const auto& l : s.lights) s.light_area_m2 += l.area_m2;
-  double running = 0.0;
-  for (const auto& l : s.lights) s.light_cdf.push_back((running += l.area_m2) / s.light_area_m2);
+  for (const DeltaLightDesc& l : desc.lights)
+    if (!(l.radius_m > 0.0)) add_delta_light(s, l);
+  if (s.environment) {
+    s.environment_light = static_cast<int>(s.lights.size());
+    s.lights.push_back(EnvironmentLight{s.environment.get()});
+  } else {
+    s.background_light = static_cast<int>(s.lights.size());
+    s.lights.push_back(BackgroundLight{add_spectrum(s, desc.background.radiance, SpectrumRole::radiance)});
+  }
+  add_lights_distributions(s);
   return s;
 }
 

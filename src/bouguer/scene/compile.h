@@ -1,13 +1,20 @@
 #pragma once
-// compile: SceneDesc -> RenderScene, the immutable scene the integrators read. Shapes become
+// compile: SceneDesc -> RenderScene, the immutable scene every estimator reads. Shapes become
 // triangles in one RayScene; every geometry id maps to a Surface that says what it is and which
-// media lie on its two sides. Nothing here is looked up by name during rendering.
+// media lie on its two sides; every spectrum becomes an id into `spectra`, which a render turns
+// into flat tables for its spectral mode (render/spectral_tables.h). Nothing here is looked up
+// by name during rendering, and nothing changes a compiled scene: render settings are separate.
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "bouguer/geometry/ray_scene.h"
+#include "bouguer/lights/light.h"
 #include "bouguer/materials/bsdf.h"
+#include "bouguer/media/medium.h"
+#include "bouguer/render/spectral_tables.h"
 #include "bouguer/scene/description.h"
 
 namespace bouguer {
@@ -18,34 +25,42 @@ struct Surface {
   SurfaceKind kind = SurfaceKind::interface;
   int medium_behind = -1;  // index into RenderScene::media, on the side opposite the normal
   int medium_front = -1;   // on the side the normal points to
-  int emission = -1;       // index into emissions (emitters)
-  int material = -1;       // index into materials (opaque surfaces)
+  int material = -1;       // opaque surfaces: index into materials
+  int first_light = -1;    // emitters: the area light of primitive p is lights[first_light + p]
   double roughness = 0.0;  // interfaces: GGX alpha (0: smooth)
   int albedo = -1;         // rough interfaces: index into RenderScene::dielectric_albedo
   std::string object;      // for messages
 };
 
-struct EmissiveTriangle {
-  std::uint32_t geometry = 0, primitive = 0;
-  double area_m2 = 0.0;
+// Opaque surfaces (two-sided): spectra are ids into RenderScene::spectra.
+struct DiffuseMaterial {
+  int reflectance = -1;
 };
+struct ConductorMaterial {
+  int n = -1, k = -1;
+  double alpha = 0.0;
+};
+using SurfaceMaterial = std::variant<DiffuseMaterial, ConductorMaterial>;
 
 struct RenderScene {
   std::filesystem::path file;
   CameraDesc camera;
-  RenderSettings render;
   RayScene rays;
   std::vector<Surface> surfaces;  // by geometry id
-  std::vector<MediumDesc> media;
+  std::vector<SceneSpectrum> spectra;
+  std::vector<SceneMedium> media;
   int world_medium = 0;
-  std::vector<EmissionDesc> emissions;
-  std::vector<MaterialDesc> materials;
-  EmissionDesc background;
-  std::optional<EnvironmentMap> environment;  // replaces the background when present
-  std::vector<DeltaLightDesc> delta_lights;
-  std::vector<EmissiveTriangle> lights;
-  std::vector<double> light_cdf;  // cumulative area fractions, last = 1
-  double light_area_m2 = 0.0;
+  std::vector<SurfaceMaterial> materials;
+  std::unique_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
+  std::vector<Light> lights;
+  std::vector<double> light_power;  // by light, luminance flux (lights/light.h)
+  // Next-event estimation draws one area light by power; every delta light and the environment
+  // map are sampled at each event. Light paths start at any light, drawn by power.
+  LightDistribution area_lights, emitters;
+  std::vector<int> delta_lights;
+  int environment_light = -1;
+  int background_light = -1;  // the constant background (zero when an environment map is set)
+  SceneBounds bounds;
   // Energy compensation of rough interfaces, tabulated with the two media's indices at
   // kReferenceWavelengthNm (the albedo varies by well under 1 % over a glass's dispersion).
   std::vector<DielectricAlbedo> dielectric_albedo;

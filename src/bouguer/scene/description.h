@@ -12,15 +12,16 @@
 
 #include "bouguer/geometry/shapes.h"
 #include "bouguer/geometry/transform.h"
+#include "bouguer/lights/spot.h"
 #include "bouguer/media/ior.h"
 #include "bouguer/scene/environment.h"
+#include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/spectra/spectrum.h"
 
 namespace bouguer {
 
 enum class CameraType { pinhole, orthographic };
-enum class SpectralMode { full, rgb3, hero };
-enum class IntegratorType { whitted, path };
+enum class IntegratorType { whitted, path, light };  // names: render/integrator.h
 
 struct CameraDesc {
   CameraType type = CameraType::pinhole;
@@ -46,13 +47,6 @@ struct MediumDesc {
   IorModel ior = ConstantIor{1.0};
   Spectrum sigma_a_per_m = ConstantSpectrum{0.0};  // natural log, 1/m, concentration applied
   bool absorbing = false;
-};
-
-// A spot light's angular profile on an area emitter: full inside falloff_deg of the axis,
-// smoothstep to zero at cone_deg.
-struct SpotProfile {
-  Vec3 axis{0, -1, 0};
-  double cone_deg = 30.0, falloff_deg = 25.0;
 };
 
 // Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
@@ -98,7 +92,7 @@ struct DeltaLightDesc {
   double cone_deg = 30.0;    // spot: half-angle where the light ends
   double falloff_deg = 25.0; // spot: half-angle where the smooth falloff starts
   Spectrum intensity = ConstantSpectrum{1.0};
-  double radius_m = 0.0;  // spot: > 0 makes it a disk emitter of this radius (see the loader)
+  double radius_m = 0.0;  // spot: > 0 makes it a disk emitter of this radius (compile.cpp)
 };
 
 struct SceneDesc {

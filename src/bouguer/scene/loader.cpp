@@ -15,6 +15,7 @@
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
+#include "bouguer/render/integrator.h"
 #include "bouguer/scene/material_file.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
@@ -531,16 +532,15 @@ RenderSettings render_settings(const json& j, const Where& w) {
   RenderSettings r;
   if (j.contains("integrator")) {
     const std::string i = text(j["integrator"], w / "integrator");
-    if (i == "whitted") r.integrator = IntegratorType::whitted;
-    else if (i == "path") r.integrator = IntegratorType::path;
-    else (w / "integrator").fail("unknown integrator '{}' (whitted, path)", i);
+    const IntegratorInfo* info = find_integrator(i);
+    if (!info) (w / "integrator").fail("unknown integrator '{}' ({})", i, integrator_names());
+    r.integrator = info->type;
   }
   if (j.contains("spectral")) {
     const std::string s = text(j["spectral"], w / "spectral");
-    if (s == "full") r.spectral = SpectralMode::full;
-    else if (s == "rgb3") r.spectral = SpectralMode::rgb3;
-    else if (s == "hero") r.spectral = SpectralMode::hero;
-    else (w / "spectral").fail("unknown spectral mode '{}' (full, hero, rgb3)", s);
+    const SpectralModeInfo* info = find_spectral_mode(s);
+    if (!info) (w / "spectral").fail("unknown spectral mode '{}' ({})", s, spectral_mode_names());
+    r.spectral = info->mode;
   }
   if (j.contains("spp")) r.spp = integer(j["spp"], w / "spp", 1, 1 << 20);
   if (j.contains("max_depth")) r.max_depth = integer(j["max_depth"], w / "max_depth", 1, 1000);
@@ -587,31 +587,6 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
     if (j.contains(k)) spectrum_keys[k] = j[k];
   l.intensity = emission(spectrum_keys, w, false).radiance;
   return l;
-}
-
-// A spot light with a radius is a one-sided disk emitter facing along its axis, with the spot's
-// angular profile. Its radiance I / A (A the disk's area) gives the point spot's on-axis intensity
-// I, so a radius changes the penumbrae and makes the lamp visible (in mirrors, through glass),
-// not the light's strength.
-ObjectDesc spot_disk(const DeltaLightDesc& l, const std::string& name) {
-  constexpr int segments = 64;
-  ObjectDesc o;
-  o.name = name;
-  o.shape = DiskShape{l.radius_m, segments};
-  const Vec3 z{0, 0, 1};
-  const double c = dot(z, l.direction);
-  Transform t;
-  if (c < -1.0 + 1e-12)
-    t = Transform::rotate_deg(180.0, {1, 0, 0});
-  else if (c < 1.0 - 1e-12)
-    t = Transform::rotate_deg(std::acos(c) * 180.0 / std::numbers::pi, cross(z, l.direction));
-  o.transform = t.then(Transform::translate(l.position_m));
-  const double area_m2 = 0.5 * segments * l.radius_m * l.radius_m * std::sin(2.0 * std::numbers::pi / segments);
-  EmissionDesc e;
-  e.radiance = scaled(l.intensity, 1.0 / area_m2);
-  e.spot = SpotProfile{l.direction, l.cone_deg, l.falloff_deg};
-  o.emission = e;
-  return o;
 }
 
 ObjectDesc object(const json& j, const Where& w, std::size_t index) {
@@ -697,11 +672,7 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
     const Where wl = top / "lights";
     array(root["lights"], wl);
     for (std::size_t i = 0; i < root["lights"].size(); ++i) {
-      DeltaLightDesc l = delta_light(root["lights"][i], wl[i]);
-      if (l.radius_m > 0.0)
-        s.objects.push_back(spot_disk(l, fmt::format("lights[{}]", i)));
-      else
-        s.lights.push_back(l);
+      s.lights.push_back(delta_light(root["lights"][i], wl[i]));
     }
   }
   if (root.contains("background")) {

@@ -1,0 +1,199 @@
+#pragma once
+// The events of a path, one function each, shared by every estimator that meets them (Whitted,
+// the path tracer, the light tracer): travel through a medium, escape to the background, an
+// emitter hit, a surface's BSDF, direct light at a surface (next-event estimation), the choice of
+// one wavelength at a dispersive interface, and the connection of a light path to the camera.
+// A path owns its state (wavelengths, throughput, medium); these functions only read the scene.
+#include <algorithm>
+#include <cstdint>
+#include <optional>
+
+#include "bouguer/core/frame.h"
+#include "bouguer/materials/surface_bsdf.h"
+#include "bouguer/render/camera.h"
+#include "bouguer/render/film.h"
+#include "bouguer/render/rng.h"
+#include "bouguer/scene/compile.h"
+
+namespace bouguer {
+
+// What every event reads: the compiled scene, its spectra for this render's mode, the camera.
+template <std::size_t N>
+struct SceneView {
+  const RenderScene& scene;
+  const SpectralTables<N>& tables;
+  const Camera& camera;
+  int max_depth = 32;
+};
+
+double power_heuristic(double pdf_a, double pdf_b);
+
+// Transmittance through scene medium `medium` (−1: none) along ray over [0, t_m]. Callers measure
+// segments from the surface point a ray left (not its offset origin), so a slab's path length is
+// exact and does not depend on where on the surface the ray starts.
+template <std::size_t N>
+SampledSpectrum<N> travel(const SceneView<N>& v, int medium, const Ray& ray, double t_m, const SampledWavelengths<N>& w);
+
+inline bool absorbs(const RenderScene& scene, int medium) {
+  return medium >= 0 && absorbs(scene.media[static_cast<std::size_t>(medium)].medium);
+}
+
+// Radiance a ray leaving the scene in direction d brings back through `medium`: the background
+// or the environment map, none through an absorber (an infinite path).
+template <std::size_t N>
+SampledSpectrum<N> escaped(const SceneView<N>& v, int medium, const Vec3& d, const SampledWavelengths<N>& w);
+
+// Radiance an emitter hit sends back along wo (zero behind a one-sided emitter).
+template <std::size_t N>
+SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const Vec3& wo, const SampledWavelengths<N>& w);
+
+// Solid-angle density with which next-event estimation at `from` reaches this emitter hit (for
+// MIS), and the one for a direction that escapes to the environment map.
+double area_light_pdf(const RenderScene& scene, const Hit& hit, const Vec3& from, const Vec3& wi);
+double environment_pdf(const RenderScene& scene, const Vec3& d);
+
+// A surface hit as a BSDF in its local frame. Opaque surfaces are two-sided: the frame faces wo.
+// Interfaces keep the geometric normal, so z > 0 is the medium_front side.
+template <std::size_t N>
+struct SurfaceEvent {
+  Frame frame;
+  Bsdf<N> bsdf;
+  int medium_front = -1, medium_behind = -1;
+  // The medium a direction leaving the surface travels in.
+  int medium_towards(const Vec3& wi) const { return dot(wi, frame.n) > 0.0 ? medium_front : medium_behind; }
+};
+
+// `medium` is the one the path arrived through (the medium around an opaque surface).
+template <std::size_t N>
+SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
+                              int medium, const SampledWavelengths<N>& w);
+
+// Direct light at a non-specular surface event, towards wo: one area light drawn by power, every
+// delta light and (with `environment`) one direction of the environment map; MIS-weighted
+// against BSDF sampling by the power heuristic when `mis` is set. Shadow rays are blocked by any
+// surface, glass included.
+template <std::size_t N>
+SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
+                                const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays, bool mis,
+                                bool environment);
+
+// At the first dispersive interface a path meets, keep carried wavelength j = ⌊u·N⌋ with weight
+// N and terminate the others (their throughput becomes 0): each wavelength's expected
+// contribution is unchanged. Returns whether it happened.
+template <std::size_t N>
+bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
+                         SampledSpectrum<N>& beta, double u, Rng& rng);
+
+// A light-path vertex at a non-specular surface, arrived at along wo (towards the light): the
+// light it sends to the camera, through the medium on the camera's side, splatted at its film
+// position. The throughput beta carries importance-mode weights.
+template <std::size_t N>
+void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
+                             const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, FilmBuffer& film,
+                             std::uint64_t& rays);
+
+// A light path's first vertex on an area light (the lamp seen directly): `beta` is the emitted
+// radiance over the densities of choosing the light and the point; medium is the one in front.
+template <std::size_t N>
+void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight& light, int medium,
+                           const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, FilmBuffer& film,
+                           std::uint64_t& rays);
+
+// Russian roulette from depth 4, never where the medium forbids it (inside an absorber,
+// media/medium.h); the survival probability is the largest throughput over wavelengths, at least
+// 5 %. Whether the path goes on (beta rescaled if it does).
+template <std::size_t N>
+bool survives_roulette(const RenderScene& scene, int depth, int medium, SampledSpectrum<N>& beta, Rng& rng) {
+  constexpr int kRouletteDepth = 4;
+  if (depth < kRouletteDepth || (medium >= 0 && !allows_roulette(scene.media[static_cast<std::size_t>(medium)].medium)))
+    return true;
+  const float survive = std::max(0.05f, std::min(1.0f, beta.max_value()));
+  if (rng.next_double() >= survive) return false;
+  beta /= survive;
+  return true;
+}
+
+// The medium a ray that hits `surface` has travelled through: crossing an interface, the one on
+// the side it arrives from; else the path's current one.
+inline int medium_arrived_through(const Surface& surface, const Ray& ray, const Hit& hit, int medium) {
+  if (surface.kind != SurfaceKind::interface) return medium;
+  return dot(ray.direction, hit.normal) < 0.0 ? surface.medium_front : surface.medium_behind;
+}
+
+// A path's next step from a surface event: wi drawn from the BSDF in the path's transport mode,
+// beta multiplied by its weight, the medium wi travels in, the next ray from the hit, Russian
+// roulette. Returns the sample's pdf (0: specular), or nullopt when the path ends.
+template <std::size_t N>
+std::optional<double> continue_path(const RenderScene& scene, const Hit& hit, const SurfaceEvent<N>& e,
+                                    const Vec3& wo, TransportMode mode, int depth, SampledSpectrum<N>& beta,
+                                    int& medium, Ray& ray, Rng& rng) {
+  const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
+  const auto s = sample(e.bsdf, e.frame.to_local(wo), uc, u1, u2, mode);
+  if (!s) return std::nullopt;
+  const Vec3 wi = e.frame.to_world(s->wi);
+  beta *= s->weight;
+  medium = e.medium_towards(wi);
+  if (!survives_roulette(scene, depth, medium, beta, rng) || beta.is_zero()) return std::nullopt;
+  ray = {offset_ray_origin(hit, wi), wi};
+  return s->pdf;
+}
+
+// Whether nothing lies between the hit and a point `distance_m` away along wi (infinite: a distant
+// light); traces one shadow ray from the offset origin, counted in `rays`.
+bool unoccluded(const RenderScene& scene, const Hit& hit, const Vec3& wi, double distance_m, std::uint64_t& rays);
+
+
+// ---- small events, inline: they run at every vertex -----------------------------------------
+
+inline const AreaLight& area_light_at(const RenderScene& scene, const Hit& hit) {
+  const Surface& s = scene.surfaces[hit.geometry];
+  return std::get<AreaLight>(scene.lights[static_cast<std::size_t>(s.first_light) + hit.primitive]);
+}
+
+
+template <std::size_t N>
+inline SampledSpectrum<N> travel(const SceneView<N>& v, int medium, const Ray& ray, double t_m, const SampledWavelengths<N>& w) {
+  if (medium < 0) return SampledSpectrum<N>::constant(1.0f);
+  return transmittance(v.scene.media[static_cast<std::size_t>(medium)].medium, v.tables, ray, 0.0, t_m, w);
+}
+
+template <std::size_t N>
+inline SampledSpectrum<N> escaped(const SceneView<N>& v, int medium, const Vec3& d, const SampledWavelengths<N>& w) {
+  if (absorbs(v.scene, medium)) return {};
+  if (v.scene.environment) return v.tables.environment(*v.scene.environment, v.scene.environment->texel(d), w);
+  const auto& b = std::get<BackgroundLight>(v.scene.lights[static_cast<std::size_t>(v.scene.background_light)]);
+  return v.tables.at(b.radiance, w);
+}
+
+template <std::size_t N>
+inline SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const Vec3& wo, const SampledWavelengths<N>& w) {
+  const AreaLight& light = area_light_at(v.scene, hit);
+  const double factor = emitted_factor(light, wo);
+  if (factor == 0.0) return {};
+  return v.tables.at(light.radiance, w) * static_cast<float>(factor);
+}
+
+template <std::size_t N>
+inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
+                              int medium, const SampledWavelengths<N>& w) {
+  const RenderScene& s = v.scene;
+  auto eta_of = [&](int m) { return eta(s.media[static_cast<std::size_t>(m)], v.tables, w); };
+  if (surface.kind == SurfaceKind::opaque) {
+    const Frame frame(dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal);
+    const SurfaceMaterial& m = s.materials[static_cast<std::size_t>(surface.material)];
+    if (const auto* d = std::get_if<DiffuseMaterial>(&m))
+      return {frame, DiffuseReflection<N>{v.tables.at(d->reflectance, w)}, medium, medium};
+    const auto& c = std::get<ConductorMaterial>(m);
+    return {frame, ConductorReflection<N>{v.tables.at(c.n, w), v.tables.at(c.k, w), eta_of(medium), c.alpha}, medium,
+            medium};
+  }
+  const double eta_front = eta_of(surface.medium_front), eta_behind = eta_of(surface.medium_behind);
+  const Frame frame(hit.normal);
+  if (surface.roughness == 0.0)
+    return {frame, SmoothDielectric{eta_front, eta_behind}, surface.medium_front, surface.medium_behind};
+  const RoughDielectricBsdf lobe{{surface.roughness}, eta_front, eta_behind,
+                                 &s.dielectric_albedo[static_cast<std::size_t>(surface.albedo)]};
+  return {frame, RoughDielectric{lobe}, surface.medium_front, surface.medium_behind};
+}
+
+}  // namespace bouguer

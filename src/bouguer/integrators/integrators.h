@@ -1,0 +1,69 @@
+#pragma once
+// The estimators: each renders a pixel region and a sample range into a film (render/integrator.h).
+//   whitted: the paper's ray tracer (integrators/whitted.cpp),
+//   path:    unidirectional spectral path tracing with next-event estimation (path.cpp),
+//   light:   light tracing, paths from the emitters connected to the camera (light.cpp).
+#include "bouguer/integrators/events.h"
+#include "bouguer/render/integrator.h"
+#include "bouguer/render/sampling.h"
+
+namespace bouguer {
+
+void render_whitted(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
+                    const RenderControl&, RenderStats&);
+void render_path(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
+                 const RenderControl&, RenderStats&);
+void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
+                  const RenderControl&, RenderStats&);
+
+// Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
+// stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's
+// samples in a shuffled order; the fixed modes stratify the wavelength kept at a dispersive
+// interface instead), handed to sample(x, y, s, rng, wavelengths, dispersion_u, rays).
+template <std::size_t N, typename Sample>
+void for_each_pixel_sample(const SpectralTables<N>& tables, const RenderSettings& settings, int film_width,
+                           PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
+                           std::uint64_t salt, Sample sample) {
+  const bool hero = settings.spectral == SpectralMode::hero;
+  for_each_tile(region, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+    WavelengthStrata strata;
+    SampledWavelengths<N> w = tables.wavelengths(0.0);
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x) {
+        const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(film_width) +
+                           static_cast<std::uint64_t>(x);
+        strata.reset(settings.seed, pixel, settings.spp);
+        for (int s = range.begin; s < range.end; ++s) {
+          Rng rng = sample_rng(settings.seed, pixel, s, salt);
+          tables.restart(w, hero ? strata.u(s) / static_cast<double>(N) : 0.0);
+          const double dispersion_u = hero ? rng.next_double() : strata.u(s);
+          sample(x, y, s, rng, w, dispersion_u, rays);
+        }
+      }
+  });
+}
+
+// The camera-sample loop of the estimators that trace from the camera: a camera ray through a
+// stratified sub-pixel position and li(view, ray, wavelengths, dispersion_u, rng, rays) → radiance.
+template <std::size_t N, typename Li>
+void render_camera_paths(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
+                         PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
+                         Li li) {
+  const SpectralTables<N> tables(scene.spectra, settings.spectral);
+  const Camera camera(scene.camera);
+  const SceneView<N> view{scene, tables, camera, settings.max_depth};
+  for_each_pixel_sample<N>(tables, settings, film.width(), region, range, control, stats, 0,
+                           [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
+                               std::uint64_t& rays) {
+                             const auto [u, v] = subpixel(s, settings.spp, rng);
+                             const SampledSpectrum<N> l =
+                                 li(view, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
+                             const Vec3 rgb = tables.to_linear_rgb(l, w);
+                             if (film.has_spectra())
+                               film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N));
+                             else
+                               film.add_sample(x, y, rgb, 1.0);
+                           });
+}
+
+}  // namespace bouguer

@@ -1,0 +1,247 @@
+#include "bouguer/lights/light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "bouguer/core/frame.h"
+#include "bouguer/materials/bsdf.h"
+#include "bouguer/scene/environment.h"
+
+namespace bouguer {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Vec3 uniform_sphere(double u1, double u2) {
+  const double z = 1.0 - 2.0 * u1, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// Uniform within the cone of directions at most acos(cos_max) from +z.
+Vec3 uniform_cone(double u1, double u2, double cos_max) {
+  const double z = 1.0 - u1 * (1.0 - cos_max), r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// A point of the disk of the scene's bounding radius, perpendicular to w, on w's side of the
+// centre: where rays from a light at infinity in direction w start.
+Vec3 disk_point(const SceneBounds& b, const Vec3& w, double u1, double u2) {
+  const Frame f(w);
+  const double r = b.radius_m * std::sqrt(u1), phi = 2.0 * kPi * u2;
+  return b.centre_m + w * b.radius_m + f.s * (r * std::cos(phi)) + f.t * (r * std::sin(phi));
+}
+
+Vec3 triangle_point(const AreaLight& a, double u1, double u2) {
+  if (u1 + u2 > 1.0) u1 = 1.0 - u1, u2 = 1.0 - u2;
+  return a.p0 * (1.0 - u1 - u2) + a.p1 * u1 + a.p2 * u2;
+}
+
+LightLiSample li_sample(const Vec3& wi, double distance_m, double pdf, bool delta, double factor, int spectrum) {
+  LightLiSample s;
+  s.wi = wi;
+  s.distance_m = distance_m;
+  s.pdf = pdf;
+  s.delta = delta;
+  s.factor = factor;
+  s.spectrum = spectrum;
+  return s;
+}
+
+double cos_cone(const SpotProfile& s) { return std::cos(s.cone_deg * kPi / 180.0); }
+
+// Infinite lights leave from a disk facing the scene: density of the origin per m².
+double disk_pdf(const SceneBounds& b) { return 1.0 / (kPi * b.radius_m * b.radius_m); }
+
+}  // namespace
+
+bool is_delta(const Light& light) {
+  return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
+         std::holds_alternative<DistantLight>(light);
+}
+
+bool is_infinite(const Light& light) {
+  return std::holds_alternative<DistantLight>(light) || std::holds_alternative<BackgroundLight>(light) ||
+         std::holds_alternative<EnvironmentLight>(light);
+}
+
+double emitted_factor(const AreaLight& light, const Vec3& direction) {
+  if (!light.two_sided && dot(direction, light.normal) <= 0.0) return 0.0;
+  return light.spot ? spot_falloff(*light.spot, direction) : 1.0;
+}
+
+std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    const Vec3 q = triangle_point(*a, u1, u2);
+    const Vec3 to = q - p;
+    const double d = length(to);
+    if (d == 0.0) return std::nullopt;
+    const Vec3 wi = to / d;
+    const double factor = emitted_factor(*a, -wi);
+    const double cos_light = std::abs(dot(a->normal, wi));
+    if (factor == 0.0 || cos_light == 0.0) return std::nullopt;
+    LightLiSample s = li_sample(wi, d, d * d / (cos_light * a->area_m2), false, factor, a->radiance);
+    s.point_m = q;
+    s.normal = a->normal;
+    return s;
+  }
+  if (const auto* pt = std::get_if<PointLight>(&light)) {
+    const Vec3 to = pt->position_m - p;
+    const double d2 = dot(to, to);
+    if (d2 == 0.0) return std::nullopt;
+    return li_sample(to / std::sqrt(d2), std::sqrt(d2), 1.0, true, 1.0 / d2, pt->intensity);
+  }
+  if (const auto* s = std::get_if<SpotLight>(&light)) {
+    const Vec3 to = s->position_m - p;
+    const double d2 = dot(to, to);
+    if (d2 == 0.0) return std::nullopt;
+    const Vec3 wi = to / std::sqrt(d2);
+    const double falloff = spot_falloff(s->profile, -wi);
+    if (falloff == 0.0) return std::nullopt;
+    return li_sample(wi, std::sqrt(d2), 1.0, true, falloff / d2, s->intensity);
+  }
+  if (const auto* d = std::get_if<DistantLight>(&light))
+    return li_sample(-d->direction, kInf, 1.0, true, 1.0, d->irradiance);
+  if (const auto* b = std::get_if<BackgroundLight>(&light))
+    return li_sample(uniform_sphere(u1, u2), kInf, 1.0 / (4.0 * kPi), false, 1.0, b->radiance);
+  const auto e = std::get<EnvironmentLight>(light).map->sample(u1, u2);
+  if (!e) return std::nullopt;
+  LightLiSample s = li_sample(e->wi, kInf, e->pdf, false, 1.0, -1);
+  s.texel = e->texel;
+  return s;
+}
+
+double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    const Vec3 to = q - p;
+    const double d2 = dot(to, to), cos_light = std::abs(dot(a->normal, wi));
+    return cos_light > 0.0 ? d2 / (cos_light * a->area_m2) : 0.0;
+  }
+  if (std::holds_alternative<BackgroundLight>(light)) return 1.0 / (4.0 * kPi);
+  if (const auto* e = std::get_if<EnvironmentLight>(&light)) return e->map->pdf(wi);
+  return 0.0;  // delta lights are never found by chance
+}
+
+std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
+                                       double u3, double u4) {
+  LightLeSample s;
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    Vec3 n = a->normal;
+    double side = 1.0;
+    if (a->two_sided) {  // either side with probability ½; u3 reused within the half
+      side = 0.5;
+      if (u3 < 0.5) u3 *= 2.0; else u3 = 2.0 * u3 - 1.0, n = -n;
+    }
+    const Vec3 local = sample_cosine_hemisphere(u3, u4);
+    if (local.z <= 0.0) return std::nullopt;
+    const Vec3 dir = Frame(n).to_world(local);
+    s.factor = emitted_factor(*a, dir);
+    if (s.factor == 0.0) return std::nullopt;
+    const Vec3 origin = triangle_point(*a, u1, u2);
+    s.ray = {origin, dir};
+    s.normal = n;
+    s.pdf_pos = 1.0 / a->area_m2;
+    s.pdf_dir = side * local.z / kPi;
+    s.spectrum = a->radiance;
+    return s;
+  }
+  if (const auto* pt = std::get_if<PointLight>(&light)) {
+    s.ray = {pt->position_m, uniform_sphere(u1, u2)};
+    s.pdf_pos = 1.0, s.delta_position = true;
+    s.pdf_dir = 1.0 / (4.0 * kPi);
+    s.factor = 1.0, s.spectrum = pt->intensity;
+    return s;
+  }
+  if (const auto* sp = std::get_if<SpotLight>(&light)) {
+    const double c = cos_cone(sp->profile);
+    const Vec3 dir = Frame(sp->profile.axis).to_world(uniform_cone(u1, u2, c));
+    s.factor = spot_falloff(sp->profile, dir);
+    if (s.factor == 0.0) return std::nullopt;
+    s.ray = {sp->position_m, dir};
+    s.pdf_pos = 1.0, s.delta_position = true;
+    s.pdf_dir = 1.0 / (2.0 * kPi * (1.0 - c));
+    s.spectrum = sp->intensity;
+    return s;
+  }
+  if (const auto* d = std::get_if<DistantLight>(&light)) {
+    s.ray = {disk_point(bounds, -d->direction, u3, u4), d->direction};
+    s.pdf_pos = disk_pdf(bounds);
+    s.pdf_dir = 1.0, s.delta_direction = true;
+    s.factor = 1.0, s.spectrum = d->irradiance;
+    return s;
+  }
+  Vec3 w;  // towards the light
+  if (const auto* b = std::get_if<BackgroundLight>(&light)) {
+    w = uniform_sphere(u1, u2);
+    s.pdf_dir = 1.0 / (4.0 * kPi);
+    s.spectrum = b->radiance;
+  } else {
+    const auto e = std::get<EnvironmentLight>(light).map->sample(u1, u2);
+    if (!e) return std::nullopt;
+    w = e->wi;
+    s.pdf_dir = e->pdf;
+    s.texel = e->texel;
+  }
+  s.ray = {disk_point(bounds, w, u3, u4), -w};
+  s.pdf_pos = disk_pdf(bounds);
+  s.factor = 1.0;
+  return s;
+}
+
+double environment_power(const EnvironmentMap& map) {
+  double sum = 0.0;
+  for (int j = 0; j < map.height; ++j) {
+    const double sin_theta = std::sin(kPi * (j + 0.5) / map.height);
+    for (int i = 0; i < map.width; ++i) {
+      const Vec3f& c = map.rgb[static_cast<std::size_t>(j) * static_cast<std::size_t>(map.width) + static_cast<std::size_t>(i)];
+      sum += (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) * sin_theta;
+    }
+  }
+  return sum * (2.0 * kPi / map.width) * (kPi / map.height);
+}
+
+double spot_cosine_power(const SpotProfile& s) {
+  constexpr int steps = 2048;  // midpoint rule; the smoothstep is smooth, the error is ~1e-7
+  double sum = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    const double mu = (i + 0.5) / steps;
+    sum += spot_falloff(mu, s.cone_deg, s.falloff_deg) * mu;
+  }
+  return 2.0 * sum / steps;
+}
+
+double spot_cone_power(const SpotProfile& s) {
+  constexpr int steps = 4096;
+  double sum = 0.0;
+  for (int i = 0; i < steps; ++i) sum += spot_falloff(-1.0 + 2.0 * (i + 0.5) / steps, s.cone_deg, s.falloff_deg);
+  return 2.0 * sum / steps;
+}
+
+LightDistribution LightDistribution::by_power(const std::vector<double>& power, const std::vector<bool>& in_set) {
+  LightDistribution d;
+  d.pmf.assign(power.size(), 0.0);
+  double total = 0.0;
+  for (std::size_t i = 0; i < power.size(); ++i)
+    if (in_set[i] && power[i] > 0.0) total += power[i];
+  if (!(total > 0.0)) return d;
+  double running = 0.0;
+  for (std::size_t i = 0; i < power.size(); ++i) {
+    if (!in_set[i] || !(power[i] > 0.0)) continue;
+    d.lights.push_back(static_cast<int>(i));
+    d.pmf[i] = power[i] / total;
+    d.cdf.push_back((running += power[i]) / total);
+  }
+  d.cdf.back() = 1.0;
+  return d;
+}
+
+std::optional<std::pair<int, double>> LightDistribution::sample(double u) const {
+  if (lights.empty()) return std::nullopt;
+  const auto k = static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+  const int light = lights[std::min(k, lights.size() - 1)];
+  return std::pair{light, pmf[static_cast<std::size_t>(light)]};
+}
+
+}  // namespace bouguer

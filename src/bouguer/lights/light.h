@@ -1,0 +1,145 @@
+#pragma once
+// Lights as a closed set: area emitters (one per triangle), point, spot and distant lights, a
+// constant background and an environment map, each a small plain struct with the same verbs.
+// Spectra are ids into the scene's spectral tables: a light sample returns the id and a scalar
+// factor on it, so lights hold nothing per spectral mode. Radiance and intensity spectra use the
+// normalisation of spectra/cie.h.
+//
+//   sample_li(light, p, u):  a direction from p towards the light, its distance (infinite for
+//       distant and infinite lights), the factor on the light's spectrum that gives the incident
+//       radiance (delta lights: radiance × solid angle, i.e. intensity × falloff / d²), and the
+//       solid-angle density of this light's own sampling (delta lights: 1, flagged delta).
+//   pdf_li(light, p, wi, q): that density for a direction found otherwise (q: the point hit on an
+//       area light).
+//   sample_le(light, bounds, u): a ray leaving the light, the densities of its origin (per m²)
+//       and direction (per sr), 1 for a delta in either, and the factor on the spectrum.
+//   power(light, ...): emitted flux as luminance (lm-like units of the normalisation), for
+//       choosing lights in proportion to what they give.
+#include <cstdint>
+#include <optional>
+#include <variant>
+#include <vector>
+
+#include "bouguer/core/math.h"
+#include "bouguer/geometry/ray_scene.h"
+#include "bouguer/lights/spot.h"
+
+namespace bouguer {
+
+struct EnvironmentMap;
+
+struct AreaLight {
+  std::uint32_t geometry = 0, primitive = 0;
+  Vec3 p0, p1, p2;
+  Vec3 normal;  // unit, the emitting side (both when two_sided)
+  double area_m2 = 0.0;
+  int radiance = -1;  // spectrum id
+  bool two_sided = false;
+  std::optional<SpotProfile> spot;  // spot lights with a radius: the angular profile
+};
+
+struct PointLight {
+  Vec3 position_m;
+  int intensity = -1;
+};
+
+struct SpotLight {
+  Vec3 position_m;
+  SpotProfile profile;
+  int intensity = -1;
+};
+
+// Light arriving from one direction with irradiance `irradiance` on a surface facing it.
+struct DistantLight {
+  Vec3 direction;  // the direction light travels
+  int irradiance = -1;
+};
+
+// Constant radiance from every direction not blocked by the scene.
+struct BackgroundLight {
+  int radiance = -1;
+};
+
+struct EnvironmentLight {
+  const EnvironmentMap* map = nullptr;
+};
+
+using Light = std::variant<AreaLight, PointLight, SpotLight, DistantLight, BackgroundLight, EnvironmentLight>;
+
+// A sphere that holds every surface: where lights at infinity start their rays.
+struct SceneBounds {
+  Vec3 centre_m;
+  double radius_m = 1.0;
+};
+
+struct LightLiSample {
+  Vec3 wi;
+  double distance_m = 0.0;
+  double pdf = 0.0;
+  bool delta = false;
+  double factor = 0.0;
+  int spectrum = -1;  // -1 with texel >= 0: the environment map's texel
+  int texel = -1;
+  Vec3 point_m, normal;  // area lights: the point sampled and the light's normal
+};
+
+struct LightLeSample {
+  Ray ray;
+  Vec3 normal;            // area lights: the emitting side's normal; else zero
+  double pdf_pos = 0.0;   // per m² (1 for a delta position)
+  double pdf_dir = 0.0;   // per sr (1 for a delta direction)
+  bool delta_position = false, delta_direction = false;
+  double factor = 0.0;
+  int spectrum = -1;
+  int texel = -1;
+};
+
+bool is_delta(const Light& light);
+bool is_infinite(const Light& light);
+
+std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2);
+double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q);
+std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
+                                       double u3, double u4);
+// `luminance` gives the luminance of a spectrum id (the scene's tables know them).
+template <typename Luminance>
+double power(const Light& light, const SceneBounds& bounds, Luminance luminance);
+
+// The factor on an area light's radiance for light leaving in `direction` (1 but for spot disks;
+// 0 behind a one-sided emitter).
+double emitted_factor(const AreaLight& light, const Vec3& direction);
+
+// Lights drawn in proportion to their power (a CDF, searched by bisection): the pmf of each of
+// the scene's lights (0 for lights outside the set) and a draw.
+struct LightDistribution {
+  std::vector<int> lights;    // scene light indices in the set
+  std::vector<double> cdf;    // cumulative power fractions, last = 1
+  std::vector<double> pmf;    // by scene light index
+
+  static LightDistribution by_power(const std::vector<double>& power, const std::vector<bool>& in_set);
+  bool empty() const { return lights.empty(); }
+  // A scene light index and its probability; nullopt when the set is empty.
+  std::optional<std::pair<int, double>> sample(double u) const;
+};
+
+// ---- inline ------------------------------------------------------------------------------------
+
+double environment_power(const EnvironmentMap& map);  // ∫ luminance dω over the sphere
+double spot_cosine_power(const SpotProfile& s);       // 2∫ falloff(μ) μ dμ over [0, 1]
+double spot_cone_power(const SpotProfile& s);         // ∫ falloff(μ) dμ over [−1, 1]
+
+template <typename Luminance>
+double power(const Light& light, const SceneBounds& bounds, Luminance luminance) {
+  constexpr double pi = 3.14159265358979323846;
+  const double disk = pi * bounds.radius_m * bounds.radius_m;
+  if (const auto* a = std::get_if<AreaLight>(&light))
+    return pi * a->area_m2 * luminance(a->radiance) * (a->two_sided ? 2.0 : 1.0) *
+           (a->spot ? spot_cosine_power(*a->spot) : 1.0);
+  if (const auto* p = std::get_if<PointLight>(&light)) return 4.0 * pi * luminance(p->intensity);
+  if (const auto* s = std::get_if<SpotLight>(&light)) return 2.0 * pi * luminance(s->intensity) * spot_cone_power(s->profile);
+  if (const auto* d = std::get_if<DistantLight>(&light)) return disk * luminance(d->irradiance);
+  if (const auto* b = std::get_if<BackgroundLight>(&light)) return 4.0 * pi * disk * luminance(b->radiance);
+  return disk * environment_power(*std::get<EnvironmentLight>(light).map);
+}
+
+}  // namespace bouguer

@@ -1,0 +1,132 @@
+#include "bouguer/materials/surface_bsdf.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bouguer/materials/fresnel.h"
+#include "bouguer/render/spectral_sampling.h"
+
+namespace bouguer {
+namespace {
+
+template <std::size_t N>
+using Spec = SampledSpectrum<N>;
+
+template <std::size_t N>
+Spec<N> constant(double v) {
+  return Spec<N>::constant(static_cast<float>(v));
+}
+
+// The rough interface's adjoint: the uncompensated lobe, the η² factor of a refraction and the
+// compensation of the direction the light arrives from (see the header).
+double rough_importance_eval(const RoughDielectric& r, const Vec3& wo, const Vec3& wi) {
+  RoughDielectricBsdf plain = r.lobe;
+  plain.compensation = nullptr;
+  double f = plain.eval(wo, wi);
+  if (wo.z * wi.z < 0.0) {
+    const double eta_o = wo.z > 0.0 ? r.lobe.eta_outside : r.lobe.eta_inside;
+    const double eta_i = wi.z > 0.0 ? r.lobe.eta_outside : r.lobe.eta_inside;
+    f *= (eta_o * eta_o) / (eta_i * eta_i);
+  }
+  if (r.lobe.compensation) f /= r.lobe.compensation->at(wi.z > 0.0, std::abs(wi.z));
+  return f;
+}
+
+}  // namespace
+
+DielectricSplit split(const SmoothDielectric& d, const Vec3& wo) {
+  const bool front = wo.z > 0.0;
+  DielectricSplit s;
+  s.eta_o = front ? d.eta_front : d.eta_behind;
+  s.eta_t = front ? d.eta_behind : d.eta_front;
+  const Vec3 n{0.0, 0.0, front ? 1.0 : -1.0};
+  s.reflectance = fresnel_dielectric(std::min(1.0, std::abs(wo.z)), s.eta_o, s.eta_t);
+  s.reflected = reflect(wo, n);
+  s.refracted = refract(wo, n, s.eta_o, s.eta_t);
+  return s;
+}
+
+template <std::size_t N>
+Spec<N> conductor_fresnel(double cos_theta_i, double eta, const Spec<N>& n, const Spec<N>& k) {
+  Spec<N> f;
+  for (std::size_t i = 0; i < N; ++i)
+    f[i] = static_cast<float>(fresnel_conductor(cos_theta_i, eta, {double(n[i]), double(k[i])}));
+  return f;
+}
+
+template <std::size_t N>
+bool is_specular(const Bsdf<N>& b) {
+  if (std::holds_alternative<SmoothDielectric>(b)) return true;
+  if (const auto* c = std::get_if<ConductorReflection<N>>(&b)) return c->alpha == 0.0;
+  return false;
+}
+
+template <std::size_t N>
+Spec<N> eval(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi, TransportMode mode) {
+  if (const auto* d = std::get_if<DiffuseReflection<N>>(&b))
+    return d->reflectance * static_cast<float>(DiffuseBsdf{}.eval(wo, wi));
+  if (const auto* c = std::get_if<ConductorReflection<N>>(&b)) {
+    if (c->alpha == 0.0) return {};
+    const double g = ConductorBsdf{{c->alpha}}.eval(wo, wi);
+    if (g == 0.0) return {};
+    return conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), c->eta, c->n, c->k) * static_cast<float>(g);
+  }
+  if (const auto* r = std::get_if<RoughDielectric>(&b))
+    return constant<N>(mode == TransportMode::radiance ? r->lobe.eval(wo, wi) : rough_importance_eval(*r, wo, wi));
+  return {};  // smooth dielectric: delta lobes only
+}
+
+template <std::size_t N>
+double pdf(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi) {
+  if (std::holds_alternative<DiffuseReflection<N>>(b)) return DiffuseBsdf{}.pdf(wo, wi);
+  if (const auto* c = std::get_if<ConductorReflection<N>>(&b))
+    return c->alpha == 0.0 ? 0.0 : ConductorBsdf{{c->alpha}}.pdf(wo, wi);
+  if (const auto* r = std::get_if<RoughDielectric>(&b)) return r->lobe.pdf(wo, wi);
+  return 0.0;
+}
+
+template <std::size_t N>
+std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc, double u1, double u2,
+                                     TransportMode mode) {
+  if (const auto* d = std::get_if<DiffuseReflection<N>>(&b)) {
+    const auto s = DiffuseBsdf{}.sample(wo, u1, u2);
+    if (!s) return std::nullopt;
+    return BsdfSampleN<N>{s->wi, d->reflectance * static_cast<float>(s->weight), s->pdf, false};
+  }
+  if (const auto* c = std::get_if<ConductorReflection<N>>(&b)) {
+    if (c->alpha == 0.0) {
+      if (wo.z == 0.0) return std::nullopt;
+      const Vec3 wi{-wo.x, -wo.y, wo.z};
+      return BsdfSampleN<N>{wi, conductor_fresnel(std::min(1.0, std::abs(wo.z)), c->eta, c->n, c->k), 0.0, false};
+    }
+    const auto s = ConductorBsdf{{c->alpha}}.sample(wo, u1, u2);
+    if (!s) return std::nullopt;
+    const Spec<N> f = conductor_fresnel(std::min(1.0, dot(s->wi, normalize(s->wi + wo))), c->eta, c->n, c->k);
+    return BsdfSampleN<N>{s->wi, f * static_cast<float>(s->weight), s->pdf, false};
+  }
+  if (const auto* r = std::get_if<RoughDielectric>(&b)) {
+    const auto s = r->lobe.sample(wo, uc, u1, u2);
+    if (!s) return std::nullopt;
+    const double weight = mode == TransportMode::radiance ? s->weight : rough_importance_eval(*r, wo, s->wi) / s->pdf;
+    return BsdfSampleN<N>{s->wi, constant<N>(weight), s->pdf, s->transmitted};
+  }
+  if (wo.z == 0.0) return std::nullopt;
+  const DielectricSplit d = split(std::get<SmoothDielectric>(b), wo);
+  if (uc < d.reflectance) return BsdfSampleN<N>{d.reflected, constant<N>(1.0), 0.0, false};
+  if (!d.refracted) return std::nullopt;  // cannot happen: F = 1 under total internal reflection
+  const double weight = mode == TransportMode::radiance ? 1.0 : (d.eta_o * d.eta_o) / (d.eta_t * d.eta_t);
+  return BsdfSampleN<N>{*d.refracted, constant<N>(weight), 0.0, true};
+}
+
+#define BOUGUER_BSDF_INSTANTIATE(N)                                                                          \
+  template Spec<N> conductor_fresnel(double, double, const Spec<N>&, const Spec<N>&);                        \
+  template bool is_specular(const Bsdf<N>&);                                                                 \
+  template Spec<N> eval(const Bsdf<N>&, const Vec3&, const Vec3&, TransportMode);                            \
+  template double pdf(const Bsdf<N>&, const Vec3&, const Vec3&);                                             \
+  template std::optional<BsdfSampleN<N>> sample(const Bsdf<N>&, const Vec3&, double, double, double, TransportMode);
+BOUGUER_BSDF_INSTANTIATE(kFullBins)
+BOUGUER_BSDF_INSTANTIATE(3)
+BOUGUER_BSDF_INSTANTIATE(kHeroCount)
+#undef BOUGUER_BSDF_INSTANTIATE
+
+}  // namespace bouguer

@@ -1,0 +1,94 @@
+#pragma once
+// Surface scattering as a closed set: one plain struct per kind, built once per hit from the
+// surface, the media on its two sides and the path's wavelengths (integrators/events.h), with
+// the same three verbs. Directions are in the local frame (z = the frame's normal), both pointing
+// away from the surface: wo towards where the path came from, wi the other one.
+//
+// Transport mode. A path from the camera carries radiance: wo looks back at the camera and wi is
+// drawn towards the light. A path from a light carries importance: wo looks back at the light
+// and wi is drawn towards the camera. In importance mode every verb gives the adjoint BSDF,
+// f*(wo, wi) = f(wi, wo), so both estimators sum the same path integral. Bouguer carries radiance
+// without the η² factor at refraction (basic radiance; docs/rendering.md); the adjoint of a
+// refraction is then scaled by (η_o/η_i)², the indices on wo's and wi's sides, and the adjoint of
+// the rough interface's energy compensation divides by E(wi) instead of E(wo).
+//
+// Contracts (as in Mitsuba): eval is f(wo, wi)·|cos θi| and 0 for a delta lobe; pdf is the
+// solid-angle density with which sample draws wi, 0 for a delta lobe; sample returns wi, its pdf
+// (0 when specular) and weight = f·|cos θi| / pdf (for a delta lobe the factor it carries).
+#include <optional>
+#include <variant>
+
+#include "bouguer/materials/bsdf.h"
+#include "bouguer/spectra/sampled_spectrum.h"
+
+namespace bouguer {
+
+enum class TransportMode { radiance, importance };
+
+// Lambertian reflection with a spectral reflectance, the same on both sides of an opaque surface.
+template <std::size_t N>
+struct DiffuseReflection {
+  SampledSpectrum<N> reflectance;
+};
+
+// A metal seen from a medium of index eta: spectral Fresnel of n + ik; GGX alpha, 0 for a mirror.
+template <std::size_t N>
+struct ConductorReflection {
+  SampledSpectrum<N> n, k;
+  double eta = 1.0;
+  double alpha = 0.0;
+};
+
+// A smooth boundary between two media (front: the side z > 0): reflects with probability F and
+// refracts otherwise, so the Fresnel factor cancels in the weight. Delta in both lobes.
+struct SmoothDielectric {
+  double eta_front = 1.0, eta_behind = 1.5;
+};
+
+// A rough boundary (GGX), energy-compensated (materials/bsdf.h).
+struct RoughDielectric {
+  RoughDielectricBsdf lobe;
+};
+
+// Both continuations of a smooth boundary seen along wo: the mirror direction, the refracted one
+// (none under total internal reflection) and the Fresnel reflectance that splits them.
+struct DielectricSplit {
+  Vec3 reflected;
+  std::optional<Vec3> refracted;
+  double reflectance = 1.0;
+  double eta_o = 1.0, eta_t = 1.0;  // the index on wo's side and on the other side
+};
+DielectricSplit split(const SmoothDielectric& d, const Vec3& wo);
+
+template <std::size_t N>
+using Bsdf = std::variant<DiffuseReflection<N>, ConductorReflection<N>, SmoothDielectric, RoughDielectric>;
+
+template <std::size_t N>
+struct BsdfSampleN {
+  Vec3 wi;
+  SampledSpectrum<N> weight;
+  double pdf = 0.0;  // 0: specular
+  bool transmitted = false;
+};
+
+// Whether every lobe is a delta: such a surface is never connected to a light or the camera.
+template <std::size_t N>
+bool is_specular(const Bsdf<N>& b);
+
+template <std::size_t N>
+SampledSpectrum<N> eval(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi, TransportMode mode);
+
+template <std::size_t N>
+double pdf(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi);
+
+// uc chooses the lobe, u1 and u2 the direction within it.
+template <std::size_t N>
+std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc, double u1, double u2,
+                                     TransportMode mode);
+
+// Fresnel reflectance of a conductor for each wavelength, from a dielectric of index eta.
+template <std::size_t N>
+SampledSpectrum<N> conductor_fresnel(double cos_theta_i, double eta, const SampledSpectrum<N>& n,
+                                     const SampledSpectrum<N>& k);
+
+}  // namespace bouguer

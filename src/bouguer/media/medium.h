@@ -1,0 +1,67 @@
+#pragma once
+// What light meets between two surfaces: a closed set of media, each a small plain struct with
+// the same verbs. Today one alternative, a homogeneous absorber; a concentration field and a
+// scattering medium are new alternatives here, not new branches in the integrators.
+//
+// Spectra are referred to by id into the scene's spectral tables (render/spectral_tables.h),
+// which are passed in with the path's wavelengths: a medium holds no per-mode data.
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include "bouguer/spectra/sampled_spectrum.h"
+#include "bouguer/spectra/sampled_wavelengths.h"
+
+namespace bouguer {
+
+// σ_a(λ) per metre (natural log, concentration applied), the same everywhere inside.
+struct HomogeneousMedium {
+  int sigma_a = -1;  // spectrum id (SpectrumRole::absorption); -1: clear
+  bool absorbing = false;
+};
+
+using Medium = std::variant<HomogeneousMedium>;
+
+// Whether any wavelength is attenuated inside: an infinite path through it lets nothing through.
+inline bool absorbs(const Medium& m) {
+  return std::visit([](const auto& medium) { return medium.absorbing; }, m);
+}
+
+// Russian roulette is never played inside an absorber: there the throughput falls because of
+// absorption the estimator must follow to the end (docs/rendering.md).
+inline bool allows_roulette(const Medium& m) { return !absorbs(m); }
+
+// The fraction of light kept along ray.origin + t·ray.direction for t in [t0, t1] (t1 may be
+// infinite: then zero in an absorber, one in a clear medium). Exact for every carried
+// wavelength; deterministic (no tracking estimator for media that only absorb).
+template <typename Tables, typename Ray, std::size_t N>
+SampledSpectrum<N> transmittance(const Medium& m, const Tables& tables, const Ray& /*ray*/, double t0, double t1,
+                                 const SampledWavelengths<N>& w) {
+  return std::visit(
+      [&](const HomogeneousMedium& h) {
+        if (!h.absorbing) return SampledSpectrum<N>::constant(1.0f);
+        if (std::isinf(t1)) return SampledSpectrum<N>{};
+        return tables.transmittance(h.sigma_a, t1 - t0, w);
+      },
+      m);
+}
+
+// A medium of the scene: how light travels inside it and its refractive index, which the
+// interfaces around it use.
+struct SceneMedium {
+  std::string name;    // for messages only
+  Medium medium;
+  int ior = -1;        // spectrum id of n(λ) (SpectrumRole::point)
+  double ior_reference = 1.0;  // n at kReferenceWavelengthNm
+  bool dispersive = false;     // n varies over 360–830 nm
+};
+
+// The index a path sees: the reference index until it has kept a single wavelength, after a
+// dispersive interface, and the index at that wavelength from then on.
+template <typename Tables, std::size_t N>
+double eta(const SceneMedium& m, const Tables& tables, const SampledWavelengths<N>& w) {
+  if (!w.secondary_terminated() || !m.dispersive) return m.ior_reference;
+  return tables.at_nm(m.ior, w.single_nm);
+}
+
+}  // namespace bouguer

@@ -1,0 +1,83 @@
+#pragma once
+// Every spectrum of a compiled scene, made ready for one spectral mode at the start of a render:
+// flat tables read per event with the path's own SampledWavelengths.
+//   fixed modes (full, rgb3): the values at the mode's wavelengths, computed once (radiance and
+//     reflectance as bin means in full mode, absorption also at kSubBins points per bin);
+//   any mode: a 1 nm table over 360–830 nm, for wavelengths drawn per path (hero) and the one
+//     wavelength a path keeps after a dispersive interface.
+#include <cstddef>
+#include <variant>
+#include <vector>
+
+#include "bouguer/core/math.h"
+#include "bouguer/media/ior.h"
+#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/sampled_wavelengths.h"
+#include "bouguer/scene/environment.h"
+#include "bouguer/spectra/spectrum.h"
+
+namespace bouguer {
+
+// How a spectrum enters the carried wavelengths (spectral_sampling.h): radiance as bin means
+// (rgb3: its linear sRGB colour), reflectance as bin means (rgb3: the values at the three lines),
+// point quantities (n, k) at the wavelengths, absorption at the wavelengths and the sub-bins.
+enum class SpectrumRole { radiance, reflectance, point, absorption };
+
+struct SceneSpectrum {
+  std::variant<Spectrum, IorModel> source;
+  SpectrumRole role = SpectrumRole::point;
+};
+
+double eval(const SceneSpectrum& s, double wavelength_nm);
+
+template <std::size_t N>
+class SpectralTables {
+ public:
+  SpectralTables(const std::vector<SceneSpectrum>& spectra, SpectralMode mode);
+
+  // The spectrum `id` at the path's wavelengths.
+  SampledSpectrum<N> at(int id, const SampledWavelengths<N>& w) const {
+    if (w.fixed()) return fixed_[static_cast<std::size_t>(id)];
+    SampledSpectrum<N> s;
+    for (std::size_t i = 0; i < N; ++i) s[i] = at_nm(id, w.nm[i]);
+    return s;
+  }
+  // At any wavelength (linear between whole nanometres, held beyond 360–830 nm).
+  float at_nm(int id, double wavelength_nm) const;
+  // exp(−σ_a·l) for the absorption spectrum `id` (full mode: the mean over the sub-bin points).
+  SampledSpectrum<N> transmittance(int id, double length_m, const SampledWavelengths<N>& w) const {
+    const auto l = static_cast<float>(length_m);
+    if (mode_ == SpectralMode::full) return sub_bin_transmittance(sub_[static_cast<std::size_t>(id)], l);
+    return beer_lambert_transmittance(at(id, w), l);
+  }
+
+  // A new path's wavelengths: the mode's fixed set, or kHeroCount drawn from the stratified u.
+  SampledWavelengths<N> wavelengths(double u) const;
+  // The same into `w`, which a previous path used (cheaper: the fixed set is not copied again).
+  void restart(SampledWavelengths<N>& w, double u) const;
+  // The wavelength kept at a dispersive interface by carried index j (full: uniform in bin j).
+  double kept_wavelength_nm(const SampledWavelengths<N>& w, int j, double u) const;
+  // The radiance of an environment texel (environment.h): its RGB lifted to a spectrum times D65
+  // at the wavelengths (full: D65's bin means); rgb3 takes the texel's RGB directly.
+  SampledSpectrum<N> environment(const EnvironmentMap& map, int texel, const SampledWavelengths<N>& w) const;
+  // Linear Rec.709 of one sample's spectrum at its wavelengths.
+  Vec3 to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const;
+
+  SpectralMode mode() const { return mode_; }
+  const SpectralBasis<N>& basis() const { return basis_; }
+
+ private:
+  SpectralMode mode_;
+  SpectralBasis<N> basis_;
+  std::vector<SampledSpectrum<N>> fixed_;
+  std::vector<SubBinValues<N>> sub_;  // full mode, absorption spectra (others left zero)
+  std::vector<float> dense_;          // kCmfCount values per spectrum
+  std::array<std::array<float, N>, 3> rgb_weight_{};  // full: bin → linear Rec.709, per channel
+  SampledSpectrum<N> env_white_;                      // full: D65 (luminance 1) per bin
+};
+
+// The number of carried values for each mode: full kFullBins, rgb3 3, hero kHeroCount.
+template <SpectralMode M>
+inline constexpr std::size_t kCarried = M == SpectralMode::full ? kFullBins : M == SpectralMode::rgb3 ? 3 : kHeroCount;
+
+}  // namespace bouguer

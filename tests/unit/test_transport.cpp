@@ -1,0 +1,323 @@
+// The transport core's seams: splits of a render give the same image bit for bit, the light
+// tracer and the path tracer converge to the same image, adjoint BSDFs, light selection by power,
+// camera importance.
+#include <gtest/gtest.h>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <random>
+
+#include "bouguer/core/frame.h"
+#include "bouguer/materials/surface_bsdf.h"
+#include "bouguer/render/camera.h"
+#include "bouguer/render/compare.h"
+#include "bouguer/render/render.h"
+#include "bouguer/scene/compile.h"
+#include "bouguer/scene/loader.h"
+#include "support/test_support.h"
+
+namespace bouguer {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A floor, a dispersive glass sphere (dense flint), a red glass block and a small lamp: every
+// event of every estimator (refraction with dispersion, absorption, diffuse, NEE, splats).
+std::string busy_scene(const char* integrator, const char* spectral, int spp) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 0.35, 0.6], "look_at": [0, 0.05, 0], "fov_deg": 40, "resolution": [20, 14]}},
+    "render": {{"integrator": "{}", "spectral": "{}", "spp": {}, "max_depth": 16, "seed": 3}},
+    "media": {{"flint": {{"ior": {{"library": "N-SF11"}}}},
+               "red": {{"absorption": {{"library": "red-glass", "concentration": 0.2}}}}}},
+    "objects": [
+      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
+        "material": {{"type": "diffuse", "reflectance": {{"rgb": [0.8, 0.7, 0.6]}}}}}},
+      {{"name": "ball", "shape": {{"type": "sphere", "radius": "50 mm", "segments": 24}},
+        "transform": [{{"translate": [-0.06, 0.05, 0]}}], "inside": "flint"}},
+      {{"name": "block", "shape": {{"type": "box", "size": ["60 mm", "60 mm", "60 mm"]}},
+        "transform": [{{"translate": [0.08, 0.03, -0.05]}}], "inside": "red"}},
+      {{"name": "lamp", "shape": {{"type": "disk", "radius": "40 mm", "segments": 16}},
+        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 0.5, 0]}}],
+        "emission": {{"spectrum": "D65", "scale": 40}}}}
+    ],
+    "lights": [{{"type": "point", "position": [0.3, 0.4, 0.3], "spectrum": "A", "scale": 0.05}}],
+    "background": {{"spectrum": "D65", "scale": 0.2}}
+  }})",
+                     integrator, spectral, spp);
+}
+
+bool bit_identical(const Film& a, const Film& b) {
+  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+TEST(Splits, SampleRangesAndPixelRegionsGiveTheWholeRenderBitForBit) {
+  for (const char* integrator : {"whitted", "path", "light"})
+    for (const char* spectral : {"full", "hero", "rgb3"}) {
+      const SceneDesc desc = parse_scene(busy_scene(integrator, spectral, 8), "busy.json");
+      const RenderScene scene = compile(desc);
+      const RenderSettings& settings = desc.render;
+      RenderStats stats;
+      RenderControl two_threads;
+      two_threads.threads = 2;
+      const Film whole = render(scene, settings, two_threads, stats);
+      double sum = 0.0;
+      for (float v : whole.rgb) sum += v;
+      ASSERT_GT(sum, 0.0) << integrator << " " << spectral;
+
+      FilmBuffer by_samples = make_film(scene, settings, false);
+      for (int s = 0; s < 8; s += 2)  // 4 sample ranges, one after another
+        render_into(scene, settings, by_samples, PixelRegion::whole(scene.camera), {s, s + 2}, RenderControl{}, stats);
+      EXPECT_TRUE(bit_identical(whole, resolve(by_samples, 8))) << integrator << " " << spectral << ": sample ranges";
+
+      FilmBuffer by_regions = make_film(scene, settings, false);
+      const int w = scene.camera.width_px, h = scene.camera.height_px;
+      for (const PixelRegion r : {PixelRegion{0, 0, 7, 5}, PixelRegion{7, 0, w, 5}, PixelRegion{0, 5, 11, h},
+                                  PixelRegion{11, 5, w, h}})
+        render_into(scene, settings, by_regions, r, {0, 8}, RenderControl{}, stats);
+      EXPECT_TRUE(bit_identical(whole, resolve(by_regions, 8))) << integrator << " " << spectral << ": pixel regions";
+    }
+}
+
+// A closed room of diffuse walls (two coloured) with a box and a ceiling lamp.
+std::string room_scene(const char* integrator, int spp, std::uint64_t seed) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 1, 2.6], "look_at": [0, 1, 0], "fov_deg": 50, "resolution": [12, 12]}},
+    "render": {{"integrator": "{}", "spectral": "full", "spp": {}, "max_depth": 64, "seed": {}}},
+    "objects": [
+      {{"name": "floor", "shape": {{"type": "quad", "size": [2, 2]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
+        "material": {{"type": "diffuse", "reflectance": 0.7}}}},
+      {{"name": "ceiling", "shape": {{"type": "quad", "size": [2, 2]}},
+        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 2, 0]}}],
+        "material": {{"type": "diffuse", "reflectance": 0.7}}}},
+      {{"name": "back", "shape": {{"type": "quad", "size": [2, 2]}}, "transform": [{{"translate": [0, 1, -1]}}],
+        "material": {{"type": "diffuse", "reflectance": 0.7}}}},
+      {{"name": "left", "shape": {{"type": "quad", "size": [2, 2]}},
+        "transform": [{{"rotate_deg": [90, [0, 1, 0]]}}, {{"translate": [-1, 1, 0]}}],
+        "material": {{"type": "diffuse", "reflectance": {{"rgb": [0.7, 0.1, 0.1]}}}}}},
+      {{"name": "right", "shape": {{"type": "quad", "size": [2, 2]}},
+        "transform": [{{"rotate_deg": [-90, [0, 1, 0]]}}, {{"translate": [1, 1, 0]}}],
+        "material": {{"type": "diffuse", "reflectance": {{"rgb": [0.1, 0.7, 0.1]}}}}}},
+      {{"name": "box", "shape": {{"type": "box", "size": [0.5, 0.6, 0.5]}}, "transform": [{{"translate": [0.2, 0.3, -0.2]}}],
+        "material": {{"type": "diffuse", "reflectance": 0.5}}}},
+      {{"name": "lamp", "shape": {{"type": "quad", "size": [0.5, 0.5]}},
+        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 1.99, 0]}}],
+        "emission": {{"spectrum": "D65", "scale": 10}}}}
+    ]
+  }})",
+                     integrator, spp, seed);
+}
+
+TEST(LightTracer, ConvergesToThePathTracerInADiffuseRoom) {
+  const Film path = test::render_text(room_scene("path", 4096, 1));
+  const Film light = test::render_text(room_scene("light", 4096, 2));
+  const ImageDifference d = compare_images(path, light);
+  std::printf("diffuse room, light vs path at 4096 spp: mean ΔE00 %.3f, p95 %.3f\n", d.mean, d.p95);
+  EXPECT_LT(d.mean, 0.5);
+}
+
+// A sphere of red glass over a white floor under a small lamp: the caustic. Only pixels whose
+// whole footprint sees the floor directly are compared (the light tracer cannot see the floor
+// through the glass).
+std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 0.5, 0.35], "look_at": [0, 0, 0], "fov_deg": 45, "resolution": [16, 16]}},
+    "render": {{"integrator": "{}", "spectral": "full", "spp": {}, "max_depth": 32, "seed": {}}},
+    "media": {{"red": {{"absorption": {{"library": "red-glass", "concentration": 0.3}}}}}},
+    "objects": [
+      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
+        "material": {{"type": "diffuse", "reflectance": 0.8}}}},
+      {{"name": "ball", "shape": {{"type": "sphere", "radius": "40 mm", "segments": 48}},
+        "transform": [{{"translate": [0, 0.06, 0]}}], "inside": "red"}},
+      {{"name": "lamp", "shape": {{"type": "disk", "radius": "60 mm", "segments": 32}},
+        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0.05, 0.4, -0.05]}}],
+        "emission": {{"spectrum": "D65", "scale": 20}}}}
+    ]
+  }})",
+                     integrator, spp, seed);
+}
+
+TEST(LightTracer, ConvergesToThePathTracerOnACausticFloor) {
+  const SceneDesc desc = parse_scene(caustic_scene("path", 1, 0), "caustic.json");
+  const RenderScene scene = compile(desc);
+  const Camera camera(scene.camera);
+  const Film path = test::render_text(caustic_scene("path", 4096, 1));
+  const Film light = test::render_text(caustic_scene("light", 16384, 2));
+  const ImageDifference d = compare_images(path, light);
+  double sum = 0.0, caustic = 0.0;
+  int n = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      bool floor = true;
+      for (const auto& [fx, fy] : {std::pair{0.0, 0.0}, {1.0, 0.0}, {0.0, 1.0}, {1.0, 1.0}, {0.5, 0.5}}) {
+        const auto hit = scene.rays.intersect(camera.generate_ray(x + fx, y + fy));
+        floor = floor && hit && scene.surfaces[hit->geometry].object == "floor";
+      }
+      if (!floor) continue;
+      sum += d.delta_e[static_cast<std::size_t>(y * 16 + x)];
+      caustic = std::max(caustic, static_cast<double>(path.rgb_at(x, y).x));
+      ++n;
+    }
+  ASSERT_GT(n, 100);
+  std::printf("caustic floor, light vs path over %d floor pixels: mean ΔE00 %.3f (brightest red %.3f)\n", n, sum / n,
+              caustic);
+  EXPECT_LT(sum / n, 0.5);
+}
+
+// For every BSDF, the importance-mode value is the radiance-mode value with wo and wi exchanged:
+// f*(wo, wi) = f(wi, wo), where eval gives f·|cos θi|.
+TEST(Bsdf, ImportanceModeIsTheAdjoint) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto direction = [&] {
+    const double z = 2.0 * u(rng) - 1.0, r = std::sqrt(1.0 - z * z), phi = 2.0 * kPi * u(rng);
+    return Vec3{r * std::cos(phi), r * std::sin(phi), z};
+  };
+  constexpr std::size_t N = 3;
+  SampledSpectrum<N> reflectance, n, k;
+  reflectance.v = {0.8f, 0.5f, 0.2f};
+  n.v = {0.2f, 0.9f, 1.1f};
+  k.v = {3.9f, 2.4f, 2.2f};
+  const DielectricAlbedo albedo = DielectricAlbedo::compute(0.3, 1.0, 1.5);
+  const DielectricAlbedo albedo_water = DielectricAlbedo::compute(0.15, 1.33, 1.7);
+  const std::vector<Bsdf<N>> bsdfs = {
+      DiffuseReflection<N>{reflectance},
+      ConductorReflection<N>{n, k, 1.0, 0.25},
+      RoughDielectric{{{0.3}, 1.0, 1.5, nullptr}},
+      RoughDielectric{{{0.3}, 1.0, 1.5, &albedo}},
+      RoughDielectric{{{0.15}, 1.33, 1.7, &albedo_water}},
+  };
+  int compared = 0, refractions = 0;
+  for (std::size_t b = 0; b < bsdfs.size(); ++b)
+    for (int i = 0; i < 4000; ++i) {
+      const Vec3 wo = direction(), wi = direction();
+      const SampledSpectrum<N> imp = eval(bsdfs[b], wo, wi, TransportMode::importance);
+      const SampledSpectrum<N> rad_swapped = eval(bsdfs[b], wi, wo, TransportMode::radiance);
+      for (std::size_t c = 0; c < N; ++c) {
+        const double f_imp = imp[c] / std::abs(wi.z), f_swapped = rad_swapped[c] / std::abs(wo.z);
+        ASSERT_NEAR(f_imp, f_swapped, 1e-5 * std::max(1.0, std::abs(f_swapped))) << "bsdf " << b << " sample " << i;
+      }
+      if (imp[0] > 0.0f) ++compared;
+      if (imp[0] > 0.0f && wo.z * wi.z < 0.0) ++refractions;
+    }
+  EXPECT_GT(compared, 8000);
+  EXPECT_GT(refractions, 1000);
+  // The radiance mode itself is not symmetric across a refraction (basic radiance, no η²): the
+  // test above would fail if the importance mode forgot the factor.
+  const Bsdf<N> glass = RoughDielectric{{{0.3}, 1.0, 1.5, nullptr}};
+  const Vec3 wo = normalize(Vec3{0.2, 0.1, 1.0}), wi = normalize(Vec3{-0.1, 0.05, -1.0});
+  const double ratio = (eval(glass, wo, wi, TransportMode::radiance)[0] / std::abs(wi.z)) /
+                       (eval(glass, wi, wo, TransportMode::radiance)[0] / std::abs(wo.z));
+  EXPECT_NEAR(ratio, 1.5 * 1.5, 1e-6);
+
+  // Delta lobes: a smooth interface refracts wo to wi and wi back to wo; the importance weight
+  // is the radiance weight (1) times (η_o/η_i)².
+  const Bsdf<N> smooth = SmoothDielectric{1.0, 1.5};
+  const Vec3 outside = normalize(Vec3{0.3, -0.2, 0.8});
+  const auto in_rad = sample(smooth, outside, 0.999, 0.0, 0.0, TransportMode::radiance);
+  const auto in_imp = sample(smooth, outside, 0.999, 0.0, 0.0, TransportMode::importance);
+  ASSERT_TRUE(in_rad && in_imp && in_rad->transmitted && in_imp->transmitted);
+  EXPECT_FLOAT_EQ(in_rad->weight[0], 1.0f);
+  EXPECT_NEAR(in_imp->weight[0], 1.0 / (1.5 * 1.5), 1e-6);
+  const auto back = sample(smooth, in_rad->wi, 0.999, 0.0, 0.0, TransportMode::importance);
+  ASSERT_TRUE(back && back->transmitted);
+  EXPECT_NEAR(length(back->wi - outside), 0.0, 1e-9);
+  EXPECT_NEAR(back->weight[0], 1.5 * 1.5, 1e-5);
+}
+
+// A large dim panel and a small bright one (each giving the floor about half its light), over a
+// diffuse floor seen from above: next-event estimation by power keeps the mean and lowers the
+// variance against the former choice by area.
+TEST(LightSelection, ByPowerKeepsTheMeanAndLowersTheVariance) {
+  const std::string json = R"({
+    "camera": {"type": "orthographic", "position": [0, 0.3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
+               "width": 1.6, "resolution": [8, 8]},
+    "render": {"integrator": "path", "spectral": "rgb3", "spp": 4, "max_depth": 1},
+    "objects": [
+      {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+       "material": {"type": "diffuse", "reflectance": 0.5}},
+      {"name": "dim", "shape": {"type": "quad", "size": [4, 4]},
+       "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 1.0, 0]}],
+       "emission": {"spectrum": "D65", "scale": 0.5}},
+      {"name": "bright", "shape": {"type": "quad", "size": [0.05, 0.05]},
+       "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.5, 0]}],
+       "emission": {"spectrum": "D65", "scale": 600}}
+    ]
+  })";
+  SceneDesc desc = parse_scene(json, "lights.json");
+  const RenderScene by_power = compile(desc);
+  RenderScene by_area = compile(desc);
+  std::vector<double> area;
+  std::vector<bool> is_area;
+  for (const Light& l : by_area.lights) {
+    const auto* a = std::get_if<AreaLight>(&l);
+    area.push_back(a ? a->area_m2 : 0.0);
+    is_area.push_back(a != nullptr);
+  }
+  by_area.area_lights = LightDistribution::by_power(area, is_area);  // the former choice: by area
+  constexpr int kRuns = 400;
+  auto stats = [&](const RenderScene& scene, double& mean, double& variance) {
+    std::vector<double> sum(64, 0.0), sum2(64, 0.0);
+    for (int r = 0; r < kRuns; ++r) {
+      RenderSettings settings = desc.render;
+      settings.seed = static_cast<std::uint64_t>(r);
+      RenderStats st;
+      const Film f = render(scene, settings, RenderControl{}, st);
+      for (int p = 0; p < 64; ++p) {
+        const double g = f.rgb[static_cast<std::size_t>(3 * p + 1)];
+        sum[static_cast<std::size_t>(p)] += g, sum2[static_cast<std::size_t>(p)] += g * g;
+      }
+    }
+    mean = variance = 0.0;
+    for (int p = 0; p < 64; ++p) {
+      const double m = sum[static_cast<std::size_t>(p)] / kRuns;
+      mean += m / 64.0;
+      variance += (sum2[static_cast<std::size_t>(p)] / kRuns - m * m) / 64.0;
+    }
+  };
+  double mean_power = 0, var_power = 0, mean_area = 0, var_area = 0;
+  stats(by_power, mean_power, var_power);
+  stats(by_area, mean_area, var_area);
+  std::printf("light selection: by area mean %.4f variance %.3g; by power mean %.4f variance %.3g\n", mean_area,
+              var_area, mean_power, var_power);
+  // The means agree within 4 standard errors of their difference (64 pixels × kRuns renders).
+  const double se = std::sqrt((var_power + var_area) / (64.0 * kRuns));
+  EXPECT_NEAR(mean_power, mean_area, 4.0 * se);
+  EXPECT_LT(var_power, 0.5 * var_area);
+}
+
+// Camera importance integrates to one over the film, and a point lands where its ray started.
+TEST(Camera, ImportanceIsNormalisedAndFilmPositionsRoundTrip) {
+  for (const CameraType type : {CameraType::pinhole, CameraType::orthographic}) {
+    CameraDesc d;
+    d.type = type;
+    d.position_m = {0.1, 0.2, 1.0};
+    d.look_at_m = {0, 0, 0};
+    d.width_px = 64;
+    d.height_px = 48;
+    d.fov_deg = 50.0;
+    d.width_m = 0.4;
+    const Camera camera(d);
+    double integral = 0.0;
+    constexpr int kSteps = 200;
+    for (int j = 0; j < kSteps; ++j)
+      for (int i = 0; i < kSteps; ++i) {
+        const double fx = (i + 0.5) * 64.0 / kSteps, fy = (j + 0.5) * 48.0 / kSteps;
+        const Ray r = camera.generate_ray(fx, fy);
+        const auto [pdf_pos, pdf_dir] = camera.pdf_we(r);
+        // Uniform film positions: We·cos θ / (pdf_pos · pdf_dir) averages to 1 over the film.
+        integral += camera.we(r) * dot(r.direction, camera.forward) / (pdf_pos * pdf_dir) / (kSteps * kSteps);
+        const Vec3 p = r.origin + r.direction * 0.7;
+        const auto at = camera.film_position(p);
+        ASSERT_TRUE(at);
+        EXPECT_NEAR((*at)[0], fx, 1e-9);
+        EXPECT_NEAR((*at)[1], fy, 1e-9);
+      }
+    EXPECT_NEAR(integral, 1.0, 1e-9) << static_cast<int>(type);
+  }
+}
+
+}  // namespace
+}  // namespace bouguer
