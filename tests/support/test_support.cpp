@@ -66,6 +66,6 @@ int line_count(const std::string& text) {
   return text.back() == '\n' ? n : n + 1;
 }
 
-fs::path shared_data(const std::string& relative) { return fs::path(BOUGUER_SHARED_DATA_DIR) / relative; }
+fs::path test_data(const std::string& relative) { return fs::path(BOUGUER_SOURCE_DIR) / "tests" / "data" / relative; }
 
 }  // namespace bouguer::test
