@@ -11,6 +11,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/io/output_set.h"
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
@@ -76,7 +77,18 @@ void apply_overrides(const RenderCli& o, SceneDesc& s) {
   }
 }
 
+// Every file the command line asks for, checked before the scene is even read.
+OutputSet checked_outputs(const RenderCli& o) {
+  static constexpr std::string_view kExr[] = {".exr"};
+  OutputSet outputs;
+  for (const auto& output : o.outputs) outputs.add("-o", output, kImageExtensions);
+  if (!o.spectral_exr.empty()) outputs.add("--spectral-exr", o.spectral_exr, kExr);
+  if (!o.stats_json.empty()) outputs.add("--stats-json", o.stats_json);
+  return outputs;
+}
+
 int run_render(const RenderCli& o) {
+  const OutputSet outputs = checked_outputs(o);
   SceneDesc desc = load_scene(o.scene);
   apply_overrides(o, desc);
   const RenderScene scene = compile(desc);
@@ -87,9 +99,8 @@ int run_render(const RenderCli& o) {
   options.progress = [&progress](double f) { progress.update(f); };
   RenderStats stats;
   const Film film = render(scene, options, stats);
-  for (const auto& output : o.outputs) write_image(output, film);
-  if (!o.spectral_exr.empty()) write_spectral_exr(o.spectral_exr, film);
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
+  std::string stats_text;
   if (!o.stats_json.empty()) {
     const nlohmann::json j = {{"seconds", stats.seconds},
                               {"rays", stats.rays},
@@ -98,8 +109,13 @@ int run_render(const RenderCli& o) {
                               {"resolution", {film.width, film.height}},
                               {"spectral", mode_name(scene.render.spectral)},
                               {"threads", o.threads}};
-    write_bytes_atomically(o.stats_json, j.dump(2) + "\n");
+    stats_text = j.dump(2) + "\n";
   }
+  // All or nothing: no file is replaced unless every output was written.
+  using Path = std::filesystem::path;
+  outputs.write_all({{"-o", [&](const Path& p) { write_image(p, film); }},
+                     {"--spectral-exr", [&](const Path& p) { write_spectral_exr(p, film); }},
+                     {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }}});
   if (!o.quiet)
     fmt::print("{}: {}x{}, {} spp, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
                scene.render.spp, mode_name(scene.render.spectral), stats.seconds,
