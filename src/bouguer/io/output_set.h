@@ -34,8 +34,6 @@ class OutputSet {
   // them all into place; see above. Throws Error "OPTION PATH: why; no output was written".
   void write_all(const Writers& writers) const;
 
-  bool empty() const { return outputs_.empty(); }
-
  private:
   struct Output {
     std::string option;
