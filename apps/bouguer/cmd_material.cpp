@@ -7,6 +7,7 @@
 
 #include "bouguer/analysis/slab_colour.h"
 #include "bouguer/core/error.h"
+#include "bouguer/io/output_set.h"
 #include "bouguer/media/library.h"
 #include "bouguer/plot/material_plot.h"
 #include "bouguer/scene/loader.h"
@@ -93,6 +94,8 @@ nlohmann::json colour_json(const SlabColour& c) {
 }
 
 int run_material(const MaterialOptions& o) {
+  OutputSet plot_output;  // checked before any work
+  if (!o.plot.empty()) plot_output.add("--plot", o.plot, kPlotExtensions);
   if (o.what == "list") return list_library();
   ResolvedMaterial r = resolve_material(o.what, o.concentration);
   if (o.ior) r.ior = *o.ior;
@@ -132,7 +135,7 @@ int run_material(const MaterialOptions& o) {
       plot.measured_max_nm = std::min(kLambdaMaxNm, r.file->values.wavelength_nm.back());
       plot.extended = plot.measured_min_nm > kLambdaMinNm || plot.measured_max_nm < kLambdaMaxNm;
     }
-    write_material_plot(o.plot, plot);
+    plot_output.write_all({{"--plot", [&plot](const std::filesystem::path& p) { write_material_plot(p, plot); }}});
   }
   if (o.json) {
     nlohmann::json j;

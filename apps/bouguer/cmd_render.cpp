@@ -14,6 +14,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/io/output_set.h"
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
@@ -94,9 +95,10 @@ struct InterruptGuard {
   ~InterruptGuard() { sigaction(SIGINT, &previous, nullptr); }
 };
 
-// Renders in passes of sample ranges (the image is the same as one pass would give); returns the
-// samples per pixel every pixel has, and in `partial` how many more the interrupted pass added to
-// the pixels it reached.
+// Renders in passes of sample ranges, 1, 1, 2, 4, ... samples per pixel up to a sixteenth of the
+// total (the image is the same as one pass would give), so an interrupted render has a whole
+// image early. Returns the samples per pixel every pixel has, and in `partial` how many more the
+// interrupted pass added to the pixels it reached.
 struct Passes {
   int complete = 0, partial = 0;
   double partial_fraction = 0.0;  // of the interrupted pass's tiles that finished
@@ -104,10 +106,10 @@ struct Passes {
 
 Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
                      Progress& progress, RenderStats& stats) {
-  const int spp = settings.spp, pass = std::max(1, (spp + 15) / 16);
+  const int spp = settings.spp, largest_pass = std::max(1, (spp + 15) / 16);
   Passes p;
-  for (int begin = 0; begin < spp; begin += pass) {
-    const int end = std::min(spp, begin + pass);
+  for (int begin = 0; begin < spp;) {
+    const int end = std::min(spp, begin + std::clamp(begin, 1, largest_pass));
     double fraction = 0.0;
     RenderControl control;
     control.threads = threads;
@@ -122,12 +124,23 @@ Passes render_passes(const RenderScene& scene, const RenderSettings& settings, F
       else p.partial = end - begin, p.partial_fraction = fraction;
       return p;
     }
-    p.complete = end;
+    p.complete = begin = end;
   }
   return p;
 }
 
+// Every file the command line asks for, checked before the scene is even read.
+OutputSet checked_outputs(const RenderCli& o) {
+  static constexpr std::string_view kExr[] = {".exr"};
+  OutputSet outputs;
+  for (const auto& output : o.outputs) outputs.add("-o", output, kImageExtensions);
+  if (!o.spectral_exr.empty()) outputs.add("--spectral-exr", o.spectral_exr, kExr);
+  if (!o.stats_json.empty()) outputs.add("--stats-json", o.stats_json);
+  return outputs;
+}
+
 int run_render(const RenderCli& o) {
+  const OutputSet outputs = checked_outputs(o);
   SceneDesc desc = load_scene(o.scene);
   apply_overrides(o, desc);
   const RenderSettings settings = desc.render;
@@ -146,10 +159,9 @@ int run_render(const RenderCli& o) {
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
   const double splat_spp = passes.complete + passes.partial * passes.partial_fraction;
   const Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
-  for (const auto& output : o.outputs) write_image(output, film);
-  if (!o.spectral_exr.empty()) write_spectral_exr(o.spectral_exr, film);
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
   const std::string_view mode = spectral_mode_name(settings.spectral);
+  std::string stats_text;
   if (!o.stats_json.empty()) {
     const nlohmann::json j = {{"seconds", stats.seconds},
                               {"rays", stats.rays},
@@ -159,8 +171,13 @@ int run_render(const RenderCli& o) {
                               {"spectral", mode},
                               {"integrator", integrator_info(settings.integrator).name},
                               {"threads", o.threads}};
-    write_bytes_atomically(o.stats_json, j.dump(2) + "\n");
+    stats_text = j.dump(2) + "\n";
   }
+  // All or nothing: no file is replaced unless every output was written.
+  using Path = std::filesystem::path;
+  outputs.write_all({{"-o", [&](const Path& p) { write_image(p, film); }},
+                     {"--spectral-exr", [&](const Path& p) { write_spectral_exr(p, film); }},
+                     {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }}});
   if (interrupted) {
     fmt::print(stderr, "bouguer: interrupted: wrote the image after {} of {} samples per pixel{} -> {}\n",
                passes.complete, settings.spp,

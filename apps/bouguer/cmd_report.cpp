@@ -13,6 +13,7 @@
 #include "bouguer/core/strings.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/io/output_set.h"
 #include "bouguer/plot/material_plot.h"
 #include "bouguer/render/compare.h"
 #include "bouguer/render/render.h"
@@ -90,7 +91,10 @@ int run_report(const ReportOptions& o) {
   if (scenes.empty()) fail("--scenes: no .json scene files in '{}'", o.scenes);
   const Resolution size = o.resolution.empty() ? Resolution{} : parse_resolution(o.resolution);
   fs::create_directories(o.out, ec);
-  if (ec) fail("{}: cannot create the folder: {}", o.out, ec.message());
+  if (ec) fail_usage("--out {}: cannot create the folder: {}", o.out, ec.message());
+  const fs::path index = fs::path(o.out) / "index.html";
+  OutputSet output;  // checked before the first render
+  output.add("--out", index);
 
   std::string body, summary;
   summary += "<table><tr><th>scene</th><th>resolution</th><th>spp</th><th>integrator</th><th>full s</th>"
@@ -179,8 +183,7 @@ renderer fitted at the middle thickness), and how far the RGB answers drift (ΔE
 </body></html>
 )",
       kStyle, kCheckScript, html_escape(o.scenes), scenes.size(), total, summary, body, materials);
-  const fs::path index = fs::path(o.out) / "index.html";
-  write_bytes_atomically(index, page);
+  output.write_all({{"--out", [&page](const fs::path& p) { write_bytes_atomically(p, page); }}});
   if (!o.quiet) fmt::print(stderr, "report: wrote {} ({:.1f} s)\n", index.string(), total);
   return 0;
 }

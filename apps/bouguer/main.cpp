@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const bouguer::Error& e) {
     fmt::print(stderr, "bouguer: error: {}\n", one_line(e.what()));
+    if (dynamic_cast<const bouguer::UsageError*>(&e)) return 2;  // e.g. an output path that cannot be written
   } catch (const std::exception& e) {
     fmt::print(stderr, "bouguer: internal error: {}\n", one_line(e.what()));
   }

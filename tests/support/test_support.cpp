@@ -79,6 +79,6 @@ Film render_desc(const SceneDesc& desc, int threads) {
 
 Film render_text(const std::string& json, int threads) { return render_desc(parse_scene(json, "test.json"), threads); }
 
-fs::path shared_data(const std::string& relative) { return fs::path(BOUGUER_SHARED_DATA_DIR) / relative; }
+fs::path test_data(const std::string& relative) { return fs::path(BOUGUER_SOURCE_DIR) / "tests" / "data" / relative; }
 
 }  // namespace bouguer::test

@@ -23,7 +23,8 @@ RunResult run_bouguer(const std::vector<std::string>& args);
 // Number of lines in text (a trailing newline does not start a new line).
 int line_count(const std::string& text);
 
-std::filesystem::path shared_data(const std::string& relative);
+// A reference table inside the repository, tests/data/<relative> (see tests/data/README.md).
+std::filesystem::path test_data(const std::string& relative);
 
 }  // namespace bouguer::test
 

@@ -10,6 +10,7 @@
 #include "bouguer/media/ior.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
+#include "support/test_support.h"
 
 namespace bouguer {
 namespace {
@@ -129,14 +130,14 @@ TEST(Library, RedGlassHasAnAbruptEdgeAndTheWinesMatchTheirTargets) {
   EXPECT_NEAR(eval(redwine.sigma_a_per_m, 520.0) / kSigmaOfAbsorbance1PerCm, 1.90, 1e-3);
 }
 
-// Water equals the staged IOCCG table where it is tabulated and is clearest in the blue: 10 m of
-// water keep 94 % at 440 nm (Pope & Fry 0.00635 /m) but 0.2 % at 700 nm (0.624 /m).
+// Water equals the IOCCG table (tests/data/water) where it is tabulated and is clearest in the blue:
+// 10 m of water keep 94 % at 440 nm (Pope & Fry 0.00635 /m) but 0.2 % at 700 nm (0.624 /m).
 TEST(Library, WaterMatchesTheIoccgTable) {
   const LibraryMaterial& water = *find_library_material("water");
   EXPECT_DOUBLE_EQ(eval(water.sigma_a_per_m, 440.0), 0.00635);
   EXPECT_DOUBLE_EQ(eval(water.sigma_a_per_m, 700.0), 0.624);
-  std::ifstream src(std::string(BOUGUER_SHARED_DATA_DIR) + "/water/ioccg_2018.csv");
-  ASSERT_TRUE(src) << "shared/data/water/ioccg_2018.csv";
+  std::ifstream src(test::test_data("water/ioccg_2018.csv"));
+  ASSERT_TRUE(src) << test::test_data("water/ioccg_2018.csv");
   std::string line;
   std::getline(src, line);
   int checked = 0;

@@ -11,7 +11,7 @@ namespace {
 
 // Sharma, Wu, Dalal (2005), Table 1: all 34 pairs, in both orders, to 1e-4.
 TEST(Ciede2000, ReproducesSharmaTestData) {
-  std::ifstream in(test::shared_data("ciede2000/sharma2005.tsv"));
+  std::ifstream in(test::test_data("ciede2000/sharma2005.tsv"));
   ASSERT_TRUE(in) << "missing Sharma test data";
   std::string line;
   int pairs = 0;

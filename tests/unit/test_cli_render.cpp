@@ -1,6 +1,10 @@
 // bouguer render and bouguer compare, run as a user runs them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "bouguer/io/image_io.h"
@@ -12,6 +16,33 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kExample = (fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "examples" / "issue3.json").string();
+
+// Settings at which the example takes several seconds to render (on one thread, without --quiet:
+// the first progress line comes at 0 %). An output the run cannot write must be refused first.
+std::vector<std::string> slow_render(const std::vector<std::string>& outputs) {
+  std::vector<std::string> args = {"render", kExample, "--resolution", "400x300", "--spp", "64", "--threads", "1"};
+  args.insert(args.end(), outputs.begin(), outputs.end());
+  return args;
+}
+
+struct TimedRun {
+  test::RunResult result;
+  double seconds = 0.0;
+};
+
+TimedRun timed_run(const std::vector<std::string>& args) {
+  const auto start = std::chrono::steady_clock::now();
+  TimedRun t{test::run_bouguer(args)};
+  t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return t;
+}
+
+std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 TEST(CliRender, ThreadsOneAndTwoGiveBitIdenticalImages) {
   const auto dir = test::scratch_dir("cli_threads");
@@ -44,6 +75,63 @@ TEST(CliRender, StatsJsonSpectralExrAndSummaryLine) {
                                       "--spectral-exr", (dir / "t.exr").string(), "-o", (dir / "t.png").string()});
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_FALSE(fs::exists(dir / "t.png"));
+}
+
+// Each output is checked before the scene is read: one line naming the option and the path, exit 2,
+// in a fraction of a second, with no render begun.
+TEST(CliRender, OutputsThatCannotBeWrittenFailBeforeRendering) {
+  const auto dir = test::scratch_dir("cli_bad_outputs");
+  fs::create_directories(dir / "folder.png");
+  const std::string missing = (dir / "missing" / "dir").string(), d = dir.string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"-o", missing + "/x.png"}, "-o " + missing + "/x.png: folder '" + missing + "' does not exist"},
+      {{"-o", d + "/x.jpg"}, "-o " + d + "/x.jpg: unknown file type '.jpg' (use .png, .exr or .pfm)"},
+      {{"--stats-json", missing + "/s.json"}, "--stats-json " + missing + "/s.json: folder '" + missing + "' does not"},
+      {{"--spectral-exr", d + "/s.png"}, "--spectral-exr " + d + "/s.png: unknown file type '.png' (use .exr)"},
+      {{"-o", d + "/folder.png"}, "-o " + d + "/folder.png: it is a folder"},
+      {{"-o", d + "/a.png", "-o", d + "/a.png"}, "-o " + d + "/a.png: the same file as -o " + d + "/a.png"},
+  };
+  for (const auto& [outputs, expected] : cases) {
+    const TimedRun t = timed_run(slow_render(outputs));
+    EXPECT_EQ(t.result.exit_code, 2) << expected;
+    EXPECT_EQ(t.result.err.rfind("bouguer: error: ", 0), 0u) << t.result.err;
+    EXPECT_NE(t.result.err.find(expected), std::string::npos) << t.result.err;
+    EXPECT_EQ(test::line_count(t.result.err), 1) << t.result.err;  // no progress line: no render began
+    EXPECT_LT(t.seconds, 0.5) << expected;
+  }
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"folder.png"});
+}
+
+// An earlier file at an output's path survives a run that fails on another output: a bad later -o,
+// a missing --stats-json folder, or a --spectral-exr that rgb3 cannot fill. (A write that fails at
+// the end, after others succeeded, is tested on OutputSet itself.)
+TEST(CliRender, AFailingOutputReplacesNoEarlierFile) {
+  const auto dir = test::scratch_dir("cli_keep");
+  const fs::path keep_png = dir / "keep.png", keep_exr = dir / "keep.exr";
+  ASSERT_EQ(test::run_bouguer({"render", kExample, "--resolution", "8x8", "--spp", "1", "-o", keep_png.string(), "-o",
+                               keep_exr.string(), "--quiet"})
+                .exit_code,
+            0);
+  const std::string png_bytes = test::read_file(keep_png), exr_bytes = test::read_file(keep_exr);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {slow_render({"-o", keep_png.string(), "-o", (dir / "bad.jpg").string(), "-o", keep_exr.string()}),
+       "-o " + (dir / "bad.jpg").string() + ": unknown file type '.jpg'"},
+      {slow_render({"-o", keep_png.string(), "--stats-json", (dir / "missing" / "s.json").string()}),
+       "--stats-json " + (dir / "missing" / "s.json").string() + ": folder"},
+      {{"render", kExample, "--resolution", "8x8", "--spp", "1", "--spectral", "rgb3", "-o", keep_png.string(), "-o",
+        (dir / "new.pfm").string(), "--spectral-exr", (dir / "s.exr").string(), "--quiet"},
+       "spectral output needs --spectral full"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const auto r = test::run_bouguer(args);
+    EXPECT_GT(r.exit_code, 0) << expected;
+    EXPECT_LT(r.exit_code, 128) << expected;
+    EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+    EXPECT_TRUE(test::read_file(keep_png) == png_bytes) << "keep.png was replaced: " << expected;
+    EXPECT_TRUE(test::read_file(keep_exr) == exr_bytes) << "keep.exr was replaced: " << expected;
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{"keep.exr", "keep.png"})) << expected;  // and no temporaries
+  }
 }
 
 TEST(CliCompare, ZeroForIdenticalImagesAndPositiveForTheRgbApproach) {
@@ -91,6 +179,61 @@ TEST(CliRender, BadOverridesAreRefused) {
     EXPECT_NE(r.exit_code, 0) << args[2];
     EXPECT_EQ(test::line_count(r.err), 1) << args[2] << ": " << r.err;
   }
+}
+
+}  // namespace
+}  // namespace bouguer
+
+namespace bouguer {
+namespace {
+
+// Ctrl-C during a render: the first SIGINT lets the tiles in flight finish and writes the image
+// so far (saying how many samples it has), exit 130; a second SIGINT exits at once. One tile of
+// 16 × 16 pixels and a million samples: a second after the start the passes have grown to
+// hundreds of samples, so the tile in flight takes a good fraction of a second to finish.
+struct InterruptedRun {
+  int exit_code = -1;
+  std::string err;
+  double seconds_after_signal = 0.0;
+};
+
+int read_png_size(const fs::path& png) {
+  const std::string bytes = test::read_file(png);
+  return bytes.size() > 24 && bytes.compare(1, 3, "PNG") == 0 ? static_cast<unsigned char>(bytes[19]) : -1;
+}
+
+InterruptedRun interrupt_render(const fs::path& dir, int signals) {
+  const std::string exe = BOUGUER_EXE;
+  const std::string cmd = fmt::format(
+      "cd '{}' && ( '{}' render '{}' --resolution 16x16 --spp 1000000 --threads 1 -o out.png 2>err.txt & pid=$!; "
+      "while ! grep -q 'render:' err.txt 2>/dev/null; do sleep 0.05; done; sleep 1; {} wait $pid; "
+      "echo $? > code.txt )",
+      dir.string(), exe, kExample, signals == 1 ? "kill -INT $pid;" : "kill -INT $pid; sleep 0.1; kill -INT $pid;");
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  InterruptedRun r;
+  // At least a second passes between the first progress line and the signal.
+  r.seconds_after_signal = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - 1.0;
+  r.exit_code = std::stoi(test::read_file(dir / "code.txt"));
+  r.err = test::read_file(dir / "err.txt");
+  return r;
+}
+
+TEST(CliRender, FirstInterruptWritesTheImageSoFarSecondExitsAtOnce) {
+  const fs::path once = test::scratch_dir("interrupt_once");
+  const InterruptedRun first = interrupt_render(once, 1);
+  EXPECT_EQ(first.exit_code, 130) << first.err;
+  EXPECT_NE(first.err.find("interrupted: wrote the image after"), std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("of 1000000 samples per pixel"), std::string::npos) << first.err;
+  ASSERT_TRUE(fs::exists(once / "out.png"));
+  EXPECT_GT(read_png_size(once / "out.png"), 0);
+  EXPECT_LT(first.seconds_after_signal, 5.0);
+
+  const fs::path twice = test::scratch_dir("interrupt_twice");
+  const InterruptedRun second = interrupt_render(twice, 2);
+  EXPECT_EQ(second.exit_code, 130);
+  EXPECT_FALSE(fs::exists(twice / "out.png"));
+  EXPECT_LT(second.seconds_after_signal, 1.0);
 }
 
 }  // namespace

@@ -82,7 +82,8 @@ TEST(Colorimetry, NamesAreCaseInsensitiveAndUnknownNamesFail) {
   EXPECT_THROW(named_illuminant("D66"), Error);
 }
 
-// The compiled-in tables are the CIE's numbers, unchanged (checked against the staged CIE files).
+// The compiled-in tables are the CIE's numbers, unchanged (checked against the CIE files, copied verbatim
+// into tests/data/cie).
 TEST(Colorimetry, CompiledTablesEqualTheCieFiles) {
   const struct {
     const char* file;
@@ -90,8 +91,8 @@ TEST(Colorimetry, CompiledTablesEqualTheCieFiles) {
   } cases[] = {{"cie/CIE_xyz_1931_2deg.csv", Observer::cie1931_2deg},
                {"cie/CIE_xyz_1964_10deg.csv", Observer::cie1964_10deg}};
   for (const auto& c : cases) {
-    std::ifstream in(test::shared_data(c.file));
-    ASSERT_TRUE(in) << "missing " << test::shared_data(c.file);
+    std::ifstream in(test::test_data(c.file));
+    ASSERT_TRUE(in) << "missing " << test::test_data(c.file);
     const ObserverTable& t = observer_table(c.observer);
     std::string line;
     int rows = 0;

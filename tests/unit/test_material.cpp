@@ -169,7 +169,6 @@ TEST(MaterialCli, BadInputGivesOneLine) {
       {{"material", "water", "--thickness", "1 furlong"}, "--thickness"},
       {{"material", "water", "--thickness", "2"}, "--thickness: '2' has no unit"},
       {{"material", "water", "--thickness", "nan mm"}, "not a finite length"},
-      {{"material", "water", "--plot", (dir / "x.gif").string()}, ".svg, .png or .pdf"},
   };
   for (const auto& [args, expected] : cases) {
     const auto r = test::run_bouguer(args);
@@ -177,12 +176,21 @@ TEST(MaterialCli, BadInputGivesOneLine) {
     EXPECT_EQ(test::line_count(r.err), 1) << r.err;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
   }
-  // Command-line errors (exit 2): CLI11's range checks alone would let NaN through.
-  for (const char* ior : {"nan", "inf", "0.5"}) {
-    const auto r = test::run_bouguer({"material", "water", "--ior", ior});
-    EXPECT_EQ(r.exit_code, 2) << ior;
+  // Command-line errors (exit 2): CLI11's range checks alone would let NaN through; a plot that
+  // cannot be written is refused before the analysis.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> usage = {
+      {{"material", "water", "--ior", "nan"}, "--ior"},
+      {{"material", "water", "--ior", "inf"}, "--ior"},
+      {{"material", "water", "--ior", "0.5"}, "--ior"},
+      {{"material", "water", "--plot", (dir / "x.gif").string()}, ".svg, .png or .pdf"},
+      {{"material", "water", "--plot", (dir / "absent" / "x.svg").string()},
+       "--plot " + (dir / "absent" / "x.svg").string() + ": folder"},
+  };
+  for (const auto& [args, expected] : usage) {
+    const auto r = test::run_bouguer(args);
+    EXPECT_EQ(r.exit_code, 2) << args.back();
     EXPECT_EQ(test::line_count(r.err), 1) << r.err;
-    EXPECT_NE(r.err.find("--ior"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
   }
 }
 

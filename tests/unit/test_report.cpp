@@ -102,5 +102,23 @@ TEST(Report, BadInputGivesOneLineAndKeepsTheEarlierPage) {
   EXPECT_EQ(test::read_file(dir / "index.html"), "earlier page");
 }
 
+// A page that cannot be written is refused before the first scene is rendered (exit 2, no progress line).
+TEST(Report, AnOutFolderThatCannotHoldThePageFailsBeforeRendering) {
+  const fs::path dir = test::scratch_dir("report_bad_out");
+  fs::create_directories(dir / "page" / "index.html");
+  test::write_file(dir / "file", "not a folder");
+  const std::string scenes = (fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper").string();
+  const std::vector<std::pair<fs::path, std::string>> cases = {
+      {dir / "page", "--out " + (dir / "page" / "index.html").string() + ": it is a folder"},
+      {dir / "file", "--out " + (dir / "file").string() + ": cannot create the folder"},
+  };
+  for (const auto& [out, expected] : cases) {
+    const auto r = test::run_bouguer({"report", "--out", out.string(), "--scenes", scenes});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace bouguer

@@ -10,13 +10,12 @@
 namespace bouguer {
 namespace fs = std::filesystem;
 
-namespace {
-fs::path temp_path_for(const fs::path& target) {
+fs::path temporary_path_for(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  const std::string name = fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter++);
+  const std::string name = fmt::format(".{}.tmp-{}-{}{}", target.stem().string(), ::getpid(), counter++,
+                                       target.extension().string());
   return target.parent_path() / name;
 }
-}  // namespace
 
 void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
   if (target.filename().empty()) fail("{}: not a file name", target.string());
@@ -24,7 +23,7 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   std::error_code ec;
   if (!fs::is_directory(folder, ec)) fail("{}: cannot write: folder '{}' does not exist", target.string(), folder.string());
   if (fs::is_directory(target, ec)) fail("{}: cannot write: it is a folder", target.string());
-  const fs::path temp = temp_path_for(target);
+  const fs::path temp = temporary_path_for(target);
   try {
     write(temp);
     fs::rename(temp, target);

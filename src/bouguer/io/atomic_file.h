@@ -13,6 +13,10 @@ namespace bouguer {
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path& temp_path)>& write);
 
+// A fresh temporary name beside target that keeps its extension ("dir/a.png" ->
+// "dir/.a.tmp-<pid>-<n>.png"), so writers that choose the format by extension accept it.
+std::filesystem::path temporary_path_for(const std::filesystem::path& target);
+
 // Writes bytes already in memory (an encoded image, a page, JSON) the same way.
 void write_bytes_atomically(const std::filesystem::path& target, std::string_view bytes);
 

@@ -6,8 +6,10 @@
 //   PFM  32-bit float linear Rec.709 (no colour metadata in the format)
 //   spectral EXR: Fichet, Pacanowski, Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3),
 //        2021: one channel per wavelength named S0.<nm with comma decimal>nm plus R, G, B preview.
+#include <array>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "bouguer/render/film.h"
 
@@ -22,6 +24,7 @@ void write_spectral_exr(const std::filesystem::path& path, const Film& film);  /
 std::string encode_png(const Film& film);
 
 // Chooses the writer by extension (.png, .exr, .pfm); an unknown extension is an Error.
+inline constexpr std::array<std::string_view, 3> kImageExtensions = {".png", ".exr", ".pfm"};
 void write_image(const std::filesystem::path& path, const Film& film);
 
 // EXR reading keeps spectral channels (S0.*nm) when the file has them, and converts RGB in other

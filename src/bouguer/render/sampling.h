@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <numeric>
 #include <vector>
 
 #include "bouguer/render/integrator.h"
@@ -35,30 +34,41 @@ inline std::array<double, 2> subpixel(int s, int spp, Rng& rng) {
   return {jx, jy};
 }
 
-// Wavelength numbers stratified over a pixel's samples: sample s gets (order[s] + offset) / spp.
-// The order is shuffled per pixel, on a stream of its own, so that the stratum is independent of
-// the sub-pixel position, which is stratified by the sample index too: paired in index order,
-// each wavelength would see its own part of the pixel, a bias at every edge where the image
-// depends on wavelength (dispersion). Used for the hero wavelengths and for the wavelength a path
-// keeps at a dispersive interface.
+// Element i of a pseudo-random permutation of [0, n) chosen by `key`, in O(1) and without
+// storing the permutation (Kensler 2013, "Correlated Multi-Jittered Sampling": a hash that is a
+// bijection on the next power of two, cycle-walked back into [0, n)). n ≤ 2³².
+inline std::uint32_t permutation_element(std::uint32_t i, std::uint32_t n, std::uint32_t key) {
+  std::uint32_t w = n - 1;
+  w |= w >> 1, w |= w >> 2, w |= w >> 4, w |= w >> 8, w |= w >> 16;
+  do {
+    i ^= key, i *= 0xe170893du, i ^= key >> 16, i ^= (i & w) >> 4, i ^= key >> 8, i *= 0x0929eb3fu, i ^= key >> 23;
+    i ^= (i & w) >> 1, i *= 1u | key >> 27, i *= 0x6935fa69u, i ^= (i & w) >> 11, i *= 0x74dcb303u, i ^= (i & w) >> 2;
+    i *= 0x9e501cc3u, i ^= (i & w) >> 2, i *= 0xc860a3dfu, i &= w, i ^= i >> 5;
+  } while (i >= n);
+  return (i + key) % n;
+}
+
+// Wavelength numbers stratified over a pixel's samples: sample s gets (π(s) + offset) / spp for a
+// permutation π of the strata chosen per pixel, so that the stratum is independent of the
+// sub-pixel position, which is stratified by the sample index too: paired in index order, each
+// wavelength would see its own part of the pixel, a bias at every edge where the image depends on
+// wavelength (dispersion). Used for the hero wavelengths and for the wavelength a path keeps at a
+// dispersive interface. O(1) per sample, so a sample range costs only its own samples.
 class WavelengthStrata {
  public:
-  // Prepares pixel `pixel`'s order; the object is reused from pixel to pixel (no allocation).
   void reset(std::uint64_t seed, std::uint64_t pixel, int spp) {
     Rng rng(seed ^ 0x9e3779b97f4a7c15ULL, pixel);
     offset_ = rng.next_double();
-    order_.resize(static_cast<std::size_t>(spp));
-    std::iota(order_.begin(), order_.end(), 0);
-    for (int i = spp - 1; i > 0; --i) {  // Fisher–Yates, the bound by multiply-shift (Lemire 2019)
-      const auto j = static_cast<std::size_t>((static_cast<std::uint64_t>(rng.next_u32()) * static_cast<std::uint64_t>(i + 1)) >> 32);
-      std::swap(order_[static_cast<std::size_t>(i)], order_[j]);
-    }
+    key_ = rng.next_u32();
+    spp_ = static_cast<std::uint32_t>(spp);
   }
-  double u(int s) const { return (order_[static_cast<std::size_t>(s)] + offset_) / static_cast<double>(order_.size()); }
+  double u(int s) const {
+    return (permutation_element(static_cast<std::uint32_t>(s), spp_, key_) + offset_) / static_cast<double>(spp_);
+  }
 
  private:
-  std::vector<int> order_;
   double offset_ = 0.0;
+  std::uint32_t key_ = 0, spp_ = 1;
 };
 
 // Runs tile(region of ≤ 16×16 pixels, rays) over `region`, tiles in parallel (oneTBB), skipping
