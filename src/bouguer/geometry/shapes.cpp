@@ -363,6 +363,22 @@ Mesh load_mesh(const MeshShape& s, const std::string& what) {
   fail("{}: mesh files must be .obj or .ply (got '{}')", what, s.path.string());
 }
 
+Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what) {
+  const std::size_t n = s.mesh.positions.size();
+  if (s.mesh.triangles.empty()) fail("{}: the triangle mesh has no triangles", what);
+  if (!s.normals.empty() && s.normals.size() != n) fail("{}: {} normals for {} positions", what, s.normals.size(), n);
+  if (!s.uvs.empty() && s.uvs.size() != n) fail("{}: {} UVs for {} positions", what, s.uvs.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = s.mesh.positions[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      fail("{}: position {} is not finite", what, i);
+  }
+  for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
+    for (const std::uint32_t v : s.mesh.triangles[t])
+      if (v >= n) fail("{}: triangle {} names vertex {}, but there are {}", what, t, v, n);
+  return s.mesh;
+}
+
 }  // namespace
 
 std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what) {
@@ -389,6 +405,7 @@ std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what) {
     std::vector<ShapePart> operator()(const LatheShape& s) const { return one(make_lathe(s, what)); }
     std::vector<ShapePart> operator()(const VesselShape& s) const { return make_vessel(s, what); }
     std::vector<ShapePart> operator()(const MeshShape& s) const { return one(load_mesh(s, what)); }
+    std::vector<ShapePart> operator()(const TriangleMeshShape& s) const { return one(checked_triangles(s, what)); }
   };
   return std::visit(Visitor{what}, shape);
 }

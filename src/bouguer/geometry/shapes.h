@@ -39,9 +39,17 @@ struct VesselShape {
   int segments = 128;
 };
 struct MeshShape { std::filesystem::path path; };
+// Triangles already in memory (a front end's own mesh: glTF, Python): positions in metres, and
+// per-vertex normals and UVs when the source has them (kept for shading and textures; the
+// renderer uses the geometric normal today). Empty normals/uvs, or one per position.
+struct TriangleMeshShape {
+  Mesh mesh;
+  std::vector<Vec3> normals;
+  std::vector<std::array<double, 2>> uvs;
+};
 
 using Shape = std::variant<QuadShape, DiskShape, BoxShape, SphereShape, CylinderShape, PrismShape, PyramidShape,
-                           TruncatedCubeShape, BrilliantShape, LatheShape, VesselShape, MeshShape>;
+                           TruncatedCubeShape, BrilliantShape, LatheShape, VesselShape, MeshShape, TriangleMeshShape>;
 
 // The media on the two sides of each part, relative to the object: the object's own medium
 // (`inside`), the medium around it (`outside`), or the vessel's contents.

@@ -78,18 +78,22 @@ void for_each_tile(PixelRegion region, const RenderControl& control, RenderStats
                    const std::function<void(const PixelRegion& tile, std::uint64_t& rays)>& tile) {
   const int w = region.x1 - region.x0, h = region.y1 - region.y0;
   if (w <= 0 || h <= 0) return;
-  const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
+  const int threads = control.threads > 0 ? control.threads : tbb::this_task_arena::max_concurrency();
+  // Smaller tiles for small regions, so every thread has work (pixels are independent: the tile
+  // size never changes the image).
+  int size = kTileSize;
+  while (size > 1 && ((w + size - 1) / size) * ((h + size - 1) / size) < 8 * threads) size /= 2;
+  const int tiles_x = (w + size - 1) / size, tiles_y = (h + size - 1) / size;
   const int tiles = tiles_x * tiles_y;
   std::atomic<int> done{0};
   tbb::combinable<std::uint64_t> rays([] { return std::uint64_t{0}; });
   auto run = [&](int t) {
     if (control.cancel && control.cancel->load()) return;
-    const int x0 = region.x0 + (t % tiles_x) * kTileSize, y0 = region.y0 + (t / tiles_x) * kTileSize;
-    tile({x0, y0, std::min(x0 + kTileSize, region.x1), std::min(y0 + kTileSize, region.y1)}, rays.local());
+    const int x0 = region.x0 + (t % tiles_x) * size, y0 = region.y0 + (t / tiles_x) * size;
+    tile({x0, y0, std::min(x0 + size, region.x1), std::min(y0 + size, region.y1)}, rays.local());
     const int finished = ++done;
     if (control.progress) control.progress(static_cast<double>(finished) / tiles);
   };
-  const int threads = control.threads > 0 ? control.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {

@@ -71,7 +71,7 @@ class WavelengthStrata {
   std::uint32_t key_ = 0, spp_ = 1;
 };
 
-// Runs tile(region of ≤ 16×16 pixels, rays) over `region`, tiles in parallel (oneTBB), skipping
+// Runs tile(region of at most 16×16 pixels, rays) over `region`, tiles in parallel (oneTBB), skipping
 // the tiles not yet started once control.cancel is set; adds the rays traced to stats.
 void for_each_tile(PixelRegion region, const RenderControl& control, RenderStats& stats,
                    const std::function<void(const PixelRegion& tile, std::uint64_t& rays)>& tile);

@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "bouguer/core/error.h"
+#include "bouguer/scene/builder.h"
 #include "bouguer/spectra/cie.h"
 
 namespace bouguer {
@@ -139,7 +140,13 @@ RenderScene compile(const SceneDesc& desc) {
       fail("{}: background.environment: {}", desc.file.string(), e.what());
     }
   }
-  for (const auto& [name, m] : desc.media) {
+  std::vector<const MediumDesc*> media;
+  for (const MediumDesc& m : predefined_media())
+    if (!desc.media.contains(m.name)) media.push_back(&m);
+  for (const auto& [name, m] : desc.media) media.push_back(&m);
+  for (const MediumDesc* medium : media) {
+    const MediumDesc& m = *medium;
+    const std::string& name = m.name;
     SceneMedium sm;
     sm.name = name;
     sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};

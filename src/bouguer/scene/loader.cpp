@@ -16,6 +16,7 @@
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
 #include "bouguer/render/integrator.h"
+#include "bouguer/scene/builder.h"
 #include "bouguer/scene/material_file.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
@@ -510,21 +511,14 @@ CameraDesc camera(const json& j, const Where& w) {
   if (j.contains("position")) c.position_m = length_vec3(j["position"], w / "position");
   if (j.contains("look_at")) c.look_at_m = length_vec3(j["look_at"], w / "look_at");
   if (j.contains("up")) c.up = vec3(j["up"], w / "up");
-  if (j.contains("fov_deg")) {
-    c.fov_deg = number(j["fov_deg"], w / "fov_deg");
-    if (!(c.fov_deg > 0.0 && c.fov_deg < 180.0)) (w / "fov_deg").fail("must be between 0 and 180 degrees");
-  }
+  if (j.contains("fov_deg")) c.fov_deg = number(j["fov_deg"], w / "fov_deg");
   if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
   if (j.contains("resolution")) {
     array(j["resolution"], w / "resolution", 2);
     c.width_px = integer(j["resolution"][0], (w / "resolution")[0], 1, 16384);
     c.height_px = integer(j["resolution"][1], (w / "resolution")[1], 1, 16384);
   }
-  const Vec3 forward = c.look_at_m - c.position_m;
-  if (length(forward) == 0.0) w.fail("'position' and 'look_at' coincide");
-  if (length(c.up) == 0.0 || length(cross(normalize(forward), normalize(c.up))) < 1e-9)
-    (w / "up").fail("'up' must not be zero or parallel to the view direction");
-  return c;
+  return c;  // checked by the builder
 }
 
 RenderSettings render_settings(const json& j, const Where& w) {
@@ -572,8 +566,6 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
   if (l.type == DeltaLightType::spot) {
     if (j.contains("cone_deg")) l.cone_deg = number(j["cone_deg"], w / "cone_deg");
     l.falloff_deg = j.contains("falloff_deg") ? number(j["falloff_deg"], w / "falloff_deg") : 0.8 * l.cone_deg;
-    if (!(l.cone_deg > 0.0 && l.cone_deg <= 90.0)) (w / "cone_deg").fail("must be between 0 and 90 degrees");
-    if (!(l.falloff_deg >= 0.0 && l.falloff_deg <= l.cone_deg)) (w / "falloff_deg").fail("must be between 0 and cone_deg");
     if (j.contains("radius")) {
       l.radius_m = length_m(j["radius"], w / "radius");
       if (!(l.radius_m > 0.0)) (w / "radius").fail("must be a positive length");
@@ -602,16 +594,10 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   if (j.contains("contents")) o.contents = text(j["contents"], w / "contents");
   if (j.contains("emission")) o.emission = emission(j["emission"], w / "emission", true);
   if (j.contains("material")) o.material = material(j["material"], w / "material");
-  const int roles = int(o.inside.has_value()) + int(o.emission.has_value()) + int(o.material.has_value());
-  if (roles != 1) w.fail("give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
-  if (!o.inside && (o.outside || o.contents || j.contains("roughness")))
+  if (!o.inside && j.contains("roughness"))
     w.fail("'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
   if (j.contains("roughness")) o.roughness = roughness(j["roughness"], w / "roughness");
-  const bool vessel = std::holds_alternative<VesselShape>(o.shape);
-  if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
-    w.fail("a filled vessel needs 'contents' (the liquid's medium)");
-  if (!vessel && o.contents) (w / "contents").fail("only a vessel has contents");
-  return o;
+  return o;  // its roles and media are checked by the builder
 }
 
 }  // namespace
@@ -649,54 +635,32 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
   }
   const Where top{&path, ""};
   expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "lights", "background"});
-  SceneDesc s;
-  s.file = path;
-  s.media["vacuum"] = {"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false};
-  s.media["air"] = {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false};
-  if (root.contains("camera")) s.camera = camera(root["camera"], top / "camera");
-  if (root.contains("render")) s.render = render_settings(root["render"], top / "render");
-  if (root.contains("world_medium")) s.world_medium = text(root["world_medium"], top / "world_medium");
+  SceneBuilder b(path);
+  if (root.contains("camera")) b.camera(camera(root["camera"], top / "camera"));
+  if (root.contains("render")) b.settings(render_settings(root["render"], top / "render"));
+  if (root.contains("world_medium")) b.world_medium(text(root["world_medium"], top / "world_medium"));
   if (root.contains("media")) {
     const Where wm = top / "media";
     if (!root["media"].is_object()) wm.fail("expected an object of named media");
-    for (const auto& [name, m] : root["media"].items()) {
-      if (name == "vacuum" || name == "air") (wm / name).fail("'{}' is predefined; choose another name", name);
-      s.media[name] = medium(name, m, wm / name);
-    }
+    for (const auto& [name, m] : root["media"].items()) b.medium(medium(name, m, wm / name), (wm / name).path);
   }
   if (!root.contains("objects")) top.fail("needs 'objects'");
   const Where wo = top / "objects";
   array(root["objects"], wo);
-  for (std::size_t i = 0; i < root["objects"].size(); ++i) s.objects.push_back(object(root["objects"][i], wo[i], i));
+  for (std::size_t i = 0; i < root["objects"].size(); ++i) b.object(object(root["objects"][i], wo[i], i), wo[i].path);
   if (root.contains("lights")) {
     const Where wl = top / "lights";
     array(root["lights"], wl);
-    for (std::size_t i = 0; i < root["lights"].size(); ++i) {
-      s.lights.push_back(delta_light(root["lights"][i], wl[i]));
-    }
+    for (std::size_t i = 0; i < root["lights"].size(); ++i) b.light(delta_light(root["lights"][i], wl[i]), wl[i].path);
   }
   if (root.contains("background")) {
-    const json& b = root["background"];
-    if (b.is_object() && b.contains("environment"))
-      s.environment = environment(b, top / "background");
+    const json& bg = root["background"];
+    if (bg.is_object() && bg.contains("environment"))
+      b.environment(environment(bg, top / "background"));
     else
-      s.background = emission(b, top / "background", false);
+      b.background(emission(bg, top / "background", false));
   }
-  // Every medium named by an object must exist.
-  std::vector<std::string> names;
-  for (const auto& [name, m] : s.media) names.push_back(name);
-  auto check = [&](const std::string& name, const Where& w) {
-    if (s.media.contains(name)) return;
-    w.fail("unknown medium '{}'{}", name, suggestion(name, names));
-  };
-  check(s.world_medium, top / "world_medium");
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
-    const ObjectDesc& o = s.objects[i];
-    if (o.inside) check(*o.inside, wo[i] / "inside");
-    if (o.outside) check(*o.outside, wo[i] / "outside");
-    if (o.contents) check(*o.contents, wo[i] / "contents");
-  }
-  return s;
+  return std::move(b).build();
 }
 
 SceneDesc load_scene(const fs::path& path) { return parse_scene(read_text_file(path), path); }

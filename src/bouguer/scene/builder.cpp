@@ -1,0 +1,126 @@
+#include "bouguer/scene/builder.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "bouguer/core/error.h"
+#include "bouguer/core/strings.h"
+
+namespace bouguer {
+
+const std::vector<MediumDesc>& predefined_media() {
+  static const std::vector<MediumDesc> media = {{"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false},
+                                                {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false}};
+  return media;
+}
+
+namespace {
+bool is_predefined(const std::string& name) {
+  for (const MediumDesc& m : predefined_media())
+    if (m.name == name) return true;
+  return false;
+}
+}  // namespace
+
+SceneBuilder::SceneBuilder(std::filesystem::path source) { desc_.file = std::move(source); }
+
+void SceneBuilder::fail_at(const std::string& where, const std::string& problem) const {
+  fail("{}: {}: {}", desc_.file.string(), where.empty() ? "(top level)" : where, problem);
+}
+
+void SceneBuilder::refer_to_medium(const std::string& name, const std::string& where) {
+  medium_refs_.emplace_back(name, where);
+}
+
+SceneBuilder& SceneBuilder::camera(const CameraDesc& c, const std::string& where) {
+  if (c.type == CameraType::pinhole && !(c.fov_deg > 0.0 && c.fov_deg < 180.0))
+    fail_at(where + ".fov_deg", "must be between 0 and 180 degrees");
+  if (c.type == CameraType::orthographic && !(c.width_m > 0.0)) fail_at(where + ".width", "must be a positive length");
+  if (c.width_px < 1 || c.height_px < 1 || c.width_px > 16384 || c.height_px > 16384)
+    fail_at(where + ".resolution", fmt::format("each side must be 1 to 16384 pixels (got {}x{})", c.width_px, c.height_px));
+  const Vec3 forward = c.look_at_m - c.position_m;
+  if (length(forward) == 0.0) fail_at(where, "'position' and 'look_at' coincide");
+  if (length(c.up) == 0.0 || length(cross(normalize(forward), normalize(c.up))) < 1e-9)
+    fail_at(where + ".up", "'up' must not be zero or parallel to the view direction");
+  desc_.camera = c;
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::settings(const RenderSettings& s, const std::string& where) {
+  if (s.spp < 1 || s.spp > (1 << 20)) fail_at(where + ".spp", fmt::format("must be between 1 and {}", 1 << 20));
+  if (s.max_depth < 1 || s.max_depth > 1000) fail_at(where + ".max_depth", "must be between 1 and 1000");
+  desc_.render = s;
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::world_medium(const std::string& name, const std::string& where) {
+  desc_.world_medium = name;
+  refer_to_medium(name, where);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
+  if (is_predefined(m.name)) fail_at(where, fmt::format("'{}' is predefined; choose another name", m.name));
+  if (desc_.media.contains(m.name)) fail_at(where, fmt::format("a medium named '{}' exists already", m.name));
+  const std::string name = m.name;
+  desc_.media[name] = std::move(m);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::object(ObjectDesc o, const std::string& where) {
+  const int roles = int(o.inside.has_value()) + int(o.emission.has_value()) + int(o.material.has_value());
+  if (roles != 1) fail_at(where, "give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
+  if (!o.inside && (o.outside || o.contents || o.roughness != 0.0))
+    fail_at(where, "'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
+  if (!(o.roughness >= 0.0 && o.roughness <= 1.0))
+    fail_at(where + ".roughness", fmt::format("a GGX roughness (alpha) must be between 0 and 1 (got {})", o.roughness));
+  const bool vessel = std::holds_alternative<VesselShape>(o.shape);
+  if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
+    fail_at(where, "a filled vessel needs 'contents' (the liquid's medium)");
+  if (!vessel && o.contents) fail_at(where + ".contents", "only a vessel has contents");
+  if (o.inside) refer_to_medium(*o.inside, where + ".inside");
+  if (o.outside) refer_to_medium(*o.outside, where + ".outside");
+  if (o.contents) refer_to_medium(*o.contents, where + ".contents");
+  desc_.objects.push_back(std::move(o));
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::light(const DeltaLightDesc& l, const std::string& where) {
+  if (l.type != DeltaLightType::point && std::abs(length(l.direction) - 1.0) > 1e-9)
+    fail_at(where, "the light's direction must be a unit vector");
+  if (l.type == DeltaLightType::spot) {
+    if (!(l.cone_deg > 0.0 && l.cone_deg <= 90.0)) fail_at(where + ".cone_deg", "must be between 0 and 90 degrees");
+    if (!(l.falloff_deg >= 0.0 && l.falloff_deg <= l.cone_deg))
+      fail_at(where + ".falloff_deg", "must be between 0 and cone_deg");
+  }
+  if (l.radius_m != 0.0 && (l.type != DeltaLightType::spot || !(l.radius_m > 0.0)))
+    fail_at(where + ".radius", "only a spot light takes a radius, and it must be a positive length");
+  desc_.lights.push_back(l);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::background(const EmissionDesc& e, const std::string& /*where*/) {
+  desc_.background = e;
+  desc_.environment.reset();
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::environment(const EnvironmentDesc& e, const std::string& where) {
+  if (!(e.scale >= 0.0)) fail_at(where + ".scale", fmt::format("must not be negative (got {})", e.scale));
+  desc_.environment = e;
+  return *this;
+}
+
+SceneDesc SceneBuilder::build() && {
+  std::vector<std::string> names;
+  for (const MediumDesc& m : predefined_media()) names.push_back(m.name);
+  for (const auto& [name, m] : desc_.media) names.push_back(name);
+  for (const auto& [name, where] : medium_refs_)
+    if (!is_predefined(name) && !desc_.media.contains(name))
+      fail_at(where, fmt::format("unknown medium '{}'{}", name, suggestion(name, names)));
+  if (!is_predefined(desc_.world_medium) && !desc_.media.contains(desc_.world_medium))
+    fail_at("world_medium", fmt::format("unknown medium '{}'{}", desc_.world_medium, suggestion(desc_.world_medium, names)));
+  return std::move(desc_);
+}
+
+}  // namespace bouguer
