@@ -321,3 +321,38 @@ TEST(Camera, ImportanceIsNormalisedAndFilmPositionsRoundTrip) {
 
 }  // namespace
 }  // namespace bouguer
+
+namespace bouguer {
+namespace {
+
+// One table of integrators and spectral modes: the loader accepts every name in it, the command
+// line offers each with its summary, and the documentation lists them all.
+TEST(IntegratorTable, TheLoaderTheCommandLineAndTheDocsUseIt) {
+  const std::string help = test::run_bouguer({"render", "--help"}).out;
+  const std::string rendering = test::read_file(std::filesystem::path(BOUGUER_SOURCE_DIR) / "docs" / "rendering.md");
+  const std::string format = test::read_file(std::filesystem::path(BOUGUER_SOURCE_DIR) / "docs" / "scene-format.md");
+  std::string integrators, modes;
+  for (const IntegratorInfo& i : integrator_table()) {
+    if (!integrators.empty()) integrators += '|';
+    integrators.append(i.name);
+    const SceneDesc d = parse_scene(
+        fmt::format(R"({{"render": {{"integrator": "{}"}}, "objects": [{{"shape": {{"type": "quad", "size": [1, 1]}},
+                    "material": {{"type": "diffuse"}}}}]}})",
+                    i.name),
+        "table.json");
+    EXPECT_EQ(d.render.integrator, i.type);
+    EXPECT_NE(help.find(std::string(i.summary)), std::string::npos) << i.name;
+    EXPECT_NE(format.find(fmt::format("`\"{}\"`", i.name)), std::string::npos) << i.name;
+  }
+  for (const SpectralModeInfo& m : spectral_mode_table()) {
+    if (!modes.empty()) modes += '|';
+    modes.append(m.name);
+    EXPECT_NE(help.find(std::string(m.summary)), std::string::npos) << m.name;
+  }
+  EXPECT_NE(rendering.find("[--integrator " + integrators + "]"), std::string::npos) << integrators;
+  EXPECT_NE(rendering.find("[--spectral " + modes + "]"), std::string::npos) << modes;
+  EXPECT_EQ(integrator_names(), "whitted, path or light");
+}
+
+}  // namespace
+}  // namespace bouguer
