@@ -2,6 +2,8 @@
 # make bench: the micro-benchmarks and the paper's scenes at fixed settings (512x512, 16 spp, both
 # spectral modes, all cores); the figures go into docs/performance.md between the BENCH markers.
 # Benchmarks report; they never fail on a time.
+# BENCH_BASELINE=path/to/an/older/bouguer adds its time for each row, rendered just before the
+# current build's on the same machine, and the change (for "no scene slower by more than 5 %").
 set -euo pipefail
 build=${1:-build}
 doc=docs/performance.md
@@ -39,25 +41,50 @@ bench_table() {
   local glob=$1 resolution=$2 spp=$3 modes=$4
   shift 4
   local extra=("$@")
+  local baseline=${BENCH_BASELINE:-}
   echo "Measured on $today, $machine, Release build; \`bouguer render SCENE ${*:+$* }--resolution $resolution --spp $spp\`."
   echo
-  echo "| scene | spectral | resolution | spp | seconds | rays | rays/s |"
-  echo "|---|---|---|---|---|---|---|"
+  if [ -n "$baseline" ]; then
+    echo "Baseline: \`$baseline\` (rendered just before each row's current run)."
+    echo
+    echo "| scene | spectral | resolution | spp | seconds | baseline seconds | change | rays | rays/s |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+  else
+    echo "| scene | spectral | resolution | spp | seconds | rays | rays/s |"
+    echo "|---|---|---|---|---|---|---|"
+  fi
   for scene in $glob; do
-    local name stats
+    local name
     name=$(basename "$scene" .json)
     for mode in $modes; do
-      stats=out/bench/$name-$mode.json
-      "$build/bouguer" render "$scene" "${extra[@]}" --spectral "$mode" --resolution "$resolution" --spp "$spp" \
-        -o "out/bench/$name-$mode.exr" --stats-json "$stats" --quiet
-      # --stats-json keys come sorted: rays, rays_per_second, resolution, seconds, ...
-      local rays rays_per_second seconds
-      read -r rays rays_per_second seconds < <(tr -d '\n ' < "$stats" |
-        sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3\n/')
-      printf '| %s | %s | %s | %s | %.2f | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" "$seconds" "$rays" \
-        "$rays_per_second"
+      local rays rays_per_second seconds base_seconds
+      if [ -n "$baseline" ]; then
+        read -r _ _ base_seconds < <(render_stats "$baseline" "$scene" "$mode" "$resolution" "$spp" base "${extra[@]}")
+      fi
+      read -r rays rays_per_second seconds < <(render_stats "$build/bouguer" "$scene" "$mode" "$resolution" "$spp" new "${extra[@]}")
+      if [ -n "$baseline" ]; then
+        printf '| %s | %s | %s | %s | %.2f | %.2f | %+.1f %% | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" \
+          "$seconds" "$base_seconds" "$(echo "$seconds $base_seconds" | awk '{print 100 * ($1 / $2 - 1)}')" "$rays" \
+          "$rays_per_second"
+      else
+        printf '| %s | %s | %s | %s | %.2f | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" "$seconds" "$rays" \
+          "$rays_per_second"
+      fi
     done
   done
+}
+
+# render_stats BINARY SCENE MODE RESOLUTION SPP TAG [flags...]: prints "rays rays_per_second seconds".
+render_stats() {
+  local binary=$1 scene=$2 mode=$3 resolution=$4 spp=$5 tag=$6
+  shift 6
+  local name stats
+  name=$(basename "$scene" .json)
+  stats=out/bench/$name-$mode-$tag.json
+  "$binary" render "$scene" "$@" --spectral "$mode" --resolution "$resolution" --spp "$spp" \
+    -o "out/bench/$name-$mode-$tag.exr" --stats-json "$stats" --quiet
+  # --stats-json keys come sorted: integrator, rays, rays_per_second, resolution, seconds, ...
+  tr -d '\n ' < "$stats" | sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3\n/'
 }
 
 bench_table "scenes/paper/*.json" 512x512 16 "full rgb3" | replace_section scenes

@@ -208,7 +208,7 @@ InterruptedRun interrupt_render(const fs::path& dir, int signals) {
       "cd '{}' && ( '{}' render '{}' --resolution 16x16 --spp 1000000 --threads 1 -o out.png 2>err.txt & pid=$!; "
       "while ! grep -q 'render:' err.txt 2>/dev/null; do sleep 0.05; done; sleep 1; {} wait $pid; "
       "echo $? > code.txt )",
-      dir.string(), exe, kExample, signals == 1 ? "kill -INT $pid;" : "kill -INT $pid; sleep 0.1; kill -INT $pid;");
+      dir.string(), exe, kExample, signals == 1 ? "kill -INT $pid;" : "kill -INT $pid; sleep 0.02; kill -INT $pid 2>/dev/null;");
   const auto start = std::chrono::steady_clock::now();
   EXPECT_EQ(std::system(cmd.c_str()), 0);
   InterruptedRun r;
@@ -229,11 +229,17 @@ TEST(CliRender, FirstInterruptWritesTheImageSoFarSecondExitsAtOnce) {
   EXPECT_GT(read_png_size(once / "out.png"), 0);
   EXPECT_LT(first.seconds_after_signal, 5.0);
 
-  const fs::path twice = test::scratch_dir("interrupt_twice");
-  const InterruptedRun second = interrupt_render(twice, 2);
-  EXPECT_EQ(second.exit_code, 130);
-  EXPECT_FALSE(fs::exists(twice / "out.png"));
-  EXPECT_LT(second.seconds_after_signal, 1.0);
+  // The second signal must arrive while the tiles in flight still run (they take tens of
+  // milliseconds); when they win the race the run is the first case again, so try a few times.
+  bool exited_at_once = false;
+  for (int attempt = 0; attempt < 6 && !exited_at_once; ++attempt) {
+    const fs::path twice = test::scratch_dir("interrupt_twice");
+    const InterruptedRun second = interrupt_render(twice, 2);
+    EXPECT_EQ(second.exit_code, 130);
+    EXPECT_LT(second.seconds_after_signal, 2.0);
+    exited_at_once = !fs::exists(twice / "out.png") && second.err.find("interrupted:") == std::string::npos;
+  }
+  EXPECT_TRUE(exited_at_once) << "a second Ctrl-C never ended the run before the image was written";
 }
 
 }  // namespace
