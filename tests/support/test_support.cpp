@@ -1,12 +1,17 @@
 #include "support/test_support.h"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <new>
 #include <sstream>
+
+#include "bouguer/core/error.h"
 
 namespace bouguer::test {
 namespace fs = std::filesystem;
@@ -58,6 +63,47 @@ RunResult run_bouguer(const std::vector<std::string>& args) {
   r.out = read_file(stem + ".out");
   r.err = read_file(stem + ".err");
   return r;
+}
+
+std::string run_with_memory_budget(const std::function<void()>& body, std::size_t budget_bytes) {
+  int pipe_fds[2];
+  if (::pipe(pipe_fds) != 0) return "pipe failed";
+  const pid_t pid = ::fork();
+  if (pid < 0) return "fork failed";
+  if (pid == 0) {
+    ::close(pipe_fds[0]);
+    std::string outcome;
+    std::size_t pages = 0;
+    std::ifstream("/proc/self/statm") >> pages;  // the address space now, in pages
+    const rlim_t limit = pages * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE)) + budget_bytes;
+    const rlimit rl{limit, limit};
+    if (pages == 0 || ::setrlimit(RLIMIT_AS, &rl) != 0) {
+      outcome = "cannot limit the address space";
+    } else {
+      try {
+        body();
+        outcome = "ok";
+      } catch (const Error& e) {
+        outcome = std::string("error: ") + e.what();
+      } catch (const std::bad_alloc&) {
+        outcome = "std::bad_alloc: more memory than the budget";
+      } catch (const std::exception& e) {
+        outcome = std::string("exception: ") + e.what();
+      }
+    }
+    const ssize_t written = ::write(pipe_fds[1], outcome.data(), outcome.size());
+    ::_exit(written == static_cast<ssize_t>(outcome.size()) ? 0 : 1);
+  }
+  ::close(pipe_fds[1]);
+  std::string outcome;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(pipe_fds[0], buffer, sizeof buffer)) > 0;) outcome.append(buffer, static_cast<std::size_t>(n));
+  ::close(pipe_fds[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  if (WIFSIGNALED(status)) return fmt::format("killed by signal {} (after: '{}')", WTERMSIG(status), outcome);
+  if (WEXITSTATUS(status) != 0) return fmt::format("exited with code {} (after: '{}')", WEXITSTATUS(status), outcome);
+  return outcome;
 }
 
 int line_count(const std::string& text) {

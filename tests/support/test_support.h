@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: scratch folders, running the bouguer binary.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,12 @@ struct RunResult {
 
 // Runs build/bouguer with the given arguments (each shell-quoted), capturing stdout and stderr.
 RunResult run_bouguer(const std::vector<std::string>& args);
+
+// Runs `body` in a child process whose address space may grow by at most budget_bytes beyond what
+// it had at the fork (RLIMIT_AS, like `ulimit -v`). `outcome` says how it ended: "ok" (it
+// returned), "error: <message>" (a bouguer::Error), or what else happened (another exception,
+// std::bad_alloc, a signal).
+std::string run_with_memory_budget(const std::function<void()>& body, std::size_t budget_bytes);
 
 // Number of lines in text (a trailing newline does not start a new line).
 int line_count(const std::string& text);

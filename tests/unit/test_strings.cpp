@@ -20,5 +20,15 @@ TEST(Strings, NearestNameSuggestsOnlyPlausibleMisspellings) {
   EXPECT_EQ(suggestion("colour", keys), " (known: absorption, ior, concentration)");
 }
 
+// What a reader quotes from a file: short, one line, never half a UTF-8 character.
+TEST(Strings, ExcerptIsShortOneLineAndWholeCharacters) {
+  EXPECT_EQ(excerpt("wavelength_nm"), "wavelength_nm");
+  EXPECT_EQ(excerpt(std::string(50, 'x'), 10), "xxxxxxxxxx… (50 bytes)");
+  EXPECT_EQ(excerpt("a\nb\tc\r\x01\x7f"), "a\\nb\\tc\\r\\x01\\x7f");
+  EXPECT_EQ(excerpt(std::string("\0z", 2)), "\\x00z");
+  EXPECT_EQ(excerpt("ab\xC3\xA9" "cd", 3), "ab… (6 bytes)");  // 'é' is two bytes: not cut in half
+  EXPECT_EQ(excerpt("ab\xC3\xA9" "cd", 4), "ab\xC3\xA9" "… (6 bytes)");
+}
+
 }  // namespace
 }  // namespace bouguer

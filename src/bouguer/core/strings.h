@@ -18,6 +18,11 @@ std::optional<std::string> nearest_name(std::string_view name, const std::vector
 // otherwise " (known: a, b, c)".
 std::string suggestion(std::string_view name, const std::vector<std::string>& candidates);
 
+// Text from a file as an error message quotes it: at most `max_bytes` bytes, cut at a UTF-8
+// boundary and marked "… (N bytes)" when longer, with control characters escaped (\n, \t, \xNN)
+// so that the message stays one short line whatever the file holds. Every reader quotes through it.
+std::string excerpt(std::string_view text, std::size_t max_bytes = 40);
+
 // RFC 4648 base64 (for data: URIs in self-contained pages).
 std::string base64_encode(std::string_view bytes);
 

@@ -26,9 +26,13 @@ Mesh welded(const Mesh& m, double tolerance_m) {
     long long x, y, z;
     bool operator<(const Key& o) const { return std::tie(x, y, z) < std::tie(o.x, o.y, o.z); }
   };
-  auto cell = [&](const Vec3& p) {
-    return Key{std::llround(p.x / tolerance_m), std::llround(p.y / tolerance_m), std::llround(p.z / tolerance_m)};
+  // Cells beyond ±2^62 (a coordinate far larger than the tolerance) all share the outermost cell;
+  // llround of such a value, or of NaN, would be undefined.
+  auto index = [&](double v) {
+    const double q = v / tolerance_m;
+    return !std::isnan(q) ? std::llround(std::clamp(q, -0x1p62, 0x1p62)) : 0LL;
   };
+  auto cell = [&](const Vec3& p) { return Key{index(p.x), index(p.y), index(p.z)}; };
   std::map<Key, std::vector<std::uint32_t>> grid;
   Mesh out;
   std::vector<std::uint32_t> remap(m.positions.size());

@@ -4,10 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <sstream>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/strings.h"
 #include "bouguer/geometry/ply.h"
+#include "bouguer/io/csv.h"
+#include "bouguer/io/limits.h"
 
 namespace bouguer {
 namespace {
@@ -326,32 +331,87 @@ std::vector<ShapePart> make_vessel(const VesselShape& v, const std::string& what
   return parts;
 }
 
+// MTL files named by `mtllib`, read with the same checks as every other file (no folders,
+// devices or FIFOs; at most kMaxTextFileBytes). A missing one is a warning in tinyobjloader, as
+// before: Bouguer takes only geometry from OBJ files.
+class CheckedMaterialReader : public tinyobj::MaterialReader {
+ public:
+  CheckedMaterialReader(std::filesystem::path folder, std::string where)
+      : folder_(std::move(folder)), where_(std::move(where)) {}
+  bool operator()(const std::string& id, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* names, std::string* warn, std::string* err) override {
+    const std::filesystem::path path = folder_ / id;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+      if (warn) *warn += "material file not found: " + id + "\n";
+      return false;
+    }
+    std::string text;
+    try {
+      text = read_text_file(path, kMaxTextFileBytes);
+    } catch (const Error& e) {
+      fail("{}: mtllib '{}': {}", where_, excerpt(id), e.what());
+    }
+    std::istringstream in(text);
+    tinyobj::LoadMtl(names, materials, &in, warn, err);
+    return true;
+  }
+
+ private:
+  std::filesystem::path folder_;
+  std::string where_;
+};
+
 Mesh load_obj(const MeshShape& s, const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::exists(s.path, ec)) fail("{}: mesh file '{}' not found", what, s.path.string());
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = true;
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(s.path.string(), config))
-    fail("{}: cannot read '{}': {}", what, s.path.string(), reader.Error());
-  const auto& attrib = reader.GetAttrib();
+  const std::string where = fmt::format("{}: '{}'", what, s.path.string());
+  std::string text;
+  try {
+    text = read_text_file(s.path, kMaxMeshFileBytes);
+  } catch (const Error& e) {
+    fail("{}: {}", what, e.what());
+  }
+  std::istringstream in(text);
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+  std::string warn, err;
+  CheckedMaterialReader mtl(s.path.parent_path(), where);
+  if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtl, /*triangulate=*/true))
+    fail("{}: cannot read it: {}", where, excerpt(err, 200));
+  if (attrib.vertices.size() / 3 > kMaxMeshVertices)
+    fail("{}: more than {} vertices (docs/limits.md)", where, kMaxMeshVertices);
   Mesh m;
-  for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3)
-    m.positions.push_back({attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]});
-  for (const auto& shape : reader.GetShapes()) {
+  m.positions.reserve(attrib.vertices.size() / 3);
+  for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3) {
+    const Vec3 p{attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]};
+    for (int axis = 0; axis < 3; ++axis) {
+      const double v = p[static_cast<std::size_t>(axis)];
+      if (!std::isfinite(v))
+        fail("{}: vertex {}: {} is {}, not a finite number", where, i / 3 + 1, "xyz"[axis], v);
+      if (std::abs(v) > kMaxMeshCoordinate)
+        fail("{}: vertex {}: {} = {} is beyond ±{} (docs/limits.md)", where, i / 3 + 1, "xyz"[axis], v,
+             kMaxMeshCoordinate);
+    }
+    m.positions.push_back(p);
+  }
+  for (const auto& shape : shapes) {
     const auto& idx = shape.mesh.indices;
+    if (m.triangles.size() + idx.size() / 3 > kMaxMeshTriangles)
+      fail("{}: more than {} triangles (docs/limits.md)", where, kMaxMeshTriangles);
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
       std::array<std::uint32_t, 3> t;
       for (int k = 0; k < 3; ++k) {
         const int vi = idx[i + k].vertex_index;
         if (vi < 0 || static_cast<std::size_t>(vi) >= m.positions.size())
-          fail("{}: '{}' has a face with a vertex index out of range", what, s.path.string());
+          fail("{} has a face with a vertex index out of range", where);
         t[k] = static_cast<std::uint32_t>(vi);
       }
       m.triangles.push_back(t);
     }
   }
-  if (m.triangles.empty()) fail("{}: '{}' has no faces", what, s.path.string());
+  if (m.triangles.empty()) fail("{} has no faces", where);
   return m;
 }
 

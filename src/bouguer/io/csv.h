@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "bouguer/io/limits.h"
+
 namespace bouguer {
 
 struct CsvTable {
@@ -19,7 +21,15 @@ struct CsvTable {
 CsvTable parse_csv(std::string_view text, const std::string& source);
 CsvTable read_csv_file(const std::filesystem::path& path);
 
-// The whole file as text; a missing or unreadable file is an Error naming it.
-std::string read_text_file(const std::filesystem::path& path);
+// The whole file, at most max_bytes. Errors name it: missing, unreadable, larger than the limit,
+// or not a regular file (a folder, FIFO, device or socket is refused before a byte is read).
+std::string read_file_bytes(const std::filesystem::path& path, std::uintmax_t max_bytes);
+
+// The same for text: a leading UTF-8 byte-order mark (spreadsheets write one) is dropped.
+std::string read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes = kMaxTextFileBytes);
+
+// For readers that open files themselves (OpenEXR): the same checks, without reading. Returns
+// the size in bytes.
+std::uintmax_t require_regular_file(const std::filesystem::path& path, std::uintmax_t max_bytes);
 
 }  // namespace bouguer

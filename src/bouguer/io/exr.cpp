@@ -14,6 +14,9 @@
 #include <string>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/strings.h"
+#include "bouguer/io/csv.h"
+#include "bouguer/io/limits.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/spectra/color_space.h"
@@ -114,55 +117,131 @@ void write_spectral_exr(const std::filesystem::path& path, const Film& film) {
   write_with_header(path, header, fb, film.height);
 }
 
+namespace {
+
+// The matrix from the file's RGB to linear Rec.709. Chromaticities that describe no colour space
+// (collinear primaries, a white at y = 0, numbers far outside the diagram) are an Error.
+Mat3 to_rec709(const ColorSpace& cs, const std::string& name) {
+  const auto plausible = [](Chromaticity c, double min_y) {
+    return std::isfinite(c.x) && std::isfinite(c.y) && std::abs(c.x) <= 2.0 && std::abs(c.y) <= 2.0 &&
+           std::abs(c.y) >= min_y;
+  };
+  const double area = (cs.green.x - cs.red.x) * (cs.blue.y - cs.red.y) - (cs.blue.x - cs.red.x) * (cs.green.y - cs.red.y);
+  if (!plausible(cs.red, 1e-6) || !plausible(cs.green, 1e-6) || !plausible(cs.blue, 1e-6) ||
+      !plausible(cs.white, 1e-3) || cs.white.y < 0.0 || !(std::abs(area) > 1e-6))
+    fail("{}: the EXR chromaticities attribute describes no usable colour space", name);
+  const auto column = [&](Vec3 e) { return xyz_to_linear_rgb(kRec709, linear_rgb_to_xyz(cs, e)); };
+  const Mat3 m = Mat3::from_columns(column({1, 0, 0}), column({0, 1, 0}), column({0, 0, 1}));
+  for (const auto& row : m.m)
+    for (const double v : row)
+      if (!(std::abs(v) <= 1e3)) fail("{}: the EXR chromaticities attribute describes no usable colour space", name);
+  return m;
+}
+
+std::size_t pixel_type_bytes(Imf::PixelType t) { return t == Imf::HALF ? 2 : 4; }
+
+// Checks the header against the limits and the bytes the file holds before anything is
+// allocated for its pixels (docs/limits.md). `read` are the channels that will be decoded.
+void check_exr_size(const Imf::Header& header, const std::vector<std::string>& read, std::uintmax_t file_bytes,
+                    const std::string& name) {
+  const Imath::Box2i dw = header.dataWindow();
+  const std::int64_t width = std::int64_t{dw.max.x} - dw.min.x + 1, height = std::int64_t{dw.max.y} - dw.min.y + 1;
+  if (width < 1 || height < 1 || width > kMaxImageDimension || height > kMaxImageDimension ||
+      static_cast<std::uint64_t>(width * height) > kMaxImagePixels)
+    fail("{}: EXR size {} × {} is outside 1 × 1 .. {} × {} pixels and {} pixels in all (docs/limits.md)", name, width,
+         height, kMaxImageDimension, kMaxImageDimension, kMaxImagePixels);
+  const auto pixels = static_cast<std::uint64_t>(width * height);
+  if (pixels * read.size() > kMaxImageValues)
+    fail("{}: EXR holds {} channels of {} pixels, more than the {} values an image may have (docs/limits.md)", name,
+         read.size(), pixels, kMaxImageValues);
+  double stored = 0.0;  // bytes of the channels read, as the file stores them before compression
+  for (const std::string& c : read) {
+    const Imf::Channel& ch = header.channels()[c];
+    if (ch.xSampling != 1 || ch.ySampling != 1)
+      fail("{}: EXR channel '{}' is subsampled ({} × {}); only full-resolution channels can be read", name,
+           excerpt(c), ch.xSampling, ch.ySampling);
+    stored += static_cast<double>(pixels * pixel_type_bytes(ch.type));
+  }
+  const double expansion = header.compression() == Imf::NO_COMPRESSION ? 1.0 : kMaxExrExpansion;
+  if (stored > static_cast<double>(file_bytes) * expansion)
+    fail("{}: EXR header claims {} × {} pixels in {} channels, more than its {} bytes can hold", name, width, height,
+         read.size(), file_bytes);
+}
+
+}  // namespace
+
 Film read_exr(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) fail("{}: file not found", path.string());
+  const std::string name = path.string();
+  const std::uintmax_t file_bytes = require_regular_file(path, kMaxImageFileBytes);
   try {
+    // OpenEXR's own sanity check then refuses larger data windows and tiles while it opens the file.
+    Imf::Header::setMaxImageSize(kMaxImageDimension, kMaxImageDimension);
+    Imf::Header::setMaxTileSize(kMaxImageDimension, kMaxImageDimension);
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
-    const int width = dw.max.x - dw.min.x + 1, height = dw.max.y - dw.min.y + 1;
     const Imf::ChannelList& channels = file.header().channels();
     for (const char* c : {"R", "G", "B"})
-      if (!channels.findChannel(c)) fail("{}: EXR has no '{}' channel", path.string(), c);
+      if (!channels.findChannel(c)) fail("{}: EXR has no '{}' channel", name, c);
     std::vector<std::pair<double, std::string>> spectral;
     for (auto it = channels.begin(); it != channels.end(); ++it)
-      if (const auto nm = parse_spectral_channel(it.name())) spectral.emplace_back(*nm, it.name());
+      if (const auto nm = parse_spectral_channel(it.name())) {
+        if (!(*nm >= kMinWavelengthNm && *nm <= kMaxWavelengthNm))
+          fail("{}: spectral channel '{}' is outside {} .. {} nm", name, excerpt(it.name()), kMinWavelengthNm,
+               kMaxWavelengthNm);
+        spectral.emplace_back(*nm, it.name());
+      }
     std::sort(spectral.begin(), spectral.end());
+    for (std::size_t i = 1; i < spectral.size(); ++i)
+      if (spectral[i].first == spectral[i - 1].first)
+        fail("{}: spectral channels '{}' and '{}' name the same wavelength", name, excerpt(spectral[i - 1].second),
+             excerpt(spectral[i].second));
+    std::vector<std::string> read = {"R", "G", "B"};
+    for (const auto& p : spectral) read.push_back(p.second);
+    check_exr_size(file.header(), read, file_bytes, name);
+    const int width = dw.max.x - dw.min.x + 1, height = dw.max.y - dw.min.y + 1;
     std::vector<double> wavelengths(spectral.size());
     std::transform(spectral.begin(), spectral.end(), wavelengths.begin(), [](const auto& p) { return p.first; });
     Film film(width, height, std::move(wavelengths));
 
-    // Slices address pixel (x, y) of the data window at base + x·xs + y·ys, so shift the base.
-    const std::ptrdiff_t origin = static_cast<std::ptrdiff_t>(dw.min.x) + static_cast<std::ptrdiff_t>(dw.min.y) * width;
+    // Slices address pixel (x, y) of the data window; Slice::Make shifts the base by its origin.
     Imf::FrameBuffer fb;
-    char* rgb_base = reinterpret_cast<char*>(film.rgb.data() - 3 * origin);
     const std::size_t xs = 3 * kFloat, ys = xs * width;
-    fb.insert("R", Imf::Slice(Imf::FLOAT, rgb_base, xs, ys));
-    fb.insert("G", Imf::Slice(Imf::FLOAT, rgb_base + kFloat, xs, ys));
-    fb.insert("B", Imf::Slice(Imf::FLOAT, rgb_base + 2 * kFloat, xs, ys));
+    for (int c = 0; c < 3; ++c)
+      fb.insert(read[c], Imf::Slice::Make(Imf::FLOAT, film.rgb.data() + c, dw, xs, ys));
     const std::size_t n = spectral.size();
-    char* spectral_base = reinterpret_cast<char*>(film.spectral.data() - static_cast<std::ptrdiff_t>(n) * origin);
     for (std::size_t i = 0; i < n; ++i)
-      fb.insert(spectral[i].second, Imf::Slice(Imf::FLOAT, spectral_base + i * kFloat, n * kFloat, n * kFloat * width));
+      fb.insert(spectral[i].second,
+                Imf::Slice::Make(Imf::FLOAT, film.spectral.data() + i, dw, n * kFloat, n * kFloat * width));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
+    const auto require_finite = [&](const char* after) {
+      for (std::size_t i = 0; i < film.rgb.size(); ++i)
+        if (!std::isfinite(film.rgb[i]))
+          fail("{}: pixel ({}, {}) channel {} is {}{}, not a finite number", name, i / 3 % width, i / 3 / width,
+               read[i % 3], static_cast<double>(film.rgb[i]), after);
+    };
+    require_finite("");
+    for (std::size_t i = 0; i < film.spectral.size(); ++i)
+      if (!std::isfinite(film.spectral[i]))
+        fail("{}: pixel ({}, {}) channel '{}' is {}, not a finite number", name, i / n % width, i / n / width,
+             excerpt(spectral[i % n].second), static_cast<double>(film.spectral[i]));
     // A Film is linear Rec.709 (D65); RGB in other primaries (ACEScg, Rec.2020, ...) is converted,
     // adapting a non-D65 white with Bradford as colour-managed pipelines do.
     if (const auto cs = exr_color_space(file.header())) {
-      const auto column = [&](Vec3 e) { return xyz_to_linear_rgb(kRec709, linear_rgb_to_xyz(*cs, e)); };
-      const Mat3 to_709 = Mat3::from_columns(column({1, 0, 0}), column({0, 1, 0}), column({0, 0, 1}));
+      const Mat3 to_709 = to_rec709(*cs, name);
       for (std::size_t i = 0; i < film.rgb.size(); i += 3) {
         const Vec3 rgb = to_709 * Vec3{film.rgb[i], film.rgb[i + 1], film.rgb[i + 2]};
         film.rgb[i] = static_cast<float>(rgb.x);
         film.rgb[i + 1] = static_cast<float>(rgb.y);
         film.rgb[i + 2] = static_cast<float>(rgb.z);
       }
+      require_finite(" after conversion to Rec.709");
     }
     return film;
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    fail("{}: cannot read EXR: {}", path.string(), e.what());
+    fail("{}: cannot read EXR: {}", name, excerpt(e.what(), 200));
   }
 }
 

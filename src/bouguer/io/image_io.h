@@ -25,7 +25,9 @@ std::string encode_png(const Film& film);
 void write_image(const std::filesystem::path& path, const Film& film);
 
 // EXR reading keeps spectral channels (S0.*nm) when the file has them, and converts RGB in other
-// primaries (the chromaticities attribute: ACEScg, Rec.2020, ...) to linear Rec.709.
+// primaries (the chromaticities attribute: ACEScg, Rec.2020, ...) to linear Rec.709. Both readers
+// check sizes against docs/limits.md and the file's bytes before allocating, and accept finite
+// pixel values only.
 Film read_exr(const std::filesystem::path& path);
 Film read_pfm(const std::filesystem::path& path);
 Film read_image(const std::filesystem::path& path);  // by extension: .exr or .pfm

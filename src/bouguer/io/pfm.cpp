@@ -1,11 +1,13 @@
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <sstream>
+#include <string_view>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/strings.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/csv.h"
 #include "bouguer/io/image_io.h"
@@ -40,33 +42,64 @@ void write_pfm(const std::filesystem::path& path, const Film& film) {
   });
 }
 
+namespace {
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+// The header's next whitespace-separated word; empty at the end of the bytes.
+std::string_view next_word(std::string_view bytes, std::size_t& pos) {
+  while (pos < bytes.size() && is_space(bytes[pos])) ++pos;
+  const std::size_t start = pos;
+  while (pos < bytes.size() && !is_space(bytes[pos])) ++pos;
+  return bytes.substr(start, pos - start);
+}
+
+template <typename T>
+bool parse_whole(std::string_view word, T& out) {
+  const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), out);
+  return !word.empty() && ec == std::errc() && ptr == word.data() + word.size();
+}
+
+}  // namespace
+
 Film read_pfm(const std::filesystem::path& path) {
-  const std::string bytes = read_text_file(path);
-  std::istringstream in(bytes);
-  std::string magic;
-  int width = 0, height = 0;
+  const std::string name = path.string();
+  const std::string bytes = read_file_bytes(path, kMaxImageFileBytes);
+  std::size_t pos = 0;
+  const std::string_view magic = next_word(bytes, pos);
+  if (magic != "PF" && magic != "Pf") fail("{}: not a PFM file (expected 'PF' or 'Pf' header)", name);
+  long long width = 0, height = 0;
   double scale = 0.0;
-  in >> magic >> width >> height >> scale;
-  if (!in || (magic != "PF" && magic != "Pf")) fail("{}: not a PFM file (expected 'PF' or 'Pf' header)", path.string());
-  if (width <= 0 || height <= 0 || width > 1 << 16 || height > 1 << 16 || scale == 0.0 || !std::isfinite(scale))
-    fail("{}: PFM header has an invalid size or scale", path.string());
-  in.get();  // the single whitespace character that ends the header
+  const std::string_view w = next_word(bytes, pos), h = next_word(bytes, pos), sc = next_word(bytes, pos);
+  if (!parse_whole(w, width) || !parse_whole(h, height) || !parse_whole(sc, scale))
+    fail("{}: PFM header '{} {} {}' is not 'width height scale'", name, excerpt(w), excerpt(h), excerpt(sc));
+  if (width <= 0 || height <= 0 || width > kMaxImageDimension || height > kMaxImageDimension ||
+      static_cast<std::size_t>(width * height) > kMaxImagePixels)
+    fail("{}: PFM size {} × {} is outside 1 × 1 .. {} × {} pixels and {} pixels in all (docs/limits.md)", name, width,
+         height, kMaxImageDimension, kMaxImageDimension, kMaxImagePixels);
+  if (scale == 0.0 || !std::isfinite(scale)) fail("{}: PFM scale '{}' must be a non-zero number", name, excerpt(sc));
+  // The header ends with a single whitespace character; the pixels follow it.
+  if (pos >= bytes.size()) fail("{}: PFM file ends after its header (no pixels)", name);
+  const std::size_t offset = pos + 1;
   const int channels = magic == "PF" ? 3 : 1;
-  const auto offset = static_cast<std::size_t>(in.tellg());
-  const std::size_t count = static_cast<std::size_t>(width) * height * channels;
-  if (bytes.size() < offset + count * sizeof(float))
-    fail("{}: PFM file is truncated ({} bytes of pixels, {} expected)", path.string(), bytes.size() - offset,
+  const std::size_t count = static_cast<std::size_t>(width * height) * channels;
+  if (bytes.size() - offset < count * sizeof(float))
+    fail("{}: PFM file is truncated ({} bytes of pixels, {} expected)", name, bytes.size() - offset,
          count * sizeof(float));
   const bool file_little = scale < 0.0;
   const bool swap = file_little != (std::endian::native == std::endian::little);
-  Film film(width, height);
-  for (int row = 0; row < height; ++row) {
-    const int y = height - 1 - row;
-    for (int x = 0; x < width; ++x) {
+  Film film(static_cast<int>(width), static_cast<int>(height));
+  for (int row = 0; row < film.height; ++row) {
+    const int y = film.height - 1 - row;
+    for (int x = 0; x < film.width; ++x) {
       float v[3];
-      const std::size_t at = offset + (static_cast<std::size_t>(row) * width + x) * channels * sizeof(float);
+      const std::size_t at = offset + (static_cast<std::size_t>(row) * film.width + x) * channels * sizeof(float);
       std::memcpy(v, bytes.data() + at, channels * sizeof(float));
-      for (int c = 0; c < channels; ++c) v[c] = swap ? byteswap(v[c]) : v[c];
+      for (int c = 0; c < channels; ++c) {
+        v[c] = swap ? byteswap(v[c]) : v[c];
+        if (!std::isfinite(v[c]))
+          fail("{}: pixel ({}, {}) holds {}, not a finite number", name, x, y, static_cast<double>(v[c]));
+      }
       film.set_rgb(x, y, channels == 3 ? Vec3f{v[0], v[1], v[2]} : Vec3f{v[0], v[0], v[0]});
     }
   }

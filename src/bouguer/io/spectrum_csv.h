@@ -13,8 +13,9 @@ struct SpectrumCsvRules {
 };
 
 // Column `column` (1 = the first after wavelength_nm) of a table as a spectrum. Errors name the
-// source and line: non-increasing wavelengths, NaN or infinite values, negative values where not
-// allowed, a first column other than wavelength_nm.
+// source and line: wavelengths outside kMinWavelengthNm..kMaxWavelengthNm or not increasing, NaN,
+// infinite or values beyond ±kMaxTableValue (io/limits.h), negative values where not allowed, a
+// first column other than wavelength_nm.
 TabulatedSpectrum spectrum_from_csv(const CsvTable& table, std::size_t column = 1, SpectrumCsvRules rules = {});
 
 // A two-column spectrum file.

@@ -71,6 +71,8 @@ TabulatedSpectrum to_sigma_a_per_m(const TabulatedSpectrum& values, AbsorptionUn
         break;
     }
     sigma.value[i] = s * concentration;
+    if (!std::isfinite(sigma.value[i]))
+      fail("{}: the value at {} nm gives σ_a = {} per metre, not a finite number", what, nm, sigma.value[i]);
   }
   return sigma;
 }

@@ -6,6 +6,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/io/limits.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {
@@ -62,8 +63,16 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
 EnvironmentMap load_environment(const EnvironmentDesc& desc) {
   const Film image = read_image(desc.file);
   if (image.width < 2 || image.height < 2) fail("{}: an environment map needs at least 2 × 2 pixels", desc.file.string());
-  for (float v : image.rgb)
-    if (!std::isfinite(v)) fail("{}: the environment map holds a non-finite value", desc.file.string());
+  // The image readers accept finite values only; the radiance is the texel times the scale, and
+  // is bounded here, where it is formed (docs/limits.md).
+  if (!std::isfinite(desc.scale)) fail("{}: the environment scale {} is not a finite number", desc.file.string(), desc.scale);
+  for (std::size_t i = 0; i < image.rgb.size(); ++i) {
+    const double v = static_cast<double>(image.rgb[i]) * desc.scale;
+    if (!std::isfinite(v) || std::abs(v) > kMaxEnvironmentRadiance)
+      fail("{}: pixel ({}, {}) channel {}: {} × scale {} is beyond the ±{} an environment map may hold (docs/limits.md)",
+           desc.file.string(), i / 3 % image.width, i / 3 / image.width, "RGB"[i % 3],
+           static_cast<double>(image.rgb[i]), desc.scale, kMaxEnvironmentRadiance);
+  }
   return make_environment(image.width, image.height, image.rgb, desc.scale, desc.rotate_deg);
 }
 

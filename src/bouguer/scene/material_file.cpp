@@ -1,7 +1,6 @@
 #include "bouguer/scene/material_file.h"
 
 #include <algorithm>
-#include <fstream>
 #include <sstream>
 
 #include "bouguer/core/error.h"
@@ -43,24 +42,16 @@ std::vector<HeaderLine> header_lines(const std::string& text) {
   return out;
 }
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) fail("{}: cannot open the file", path.string());
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 }  // namespace
 
 bool has_unit_header(const std::filesystem::path& path) {
-  for (const HeaderLine& h : header_lines(read_text(path)))
+  for (const HeaderLine& h : header_lines(read_text_file(path)))
     if (h.key == "unit") return true;
   return false;
 }
 
 MaterialFile load_material_csv(const std::filesystem::path& path) {
-  const std::string text = read_text(path);
+  const std::string text = read_text_file(path);
   MaterialFile m;
   bool unit_seen = false;
   std::vector<std::string> seen;
@@ -70,17 +61,18 @@ MaterialFile load_material_csv(const std::filesystem::path& path) {
     const bool known = h.key == "unit" || h.key == "thickness" || h.key == "ior" || h.key == "name" ||
                        h.key == "description" || h.key == "source";
     if (known && std::find(seen.begin(), seen.end(), h.key) != seen.end())
-      fail("{}: '{}' is given twice in the header", where, h.key);
+      fail("{}: '{}' is given twice in the header", where, excerpt(h.key));
     if (known) seen.push_back(h.key);
     if (h.key == "unit") {
       const auto unit = absorption_unit_from_name(h.value);
       if (!unit)
-        fail("{}: unknown unit '{}'{}", where, h.value,
-             suggestion(h.value, {"attenuation_per_m", "absorbance_per_cm", "internal_transmittance",
+        fail("{}: unknown unit '{}'{}", where, excerpt(h.value),
+             suggestion(excerpt(h.value), {"attenuation_per_m", "absorbance_per_cm", "internal_transmittance",
                                   "molar_absorptivity", "extinction_coefficient"}));
       m.unit = *unit;
       unit_seen = true;
     } else if (h.key == "thickness") {
+      if (h.value.size() > 40) fail("{}: thickness '{}' is not a length (write e.g. \"5 mm\")", where, excerpt(h.value));
       try {
         m.thickness_m = parse_length_m(h.value);
       } catch (const Error& e) {
@@ -93,7 +85,7 @@ MaterialFile load_material_csv(const std::filesystem::path& path) {
         m.ior = std::stod(h.value, &used);
         if (used != h.value.size()) throw std::invalid_argument(h.value);
       } catch (const std::exception&) {
-        fail("{}: ior '{}' is not a number", where, h.value);
+        fail("{}: ior '{}' is not a number", where, excerpt(h.value));
       }
       if (!(*m.ior >= 1.0 && *m.ior < 5.0)) fail("{}: a refractive index must be between 1 and 5", where);
     } else if (h.key == "name") {
