@@ -2,7 +2,11 @@
 BUILD ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps configure build demo test bench convergence clean
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 180
+FUZZ_TARGETS ?=
+
+.PHONY: all deps configure build demo test bench convergence fuzz clean
 
 all: build
 
@@ -29,5 +33,10 @@ bench: build
 convergence: build
 	@bash scripts/convergence.sh $(BUILD)
 
+# The readers under libFuzzer, ASan and UBSan (clang; tests/fuzz): each harness for FUZZ_SECONDS on
+# its corpus, one after another; FUZZ_TARGETS picks some (e.g. FUZZ_TARGETS="ply_ascii exr").
+fuzz:
+	@bash scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) $(FUZZ_BUILD) out

@@ -2,6 +2,7 @@
 # Installs the Debian packages Bouguer needs to build, test and render.
 # Idempotent: packages already present are skipped, and `apt-get update` runs only
 # when something is missing. Runs as root, or through sudo when that is available.
+# `install-deps.sh --fuzz` adds what `make fuzz` needs: clang and its libFuzzer/sanitizer runtimes.
 set -euo pipefail
 
 packages=(
@@ -20,6 +21,9 @@ packages=(
   chromium             # the report page is checked in a real browser (headless) by the tests
   fonts-dejavu-core    # a font for plot labels and the report screenshot
 )
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-14-dev)  # libFuzzer, ASan, UBSan (make fuzz only)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,137 @@
+#include "fuzz/targets.h"
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "bouguer/geometry/mesh.h"
+#include "bouguer/geometry/shapes.h"
+#include "bouguer/io/image_io.h"
+#include "bouguer/io/limits.h"
+#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/scene/environment.h"
+#include "bouguer/scene/material_file.h"
+#include "bouguer/spectra/cie.h"
+
+namespace bouguer::fuzz {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path write(const fs::path& dir, const char* name, std::string_view bytes) {
+  const fs::path path = dir / name;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw std::runtime_error("fuzz: cannot write " + path.string());
+  return path;
+}
+
+template <typename... Args>
+void require(bool ok, fmt::format_string<Args...> format, Args&&... args) {
+  if (!ok) throw std::logic_error("fuzz check failed: " + fmt::format(format, std::forward<Args>(args)...));
+}
+
+void check_spectrum(const TabulatedSpectrum& s, const char* what) {
+  require(!s.value.empty() && s.value.size() == s.wavelength_nm.size(), "{}: table sizes", what);
+  for (std::size_t i = 0; i < s.value.size(); ++i) {
+    require(std::isfinite(s.value[i]), "{}: value {} is {}", what, i, s.value[i]);
+    require(s.wavelength_nm[i] >= kMinWavelengthNm && s.wavelength_nm[i] <= kMaxWavelengthNm, "{}: wavelength {}",
+            what, s.wavelength_nm[i]);
+    require(i == 0 || s.wavelength_nm[i] > s.wavelength_nm[i - 1], "{}: wavelengths do not increase", what);
+  }
+}
+
+void check_vec3(const Vec3& v, const char* what) {
+  require(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z), "{}: ({}, {}, {})", what, v.x, v.y, v.z);
+}
+
+void check_film(const Film& f) {
+  require(f.width > 0 && f.height > 0, "film size {} x {}", f.width, f.height);
+  require(f.rgb.size() == 3 * static_cast<std::size_t>(f.width) * f.height, "film rgb size");
+  for (float v : f.rgb) require(std::isfinite(v), "film rgb value {}", v);
+  for (float v : f.spectral) require(std::isfinite(v), "film spectral value {}", v);
+}
+
+// What compile() does with a mesh: weld it and ask whether it is closed.
+void check_mesh(const fs::path& path) {
+  for (const ShapePart& part : make_shape(MeshShape{path}, "fuzz")) {
+    const Mesh& m = part.mesh;
+    require(!m.triangles.empty(), "mesh accepted without triangles");
+    for (const Vec3& p : m.positions) check_vec3(p, "vertex");
+    for (const auto& t : m.triangles)
+      for (const auto k : t) require(k < m.positions.size(), "index {} of {}", k, m.positions.size());
+    const double tolerance = 1e-9 * std::max(max_extent(m), 1e-6);
+    (void)closed_surface_problem(welded(m, tolerance));
+    require(std::isfinite(signed_volume(m)), "volume {}", signed_volume(m));
+  }
+}
+
+void spectrum_csv(std::string_view bytes, const fs::path& dir) {
+  const fs::path path = write(dir, "input.csv", bytes);
+  const TabulatedSpectrum s = load_spectrum_csv(path, {.allow_negative = true});
+  check_spectrum(s, "spectrum");
+  check_vec3(spectrum_to_xyz(s), "XYZ");
+  check_spectrum(load_spectrum_csv(path), "non-negative spectrum");
+}
+
+void material_csv(std::string_view bytes, const fs::path& dir) {
+  const fs::path path = write(dir, "input.csv", bytes);
+  (void)has_unit_header(path);
+  const ResolvedMaterial r = resolve_material(path.string(), 1.0);
+  require(r.file.has_value(), "material file not kept");
+  check_spectrum(r.file->values, "material values");
+  require(r.ior >= 1.0 && r.ior < 5.0, "ior {}", r.ior);
+  const auto* sigma = std::get_if<TabulatedSpectrum>(&r.sigma_a_per_m);
+  require(sigma != nullptr, "sigma_a is not a table");
+  check_spectrum(*sigma, "sigma_a");
+  for (double v : sigma->value) require(v >= 0.0, "negative sigma_a {}", v);
+}
+
+void obj(std::string_view bytes, const fs::path& dir) {
+  const std::size_t split = bytes.find(kMtlSeparator);
+  write(dir, "input.mtl", split == std::string_view::npos ? "" : bytes.substr(split + kMtlSeparator.size()));
+  check_mesh(write(dir, "input.obj", bytes.substr(0, split)));
+}
+
+void ply(std::string_view bytes, const fs::path& dir) { check_mesh(write(dir, "input.ply", bytes)); }
+
+void exr(std::string_view bytes, const fs::path& dir) { check_film(read_exr(write(dir, "input.exr", bytes))); }
+
+void pfm(std::string_view bytes, const fs::path& dir) { check_film(read_pfm(write(dir, "input.pfm", bytes))); }
+
+// An EXR or a PFM (by its first bytes) as an environment light, sampled as the integrators do.
+void environment(std::string_view bytes, const fs::path& dir) {
+  const bool is_pfm = bytes.starts_with("P");
+  const fs::path path = write(dir, is_pfm ? "input.pfm" : "input.exr", bytes);
+  const EnvironmentMap env = load_environment({.file = path, .scale = 2.5, .rotate_deg = 30.0});
+  require(env.total_weight >= 0.0 && std::isfinite(env.total_weight), "total weight {}", env.total_weight);
+  for (const Vec3f& c : env.rgb) require(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z), "texel");
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) {
+      const auto s = env.sample((i + 0.5) / 8.0, (j + 0.5) / 8.0);
+      if (!s) continue;
+      check_vec3(s->wi, "sampled direction");
+      require(std::isfinite(s->pdf) && s->pdf > 0.0, "pdf {}", s->pdf);
+      require(std::isfinite(env.pdf(s->wi)), "pdf of a sampled direction");
+    }
+}
+
+}  // namespace
+
+const std::vector<Target>& targets() {
+  static const std::vector<Target> all = {
+      {"spectrum_csv", spectrum_csv}, {"material_csv", material_csv}, {"obj", obj}, {"ply_ascii", ply},
+      {"ply_binary", ply},            {"exr", exr},                   {"pfm", pfm}, {"environment", environment},
+  };
+  return all;
+}
+
+const Target* find_target(std::string_view name) {
+  for (const Target& t : targets())
+    if (name == t.name) return &t;
+  return nullptr;
+}
+
+}  // namespace bouguer::fuzz
