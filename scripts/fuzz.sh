@@ -22,6 +22,8 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=
   -DBOUGUER_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" --target bouguer_fuzzers -j "${JOBS:-2}"
 
+# Each input is written to a scratch file (the readers take paths): in memory where there is /dev/shm.
+if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 failed=()
 summary=()
 for t in "${targets[@]}"; do

@@ -257,6 +257,22 @@ TEST(HostileInput, ExrHeadersAreCheckedAgainstTheFileSize) {
   const std::string outcome = test::run_with_memory_budget([&] { read_exr(dir / "claims.exr"); }, kBudget);
   EXPECT_TRUE(has(outcome, "error: " + (dir / "claims.exr").string())) << outcome;
 
+  // OpenEXR allocates an attribute's stated size before reading it (found by fuzzing).
+  test::write_file(dir / "attribute.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0comment\0opaque\0", 23) +
+                                              bytes_of(std::int32_t{1634231040}) + "xyz");
+  EXPECT_TRUE(has(test::run_with_memory_budget([&] { read_exr(dir / "attribute.exr"); }, kBudget),
+                  "attribute.exr: EXR attribute 'comment' claims 1634231040 bytes, but only 3 follow"));
+
+  // A value shorter than its stated size: OpenEXR reads a channel list up to its end and takes
+  // the bytes after it for the next attribute, here one of 1.9·10⁹ bytes.
+  const std::string chlist = std::string("R\0", 2) + bytes_of(std::int32_t{2}) + std::string(4, '\0') +
+                             bytes_of(std::int32_t{1}) + bytes_of(std::int32_t{1}) + std::string(1, '\0');
+  const std::string inner = chlist + std::string("n\0t\0", 4) + bytes_of(std::int32_t{1886220131});
+  test::write_file(dir / "chlist.exr", std::string("\x76\x2f\x31\x01\x02\0\0\0channels\0chlist\0", 24) +
+                                           bytes_of(static_cast<std::int32_t>(inner.size())) + inner + '\0');
+  EXPECT_TRUE(has(test::run_with_memory_budget([&] { read_exr(dir / "chlist.exr"); }, kBudget),
+                  "chlist.exr: EXR attribute 'channels' of type 'chlist' does not fill its 27 bytes"));
+
   Film nan(2, 1);
   nan.set_rgb(1, 0, {0.0f, std::numeric_limits<float>::infinity(), 0.0f});
   write_exr(dir / "inf.exr", nan);

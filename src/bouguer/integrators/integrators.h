@@ -21,7 +21,7 @@ void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelR
 // samples in a shuffled order; the fixed modes stratify the wavelength kept at a dispersive
 // interface instead), handed to sample(x, y, s, rng, wavelengths, dispersion_u, rays).
 template <std::size_t N, typename Sample>
-void for_each_pixel_sample(const SpectralTables<N>& tables, const RenderSettings& settings, int film_width,
+void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& tables, const RenderSettings& settings, int film_width,
                            PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
                            std::uint64_t salt, Sample sample) {
   const bool hero = settings.spectral == SpectralMode::hero;
@@ -36,7 +36,7 @@ void for_each_pixel_sample(const SpectralTables<N>& tables, const RenderSettings
         for (int s = range.begin; s < range.end; ++s) {
           Rng rng = sample_rng(settings.seed, pixel, s, salt);
           tables.restart(w, hero ? strata.u(s) / static_cast<double>(N) : 0.0);
-          const double dispersion_u = hero ? rng.next_double() : strata.u(s);
+          const double dispersion_u = hero ? rng.next_double() : scene.dispersive ? strata.u(s) : 0.0;
           sample(x, y, s, rng, w, dispersion_u, rays);
         }
       }
@@ -52,7 +52,7 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth};
-  for_each_pixel_sample<N>(tables, settings, film.width(), region, range, control, stats, 0,
+  for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, 0,
                            [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                std::uint64_t& rays) {
                              const auto [u, v] = subpixel(s, settings.spp, rng);

@@ -73,7 +73,7 @@ void render_light(const RenderScene& scene, const RenderSettings& settings, Film
     const SpectralTables<N> tables(scene.spectra, settings.spectral);
     const Camera camera(scene.camera);
     const SceneView<N> view{scene, tables, camera, settings.max_depth};
-    for_each_pixel_sample<N>(tables, settings, film.width(), region, range, control, stats, 1,
+    for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, 1,
                              [&](int, int, int, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                  std::uint64_t& rays) { trace_light_path(view, w, dispersion_u, rng, film, rays); });
   });

@@ -1,6 +1,8 @@
+#include <OpenEXR/Iex.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStandardAttributes.h>
@@ -8,7 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -138,46 +142,245 @@ Mat3 to_rec709(const ColorSpace& cs, const std::string& name) {
   return m;
 }
 
-std::size_t pixel_type_bytes(Imf::PixelType t) { return t == Imf::HALF ? 2 : 4; }
+// ---- What OpenEXR would allocate, checked before it does ----------------------------------
+// OpenEXR sizes its buffers from the header as it opens a file: an attribute's stated size, the
+// chunk offset table, line and tile buffers. The header is therefore scanned here first, and
+// every such size checked against the limits and the bytes the file holds (docs/limits.md).
 
-// Checks the header against the limits and the bytes the file holds before anything is
-// allocated for its pixels (docs/limits.md). `read` are the channels that will be decoded.
-void check_exr_size(const Imf::Header& header, const std::vector<std::string>& read, std::uintmax_t file_bytes,
-                    const std::string& name) {
-  const Imath::Box2i dw = header.dataWindow();
+struct ExrChannel {
+  std::string name;
+  std::int32_t type = 0;  // 0 UINT, 1 HALF, 2 FLOAT
+  std::int32_t x_sampling = 1, y_sampling = 1;
+};
+
+struct ExrLayout {
+  std::optional<Imath::Box2i> data_window;
+  std::vector<ExrChannel> channels;
+  int compression = Imf::NO_COMPRESSION;
+  std::optional<Imf::TileDescription> tiles;
+  std::optional<std::int64_t> chunk_count;
+};
+
+// Lines per chunk of a scan-line file; 0 for an unknown compression.
+int lines_per_chunk(int compression) {
+  switch (compression) {
+    case Imf::NO_COMPRESSION: case Imf::RLE_COMPRESSION: case Imf::ZIPS_COMPRESSION: return 1;
+    case Imf::ZIP_COMPRESSION: case Imf::PXR24_COMPRESSION: return 16;
+    case Imf::PIZ_COMPRESSION: case Imf::B44_COMPRESSION: case Imf::B44A_COMPRESSION: case Imf::DWAA_COMPRESSION:
+      return 32;
+    case Imf::DWAB_COMPRESSION: return 256;
+    default: return 0;
+  }
+}
+
+void check_exr_layout(const ExrLayout& l, std::uintmax_t file_bytes, const std::string& name) {
+  if (!l.data_window) fail("{}: the EXR header has no dataWindow", name);
+  const Imath::Box2i& dw = *l.data_window;
   const std::int64_t width = std::int64_t{dw.max.x} - dw.min.x + 1, height = std::int64_t{dw.max.y} - dw.min.y + 1;
   if (width < 1 || height < 1 || width > kMaxImageDimension || height > kMaxImageDimension ||
       static_cast<std::uint64_t>(width * height) > kMaxImagePixels)
     fail("{}: EXR size {} × {} is outside 1 × 1 .. {} × {} pixels and {} pixels in all (docs/limits.md)", name, width,
          height, kMaxImageDimension, kMaxImageDimension, kMaxImagePixels);
-  const auto pixels = static_cast<std::uint64_t>(width * height);
-  if (pixels * read.size() > kMaxImageValues)
-    fail("{}: EXR holds {} channels of {} pixels, more than the {} values an image may have (docs/limits.md)", name,
-         read.size(), pixels, kMaxImageValues);
-  double stored = 0.0;  // bytes of the channels read, as the file stores them before compression
-  for (const std::string& c : read) {
-    const Imf::Channel& ch = header.channels()[c];
-    if (ch.xSampling != 1 || ch.ySampling != 1)
-      fail("{}: EXR channel '{}' is subsampled ({} × {}); only full-resolution channels can be read", name,
-           excerpt(c), ch.xSampling, ch.ySampling);
-    stored += static_cast<double>(pixels * pixel_type_bytes(ch.type));
+  double bytes_per_pixel = 0.0, stored = 0.0;  // of all channels, as the file stores them uncompressed
+  for (const ExrChannel& c : l.channels) {
+    if (c.type < 0 || c.type > 2 || c.x_sampling < 1 || c.y_sampling < 1 || c.x_sampling > width ||
+        c.y_sampling > height)
+      fail("{}: EXR channel '{}' has an unknown type or sampling", name, excerpt(c.name));
+    const double size = c.type == Imf::HALF ? 2.0 : 4.0;
+    bytes_per_pixel += size;
+    stored += size * static_cast<double>((width + c.x_sampling - 1) / c.x_sampling) *
+              static_cast<double>((height + c.y_sampling - 1) / c.y_sampling);
   }
-  const double expansion = header.compression() == Imf::NO_COMPRESSION ? 1.0 : kMaxExrExpansion;
-  if (stored > static_cast<double>(file_bytes) * expansion)
+  const int lines = lines_per_chunk(l.compression);
+  if (lines == 0) fail("{}: unknown EXR compression {}", name, l.compression);
+  const double file = static_cast<double>(file_bytes);
+  const double expansion = l.compression == Imf::NO_COMPRESSION ? 1.0 : kMaxExrExpansion;
+  if (stored > file * expansion)
     fail("{}: EXR header claims {} × {} pixels in {} channels, more than its {} bytes can hold", name, width, height,
-         read.size(), file_bytes);
+         l.channels.size(), file_bytes);
+  // One chunk's buffer, and the offset table (8 bytes a chunk, level 0 of a tiled file).
+  double buffer = 0.0, chunks = 0.0;
+  if (l.tiles) {
+    const double tx = l.tiles->xSize, ty = l.tiles->ySize;
+    if (!(tx >= 1 && ty >= 1 && tx <= kMaxImageDimension && ty <= kMaxImageDimension))
+      fail("{}: EXR tiles of {} × {} pixels are outside 1 .. {}", name, tx, ty, kMaxImageDimension);
+    buffer = tx * ty * bytes_per_pixel;
+    chunks = std::ceil(static_cast<double>(width) / tx) * std::ceil(static_cast<double>(height) / ty);
+  } else {
+    buffer = static_cast<double>(width) * bytes_per_pixel * lines;
+    chunks = std::ceil(static_cast<double>(height) / lines);
+  }
+  if (l.chunk_count) chunks = std::max(chunks, static_cast<double>(*l.chunk_count));
+  if (buffer > file * kMaxExrExpansion || chunks * 8.0 > file || (l.chunk_count && *l.chunk_count < 0))
+    fail("{}: EXR header claims {} × {} pixels in chunks that its {} bytes cannot hold", name, width, height,
+         file_bytes);
+}
+
+std::int32_t le_i32(std::string_view v, std::size_t at) {
+  std::uint32_t u = 0;
+  for (int k = 3; k >= 0; --k) u = (u << 8) | static_cast<unsigned char>(v[at + static_cast<std::size_t>(k)]);
+  return static_cast<std::int32_t>(u);
+}
+
+// A chlist value: per channel its name, type, pLinear, 3 reserved bytes, x and y sampling; an
+// empty name ends it, exactly at the end of the value. nullopt when it does not.
+std::optional<std::vector<ExrChannel>> parse_chlist(std::string_view v) {
+  std::vector<ExrChannel> channels;
+  for (std::size_t at = 0; at < v.size();) {
+    if (v[at] == '\0') return at + 1 == v.size() ? std::optional(channels) : std::nullopt;
+    const std::size_t end = v.find('\0', at);
+    if (end == std::string_view::npos || end - at > 255 || v.size() - end - 1 < 16) return std::nullopt;
+    channels.push_back({std::string(v.substr(at, end - at)), le_i32(v, end + 1), le_i32(v, end + 9), le_i32(v, end + 13)});
+    at = end + 17;
+  }
+  return std::nullopt;
+}
+
+// OpenEXR reads a value of a type it knows by the type's own layout, not by the stated size; both
+// must agree, or its reading and this scan would part ways (and it would take later bytes for the
+// next attribute's size). Unknown types and strings are read by their stated size.
+bool value_fills_its_size(std::string_view type, std::string_view v) {
+  static constexpr std::pair<std::string_view, std::size_t> kFixed[] = {
+      {"box2f", 16},   {"box2i", 16},  {"chromaticities", 32}, {"compression", 1}, {"deepImageState", 1},
+      {"double", 8},   {"envmap", 1},  {"float", 4},           {"int", 4},         {"keycode", 28},
+      {"lineOrder", 1}, {"m33d", 72},  {"m33f", 36},           {"m44d", 128},      {"m44f", 64},
+      {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},       {"v2d", 16},        {"v2f", 8},
+      {"v2i", 8},      {"v3d", 24},    {"v3f", 12},            {"v3i", 12}};
+  for (const auto& [t, n] : kFixed)
+    if (type == t) return v.size() == n;
+  if (type == "chlist") return parse_chlist(v).has_value();
+  if (type == "floatvector") return v.size() % 4 == 0;
+  if (type == "idmanifest") return v.size() >= 4;
+  if (type == "preview") {
+    if (v.size() < 8) return false;
+    const std::int32_t w = le_i32(v, 0), h = le_i32(v, 4);  // 4 bytes (RGBA) a pixel
+    return w >= 0 && h >= 0 && (v.size() - 8) % 4 == 0 &&
+           static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) == (v.size() - 8) / 4;
+  }
+  if (type == "stringvector") {
+    std::size_t at = 0;
+    while (at < v.size()) {
+      if (v.size() - at < 4) return false;
+      const std::int32_t n = le_i32(v, at);
+      at += 4;
+      if (n < 0 || static_cast<std::size_t>(n) > v.size() - at) return false;
+      at += static_cast<std::size_t>(n);
+    }
+  }
+  return true;
+}
+
+// The header(s) of an EXR file as bytes: magic, version, then per part attributes (name, type
+// name, size, value) up to an empty name; multi-part files end the list of headers with another.
+std::vector<ExrLayout> scan_exr_headers(std::string_view bytes, const std::string& name) {
+  std::size_t pos = 0;
+  const auto need = [&](std::size_t n) {
+    if (bytes.size() - pos < n) fail("{}: the EXR header ends early", name);
+  };
+  const auto word = [&](std::size_t max_length) {
+    const std::size_t end = bytes.find('\0', pos);
+    if (end == std::string_view::npos || end - pos > max_length) fail("{}: the EXR header holds a bad name", name);
+    const std::string_view w = bytes.substr(pos, end - pos);
+    pos = end + 1;
+    return w;
+  };
+  need(8);
+  if (bytes.substr(0, 4) != std::string_view("\x76\x2f\x31\x01", 4)) fail("{}: not an OpenEXR file", name);
+  const auto version = static_cast<std::uint32_t>(le_i32(bytes, 4));
+  if ((version & 0xffu) != 2) fail("{}: unsupported OpenEXR version {}", name, version & 0xffu);
+  const bool long_names = version & 0x400u, multipart = version & 0x1000u, tiled = version & 0x200u;
+  pos = 8;
+  std::vector<ExrLayout> parts;
+  while (true) {
+    ExrLayout l;
+    bool tiled_part = tiled;
+    while (true) {
+      need(1);
+      if (bytes[pos] == '\0') {
+        ++pos;
+        break;
+      }
+      const std::string_view attribute = word(long_names ? 255 : 31), type = word(long_names ? 255 : 31);
+      need(4);
+      const std::int32_t size = le_i32(bytes, pos);
+      pos += 4;
+      if (size < 0 || static_cast<std::size_t>(size) > bytes.size() - pos)
+        fail("{}: EXR attribute '{}' claims {} bytes, but only {} follow", name, excerpt(attribute), size,
+             bytes.size() - pos);
+      const std::string_view v = bytes.substr(pos, static_cast<std::size_t>(size));
+      pos += v.size();
+      if (!value_fills_its_size(type, v))
+        fail("{}: EXR attribute '{}' of type '{}' does not fill its {} bytes", name, excerpt(attribute), excerpt(type),
+             size);
+      if (attribute == "dataWindow" && type == "box2i") {
+        l.data_window = Imath::Box2i({le_i32(v, 0), le_i32(v, 4)}, {le_i32(v, 8), le_i32(v, 12)});
+      } else if (attribute == "compression" && type == "compression") {
+        l.compression = static_cast<unsigned char>(v[0]);
+      } else if (attribute == "tiles" && type == "tiledesc") {
+        l.tiles = Imf::TileDescription(static_cast<std::uint32_t>(le_i32(v, 0)), static_cast<std::uint32_t>(le_i32(v, 4)));
+      } else if (attribute == "chunkCount" && type == "int") {
+        l.chunk_count = le_i32(v, 0);
+      } else if (attribute == "type" && type == "string") {
+        tiled_part = v == "tiledimage" || v == "deeptile";
+      } else if (attribute == "channels" && type == "chlist") {
+        l.channels = *parse_chlist(v);
+      }
+    }
+    if (!tiled_part) l.tiles.reset();
+    parts.push_back(std::move(l));
+    if (!multipart) return parts;
+    need(1);
+    if (bytes[pos] == '\0') return parts;
+  }
+}
+
+// The file's bytes as OpenEXR's input: reads never pass the end.
+class MemoryStream : public Imf::IStream {
+ public:
+  MemoryStream(std::string& bytes, const std::string& name) : Imf::IStream(name.c_str()), bytes_(bytes) {}
+  bool isMemoryMapped() const override { return true; }
+  char* readMemoryMapped(int n) override {
+    require(n);
+    char* p = bytes_.data() + pos_;
+    pos_ += static_cast<std::size_t>(n);
+    return p;
+  }
+  bool read(char c[], int n) override {
+    std::memcpy(c, readMemoryMapped(n), static_cast<std::size_t>(n));
+    return pos_ < bytes_.size();
+  }
+  std::uint64_t tellg() override { return pos_; }
+  void seekg(std::uint64_t pos) override { pos_ = static_cast<std::size_t>(std::min<std::uint64_t>(pos, bytes_.size())); }
+
+ private:
+  void require(int n) const {
+    if (n < 0 || bytes_.size() - pos_ < static_cast<std::size_t>(n)) throw Iex::InputExc("unexpected end of file");
+  }
+  std::string& bytes_;
+  std::size_t pos_ = 0;
+};
+
+ExrLayout layout_of(const Imf::Header& header) {
+  ExrLayout l{header.dataWindow(), {}, header.compression(), std::nullopt, std::nullopt};
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+    l.channels.push_back({it.name(), it.channel().type, it.channel().xSampling, it.channel().ySampling});
+  if (header.hasTileDescription()) l.tiles = header.tileDescription();
+  if (header.hasChunkCount()) l.chunk_count = header.chunkCount();
+  return l;
 }
 
 }  // namespace
 
 Film read_exr(const std::filesystem::path& path) {
   const std::string name = path.string();
-  const std::uintmax_t file_bytes = require_regular_file(path, kMaxImageFileBytes);
+  std::string bytes = read_file_bytes(path, kMaxImageFileBytes);
+  for (const ExrLayout& part : scan_exr_headers(bytes, name)) check_exr_layout(part, bytes.size(), name);
   try {
-    // OpenEXR's own sanity check then refuses larger data windows and tiles while it opens the file.
+    // OpenEXR's own sanity check refuses larger data windows and tiles too.
     Imf::Header::setMaxImageSize(kMaxImageDimension, kMaxImageDimension);
     Imf::Header::setMaxTileSize(kMaxImageDimension, kMaxImageDimension);
-    Imf::InputFile file(path.c_str());
+    MemoryStream stream(bytes, name);
+    Imf::InputFile file(stream);
     const Imath::Box2i dw = file.header().dataWindow();
     const Imf::ChannelList& channels = file.header().channels();
     for (const char* c : {"R", "G", "B"})
@@ -197,7 +400,18 @@ Film read_exr(const std::filesystem::path& path) {
              excerpt(spectral[i].second));
     std::vector<std::string> read = {"R", "G", "B"};
     for (const auto& p : spectral) read.push_back(p.second);
-    check_exr_size(file.header(), read, file_bytes, name);
+    // Again on the header as OpenEXR read it; then what the Film will hold.
+    check_exr_layout(layout_of(file.header()), bytes.size(), name);
+    const std::size_t pixels = static_cast<std::size_t>(dw.max.x - dw.min.x + 1) * (dw.max.y - dw.min.y + 1);
+    if (pixels * read.size() > kMaxImageValues)
+      fail("{}: EXR holds {} channels of {} pixels, more than the {} values an image may have (docs/limits.md)", name,
+           read.size(), pixels, kMaxImageValues);
+    for (const std::string& c : read) {
+      const Imf::Channel& ch = channels[c];
+      if (ch.xSampling != 1 || ch.ySampling != 1)
+        fail("{}: EXR channel '{}' is subsampled ({} × {}); only full-resolution channels can be read", name,
+             excerpt(c), ch.xSampling, ch.ySampling);
+    }
     const int width = dw.max.x - dw.min.x + 1, height = dw.max.y - dw.min.y + 1;
     std::vector<double> wavelengths(spectral.size());
     std::transform(spectral.begin(), spectral.end(), wavelengths.begin(), [](const auto& p) { return p.first; });

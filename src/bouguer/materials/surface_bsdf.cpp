@@ -34,13 +34,14 @@ double rough_importance_eval(const RoughDielectric& r, const Vec3& wo, const Vec
 
 }  // namespace
 
-DielectricSplit split(const SmoothDielectric& d, const Vec3& wo) {
-  const bool front = wo.z > 0.0;
+DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Vec3& front_normal) {
+  const double cos_o = dot(wo, front_normal);
+  const bool front = cos_o > 0.0;
   DielectricSplit s;
   s.eta_o = front ? d.eta_front : d.eta_behind;
   s.eta_t = front ? d.eta_behind : d.eta_front;
-  const Vec3 n{0.0, 0.0, front ? 1.0 : -1.0};
-  s.reflectance = fresnel_dielectric(std::min(1.0, std::abs(wo.z)), s.eta_o, s.eta_t);
+  const Vec3 n = front ? front_normal : -front_normal;
+  s.reflectance = fresnel_dielectric(std::min(1.0, std::abs(cos_o)), s.eta_o, s.eta_t);
   s.reflected = reflect(wo, n);
   s.refracted = refract(wo, n, s.eta_o, s.eta_t);
   return s;

@@ -58,7 +58,8 @@ struct DielectricSplit {
   double reflectance = 1.0;
   double eta_o = 1.0, eta_t = 1.0;  // the index on wo's side and on the other side
 };
-DielectricSplit split(const SmoothDielectric& d, const Vec3& wo);
+// In any frame: `front` is the unit normal on the eta_front side (the local frame's +z).
+DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Vec3& front = {0.0, 0.0, 1.0});
 
 template <std::size_t N>
 using Bsdf = std::variant<DiffuseReflection<N>, ConductorReflection<N>, SmoothDielectric, RoughDielectric>;

@@ -153,6 +153,7 @@ RenderScene compile(const SceneDesc& desc) {
     sm.ior = add_spectrum(s, m.ior, SpectrumRole::point);
     sm.ior_reference = ior_at(m.ior, kReferenceWavelengthNm);
     sm.dispersive = is_dispersive(m.ior);
+    s.dispersive = s.dispersive || sm.dispersive;
     s.media.push_back(std::move(sm));
   }
   s.world_medium = medium_index(s, desc.world_medium);

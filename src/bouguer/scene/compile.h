@@ -50,6 +50,7 @@ struct RenderScene {
   std::vector<SceneSpectrum> spectra;
   std::vector<SceneMedium> media;
   int world_medium = 0;
+  bool dispersive = false;  // whether any medium's index varies with wavelength
   std::vector<SurfaceMaterial> materials;
   std::unique_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
   std::vector<Light> lights;
