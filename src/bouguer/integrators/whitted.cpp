@@ -28,9 +28,6 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
   const SampledSpectrum<N> tr = travel(v, medium, {from, ray.direction}, length(hit->point - from), w);
   const Vec3 wo = -ray.direction;
   if (surface.kind == SurfaceKind::emitter) return tr * emitted(v, *hit, wo, w);
-  // An interface ends the branch at the depth limit or when too little light could come back.
-  if (surface.kind == SurfaceKind::interface && (depth >= v.max_depth || weight * tr.max_value() < kMinPathWeight))
-    return {};
   const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, rng, rays, false, false);
   if (depth >= v.max_depth) return {};
@@ -46,6 +43,7 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
     return tr * follow(e.frame.to_world(s->wi), s->weight, weight * (tr * s->weight).max_value());
   }
   const float w_in = weight * tr.max_value();
+  if (w_in < kMinPathWeight) return {};
   const DielectricSplit d = split(std::get<SmoothDielectric>(e.bsdf), wo, e.frame.n);
   const auto f = static_cast<float>(d.reflectance);
   SampledSpectrum<N> l = follow(d.reflected, SampledSpectrum<N>::constant(f), w_in * f);

@@ -92,6 +92,16 @@ SampledWavelengths<N> SpectralTables<N>::wavelengths(double u) const {
 }
 
 template <std::size_t N>
+void SpectralTables<N>::restart(SampledWavelengths<N>& w, double u) const {
+  if (mode_ != SpectralMode::hero && w.mode == mode_) {
+    w.single = -1;
+    w.single_nm = 0.0;
+    return;
+  }
+  w = wavelengths(u);
+}
+
+template <std::size_t N>
 double SpectralTables<N>::kept_wavelength_nm(const SampledWavelengths<N>& w, int j, double u) const {
   const auto& bin = basis_.bin_nm[static_cast<std::size_t>(j)];
   if (mode_ != SpectralMode::full || bin.empty()) return w.nm[static_cast<std::size_t>(j)];
@@ -114,6 +124,25 @@ SampledSpectrum<N> SpectralTables<N>::environment(const EnvironmentMap& map, int
     l[i] = static_cast<float>(s.scale * s.poly(w.nm[i])) * white;
   }
   return l;
+}
+
+template <std::size_t N>
+Vec3 SpectralTables<N>::to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const {
+  switch (mode_) {
+    case SpectralMode::rgb3: return {l[0], l[1], l[2]};
+    case SpectralMode::hero: {
+      HeroWavelengths h;
+      for (std::size_t i = 0; i < N && i < kHeroCount; ++i) h.nm[i] = w.nm[i], h.pdf[i] = w.pdf[i];
+      SampledSpectrum<kHeroCount> v;
+      for (std::size_t i = 0; i < N && i < kHeroCount; ++i) v[i] = l[i];
+      return xyz_to_linear_rgb(kRec709, hero_to_xyz(v, h));
+    }
+    case SpectralMode::full: break;
+  }
+  const float* weight[3] = {rgb_weight_[0].data(), rgb_weight_[1].data(), rgb_weight_[2].data()};
+  float rgb[3];
+  weighted_sums3(l.v.data(), weight, N, rgb);
+  return {rgb[0], rgb[1], rgb[2]};
 }
 
 template class SpectralTables<kFullBins>;

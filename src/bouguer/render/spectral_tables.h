@@ -14,7 +14,6 @@
 #include "bouguer/render/spectral_sampling.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/scene/environment.h"
-#include "bouguer/spectra/color_space.h"
 #include "bouguer/spectra/spectrum.h"
 
 namespace bouguer {
@@ -76,38 +75,6 @@ class SpectralTables {
   std::array<std::array<float, N>, 3> rgb_weight_{};  // full: bin → linear Rec.709, per channel
   SampledSpectrum<N> env_white_;                      // full: D65 (luminance 1) per bin
 };
-
-
-// ---- inline: called for every sample ------------------------------------------------------------
-
-template <std::size_t N>
-inline void SpectralTables<N>::restart(SampledWavelengths<N>& w, double u) const {
-  if (mode_ != SpectralMode::hero && w.mode == mode_) {
-    w.single = -1;
-    w.single_nm = 0.0;
-    return;
-  }
-  w = wavelengths(u);
-}
-
-template <std::size_t N>
-inline Vec3 SpectralTables<N>::to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const {
-  switch (mode_) {
-    case SpectralMode::rgb3: return {l[0], l[1], l[2]};
-    case SpectralMode::hero: {
-      HeroWavelengths h;
-      for (std::size_t i = 0; i < N && i < kHeroCount; ++i) h.nm[i] = w.nm[i], h.pdf[i] = w.pdf[i];
-      SampledSpectrum<kHeroCount> v;
-      for (std::size_t i = 0; i < N && i < kHeroCount; ++i) v[i] = l[i];
-      return xyz_to_linear_rgb(kRec709, hero_to_xyz(v, h));
-    }
-    case SpectralMode::full: break;
-  }
-  const float* weight[3] = {rgb_weight_[0].data(), rgb_weight_[1].data(), rgb_weight_[2].data()};
-  float rgb[3];
-  weighted_sums3(l.v.data(), weight, N, rgb);
-  return {rgb[0], rgb[1], rgb[2]};
-}
 
 // The number of carried values for each mode: full kFullBins, rgb3 3, hero kHeroCount.
 template <SpectralMode M>
