@@ -32,22 +32,22 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, rng, rays, false, false);
   if (depth >= v.max_depth) return {};
   // Every branch of a specular surface is followed, in world directions.
-  auto follow = [&](const Vec3& d, const SampledSpectrum<N>& factor, float branch_weight) -> SampledSpectrum<N> {
+  auto follow = [&](const Vec3& d, float branch_weight) -> SampledSpectrum<N> {
     if (branch_weight < kMinPathWeight) return {};
-    return factor *
-           whitted(v, hit->point, {offset_ray_origin(*hit, d), d}, e.medium_towards(d), depth + 1, branch_weight, w, rng, rays);
+    return whitted(v, hit->point, {offset_ray_origin(*hit, d), d}, e.medium_towards(d), depth + 1, branch_weight, w, rng,
+                   rays);
   };
   if (std::holds_alternative<ConductorReflection<N>>(e.bsdf)) {
     const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);
     if (!s) return {};
-    return tr * follow(e.frame.to_world(s->wi), s->weight, weight * (tr * s->weight).max_value());
+    return tr * s->weight * follow(e.frame.to_world(s->wi), weight * (tr * s->weight).max_value());
   }
   const float w_in = weight * tr.max_value();
   if (w_in < kMinPathWeight) return {};
   const DielectricSplit d = split(std::get<SmoothDielectric>(e.bsdf), wo, e.frame.n);
   const auto f = static_cast<float>(d.reflectance);
-  SampledSpectrum<N> l = follow(d.reflected, SampledSpectrum<N>::constant(f), w_in * f);
-  if (d.refracted && f < 1.0f) l += follow(*d.refracted, SampledSpectrum<N>::constant(1.0f - f), w_in * (1.0f - f));
+  SampledSpectrum<N> l = f * follow(d.reflected, w_in * f);
+  if (d.refracted && f < 1.0f) l += (1.0f - f) * follow(*d.refracted, w_in * (1.0f - f));
   return tr * l;
 }
 
