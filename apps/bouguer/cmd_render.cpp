@@ -159,6 +159,9 @@ int run_render(const RenderCli& o) {
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
   const double splat_spp = passes.complete + passes.partial * passes.partial_fraction;
   const Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
+  if (buffer.saturated_splats() > 0)
+    fmt::print(stderr, "bouguer: warning: {} light-path splats were not finite or beyond the film's range and were dropped\n",
+               buffer.saturated_splats());
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
   const std::string_view mode = spectral_mode_name(settings.spectral);
   std::string stats_text;

@@ -57,16 +57,6 @@ double disk_pdf(const SceneBounds& b) { return 1.0 / (kPi * b.radius_m * b.radiu
 
 }  // namespace
 
-bool is_delta(const Light& light) {
-  return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
-         std::holds_alternative<DistantLight>(light);
-}
-
-bool is_infinite(const Light& light) {
-  return std::holds_alternative<DistantLight>(light) || std::holds_alternative<BackgroundLight>(light) ||
-         std::holds_alternative<EnvironmentLight>(light);
-}
-
 double emitted_factor(const AreaLight& light, const Vec3& direction) {
   if (!light.two_sided && dot(direction, light.normal) <= 0.0) return 0.0;
   return light.spot ? spot_falloff(*light.spot, direction) : 1.0;
@@ -82,10 +72,7 @@ std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double
     const double factor = emitted_factor(*a, -wi);
     const double cos_light = std::abs(dot(a->normal, wi));
     if (factor == 0.0 || cos_light == 0.0) return std::nullopt;
-    LightLiSample s = li_sample(wi, d, d * d / (cos_light * a->area_m2), false, factor, a->radiance);
-    s.point_m = q;
-    s.normal = a->normal;
-    return s;
+    return li_sample(wi, d, d * d / (cos_light * a->area_m2), false, factor, a->radiance);
   }
   if (const auto* pt = std::get_if<PointLight>(&light)) {
     const Vec3 to = pt->position_m - p;

@@ -80,7 +80,6 @@ struct LightLiSample {
   double factor = 0.0;
   int spectrum = -1;  // -1 with texel >= 0: the environment map's texel
   int texel = -1;
-  Vec3 point_m, normal;  // area lights: the point sampled and the light's normal
 };
 
 struct LightLeSample {
@@ -93,9 +92,6 @@ struct LightLeSample {
   int spectrum = -1;
   int texel = -1;
 };
-
-bool is_delta(const Light& light);
-bool is_infinite(const Light& light);
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2);
 double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q);

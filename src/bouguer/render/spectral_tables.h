@@ -76,8 +76,4 @@ class SpectralTables {
   SampledSpectrum<N> env_white_;                      // full: D65 (luminance 1) per bin
 };
 
-// The number of carried values for each mode: full kFullBins, rgb3 3, hero kHeroCount.
-template <SpectralMode M>
-inline constexpr std::size_t kCarried = M == SpectralMode::full ? kFullBins : M == SpectralMode::rgb3 ? 3 : kHeroCount;
-
 }  // namespace bouguer
