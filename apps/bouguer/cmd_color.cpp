@@ -8,6 +8,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/io/spectrum_csv.h"
+#include "bouguer/io/limits.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/cielab.h"
 #include "bouguer/spectra/color_space.h"
@@ -15,8 +16,9 @@
 
 namespace bouguer::cli {
 
-const CLI::Validator kFiniteNonNegative(
-    [](std::string& value) -> std::string {
+CLI::Validator finite_between(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& value) -> std::string {
       double v = 0.0;
       try {
         std::size_t used = 0;
@@ -25,10 +27,12 @@ const CLI::Validator kFiniteNonNegative(
       } catch (const std::exception&) {
         return "'" + value + "' is not a number";
       }
-      if (!std::isfinite(v) || v < 0.0) return "must be a finite number >= 0, got " + value;
+      if (!(std::isfinite(v) && v >= lo && v <= hi))
+        return fmt::format("must be a finite number from {:g} to {:g}, got {}", lo, hi, value);
       return {};
     },
-    "NUMBER>=0");
+    fmt::format("NUMBER in [{:g}, {:g}]", lo, hi));
+}
 
 namespace {
 
@@ -69,6 +73,8 @@ int run_color(const ColorOptions& o) {
   const Vec3 white = spectrum_to_xyz(named_illuminant("D65"), observer);
   const Lab lab = xyz_to_lab(xyz, white);
   const std::string hex = srgb_hex(rgb);
+  for (double v : {xyz.x, xyz.y, xyz.z, rgb.x, rgb.y, rgb.z, lab.L, lab.a, lab.b})
+    if (!std::isfinite(v)) fail("{}: the colour is not finite at scale {:g} (the spectrum times the scale overflows)", o.spectrum, o.scale);
 
   if (o.json) {
     const nlohmann::json j = {{"spectrum", o.spectrum},     {"observer", std::string(observer_name(observer))},
@@ -102,7 +108,7 @@ Command add_color_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--scale", options->scale,
                   "Named illuminants: luminance Y. CSV spectra: factor on the values (see --normalise)")
-      ->check(kFiniteNonNegative)
+      ->check(finite_between(0.0, kMaxEmission))
       ->capture_default_str();
   app->add_flag("--normalise,--normalize", options->normalise, "Scale a CSV spectrum to luminance Y = scale");
   app->add_flag("--json", options->json, "Print one JSON object (XYZ, xy, linear_srgb, srgb_hex, lab)");

@@ -21,7 +21,12 @@ struct CompareCli {
 
 int run_compare(const CompareCli& o) {
   const Film a = read_image(o.a), b = read_image(o.b);
-  const ImageDifference d = compare_images(a, b);
+  ImageDifference d;
+  try {
+    d = compare_images(a, b);
+  } catch (const Error& e) {
+    fail("{} and {}: {}", o.a, o.b, e.what());
+  }
   if (!o.heatmap.empty() || !o.montage.empty()) {
     const Film heat = delta_e_heatmap(d, o.heatmap_max);
     if (!o.heatmap.empty()) write_png(o.heatmap, heat);
@@ -48,8 +53,7 @@ Command add_compare_command(CLI::App& parent) {
   app->add_option("--heatmap", o->heatmap, "Write a PNG of the per-pixel difference");
   app->add_option("--montage", o->montage, "Write a PNG of A, B and the heat map side by side");
   app->add_option("--heatmap-max", o->heatmap_max, "ΔE00 shown at the top of the heat-map scale")
-      ->check(kFiniteNonNegative)  // CLI::PositiveNumber lets NaN through
-      ->check(CLI::PositiveNumber)
+      ->check(finite_between(1e-6, 1e6))
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object: mean, median, p95, max, rmse");
   return {app, [o] { return run_compare(*o); }};

@@ -116,6 +116,11 @@ int run_material(const MaterialOptions& o) {
   }
   const Spectrum illuminant = named_illuminant(o.illuminant, 1.0);
   const ThicknessAnalysis a = analyse_thicknesses(r.sigma_a_per_m, r.ior, thicknesses, illuminant, reference);
+  for (const ThicknessRow& row : a.rows) {
+    bool finite = std::isfinite(row.delta_e_rgb3) && std::isfinite(row.delta_e_fitted);
+    for (double t : row.internal_transmittance) finite = finite && std::isfinite(t);
+    if (!finite) fail("{}: the colour at {} is not finite (check --concentration and --thickness)", r.name, format_thickness(row.thickness_m));
+  }
   const std::string concentration = r.molar ? fmt::format("{:g} mol/L", r.concentration)
                                     : r.concentration != 1.0 ? fmt::format("x{:g}", r.concentration)
                                                              : "";
@@ -188,10 +193,9 @@ Command add_material_command(CLI::App& parent) {
   app->add_option("--reference-thickness", o->reference,
                   "where the fitted RGB renderer matches exactly (default: the middle thickness)");
   app->add_option("--concentration", o->concentration, "mol/L for solutes (molar materials), else a factor on σ_a")
-      ->check(kFiniteNonNegative);
+      ->check(finite_between(0.0, 1e12));
   app->add_option("--ior", o->ior, "refractive index of the slab (default: the material's)")
-      ->check(kFiniteNonNegative)  // CLI::Range lets NaN through
-      ->check(CLI::Range(1.0, 5.0));
+      ->check(finite_between(1.0, 5.0));
   app->add_option("--illuminant", o->illuminant, "the light behind the slab: D65, D50, A, E, F2, F7, F11, blackbody:<K>")
       ->capture_default_str();
   app->add_option("--plot", o->plot, "also draw the figure to OUT.svg, OUT.png or OUT.pdf");

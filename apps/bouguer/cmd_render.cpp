@@ -159,6 +159,13 @@ int run_render(const RenderCli& o) {
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
   const double splat_spp = passes.complete + passes.partial * passes.partial_fraction;
   const Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
+  // Finite out: an image with NaN or infinite pixels replaces no earlier output.
+  if (const NonFinitePixels bad = find_non_finite(film); bad.count > 0)
+    fail("{}: {} of {} pixels came out not finite (the first at ({}, {})), so no output was written; likely cause: "
+         "a value near the limits of floating point that the scene checks let through (an extreme size, scale or "
+         "concentration); if the scene is ordinary, please report it",
+         o.scene, bad.count, static_cast<std::size_t>(film.width) * static_cast<std::size_t>(film.height), bad.first_x,
+         bad.first_y);
   if (buffer.saturated_splats() > 0)
     fmt::print(stderr, "bouguer: warning: {} light-path splats were not finite or beyond the film's range and were dropped\n",
                buffer.saturated_splats());

@@ -18,8 +18,9 @@ Command add_compare_command(CLI::App& parent);
 Command add_material_command(CLI::App& parent);
 Command add_report_command(CLI::App& parent);
 
-// Validators shared by subcommands.
-extern const CLI::Validator kFiniteNonNegative;
+// Validators shared by subcommands: a finite number from lo to hi (CLI::Range lets NaN through
+// and prints its bounds with six decimals).
+CLI::Validator finite_between(double lo, double hi);
 
 // "640x480" -> {640, 480}; anything else (missing x, trailing text, sizes outside 1..16384) is an
 // Error naming --resolution.

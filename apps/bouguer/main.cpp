@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <vector>
 
 #include "bouguer/core/error.h"
@@ -59,6 +60,10 @@ int main(int argc, char** argv) {
   } catch (const bouguer::Error& e) {
     fmt::print(stderr, "bouguer: error: {}\n", one_line(e.what()));
     if (dynamic_cast<const bouguer::UsageError*>(&e)) return 2;  // e.g. an output path that cannot be written
+  } catch (const std::bad_alloc&) {
+    // The readers and the render check their sizes against the memory available first, so this
+    // is memory taken by something else meanwhile, or an estimate that fell short.
+    fmt::print(stderr, "bouguer: error: out of memory (try a smaller resolution or scene, or free memory)\n");
   } catch (const std::exception& e) {
     fmt::print(stderr, "bouguer: internal error: {}\n", one_line(e.what()));
   }

@@ -12,7 +12,9 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
+#include "bouguer/scene/compile.h"
 #include "bouguer/scene/environment.h"
+#include "bouguer/scene/loader.h"
 #include "bouguer/scene/material_file.h"
 #include "bouguer/spectra/cie.h"
 
@@ -118,12 +120,32 @@ void environment(std::string_view bytes, const fs::path& dir) {
     }
 }
 
+// A scene file through the loader and the SceneBuilder; small scenes are compiled too (meshes,
+// environment maps and CSVs they name are read relative to the input, so mostly refused).
+void scene(std::string_view bytes, const fs::path& dir) {
+  const fs::path path = write(dir, "input.json", bytes);
+  const SceneDesc desc = parse_scene(std::string(bytes), path);
+  check_vec3(desc.camera.position_m, "camera position");
+  require(desc.camera.width_px >= 1 && desc.camera.height_px >= 1, "resolution {}x{}", desc.camera.width_px,
+          desc.camera.height_px);
+  std::uint64_t triangles = 0;
+  for (const ObjectDesc& o : desc.objects) triangles += triangle_bound(o.shape);
+  if (triangles > 20000 || desc.objects.size() > 64) return;  // tessellation is not what this harness tests
+  const RenderScene compiled = compile(desc);
+  require(compiled.surfaces.size() >= desc.objects.size(), "surfaces {} for {} objects", compiled.surfaces.size(),
+          desc.objects.size());
+  check_vec3(compiled.bounds.centre_m, "scene centre");
+  require(std::isfinite(compiled.bounds.radius_m) && compiled.bounds.radius_m > 0.0, "scene radius {}",
+          compiled.bounds.radius_m);
+}
+
 }  // namespace
 
 const std::vector<Target>& targets() {
   static const std::vector<Target> all = {
       {"spectrum_csv", spectrum_csv}, {"material_csv", material_csv}, {"obj", obj}, {"ply_ascii", ply},
       {"ply_binary", ply},            {"exr", exr},                   {"pfm", pfm}, {"environment", environment},
+      {"scene", scene},
   };
   return all;
 }

@@ -475,3 +475,34 @@ bool shape_is_closed(const Shape& shape) {
 }
 
 }  // namespace bouguer
+
+namespace bouguer {
+
+std::uint64_t triangle_bound(const Shape& shape) {
+  // Revolved profiles make two triangles per segment and profile step (see revolve).
+  auto revolved = [](std::size_t profile_points, int segments) {
+    return 2 * static_cast<std::uint64_t>(profile_points + 1) * static_cast<std::uint64_t>(std::max(segments, 0));
+  };
+  auto sided = [](int sides) { return 4 * static_cast<std::uint64_t>(std::max(sides, 0)) + 4; };
+  struct Visitor {
+    decltype(revolved) rev;
+    decltype(sided) side;
+    std::uint64_t operator()(const QuadShape&) const { return 2; }
+    std::uint64_t operator()(const DiskShape& s) const { return rev(0, s.segments); }
+    std::uint64_t operator()(const BoxShape&) const { return 12; }
+    std::uint64_t operator()(const SphereShape& s) const { return rev(static_cast<std::size_t>(std::max(2, s.segments / 2)) + 1, s.segments); }
+    std::uint64_t operator()(const CylinderShape& s) const { return rev(4, s.segments); }
+    std::uint64_t operator()(const PrismShape& s) const { return side(s.sides); }
+    std::uint64_t operator()(const PyramidShape& s) const { return side(s.sides); }
+    std::uint64_t operator()(const TruncatedCubeShape&) const { return 128; }
+    std::uint64_t operator()(const BrilliantShape&) const { return 1024; }
+    std::uint64_t operator()(const LatheShape& s) const { return rev(s.profile_m.size(), s.segments); }
+    // Outside, dry inside, wet inside and the liquid's surface: each at most the profile plus two points.
+    std::uint64_t operator()(const VesselShape& s) const { return 4 * rev(s.profile_m.size() + 2, s.segments); }
+    std::uint64_t operator()(const MeshShape&) const { return 0; }
+    std::uint64_t operator()(const TriangleMeshShape& s) const { return s.mesh.triangles.size(); }
+  };
+  return std::visit(Visitor{revolved, sided}, shape);
+}
+
+}  // namespace bouguer

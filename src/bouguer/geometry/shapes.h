@@ -2,6 +2,7 @@
 // Shape generators: plain parameter structs (lengths in metres, angles in degrees) and
 // make_shape, which turns one into triangles in its local frame (documented per shape in
 // docs/scene-format.md). Convex cut shapes are built as intersections of half-spaces.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <variant>
@@ -66,5 +67,10 @@ std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what);
 
 // Whether a shape can bound a medium (closed): quads and disks cannot.
 bool shape_is_closed(const Shape& shape);
+
+// At most how many triangles make_shape makes of `shape`, known before it makes them (so that a
+// scene is refused before it tessellates more than fits in memory); 0 for a mesh file, whose
+// reader bounds it by the file's size.
+std::uint64_t triangle_bound(const Shape& shape);
 
 }  // namespace bouguer

@@ -16,6 +16,15 @@ inline constexpr std::size_t kMaxMeshVertices = std::size_t{1} << 25;   // 33 55
 inline constexpr std::size_t kMaxMeshTriangles = std::size_t{1} << 25;  // 33 554 432
 inline constexpr double kMaxMeshCoordinate = 1e9;
 
+// Scenes: lengths anywhere (positions, sizes, radii; and every vertex after its transform), the
+// smallest positive size, all triangles together, emitted radiance or intensity (luminance units),
+// absorption and scattering coefficients.
+inline constexpr double kMaxSceneCoordinateM = 1e7;
+inline constexpr double kMinSceneLengthM = 1e-9;
+inline constexpr std::uint64_t kMaxSceneTriangles = std::uint64_t{1} << 28;  // 268 435 456
+inline constexpr double kMaxEmission = 1e12;
+inline constexpr double kMaxCoefficientPerM = 1e12;
+
 // Images (EXR, PFM, environment maps): each side, all pixels, all values in all channels read.
 inline constexpr int kMaxImageDimension = 65536;
 inline constexpr std::size_t kMaxImagePixels = std::size_t{1} << 27;  // 134 217 728, e.g. 16384 × 8192

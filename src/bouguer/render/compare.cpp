@@ -33,17 +33,26 @@ ImageDifference compare_images(const Film& a, const Film& b) {
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {
       const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
+      for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(pa[c]) || !std::isfinite(pb[c]))
+          fail("pixel ({}, {}) of the {} image is not finite ({}): a difference needs finite images", x, y,
+               std::isfinite(pa[c]) ? "second" : "first", std::isfinite(pa[c]) ? pb[c] : pa[c]);
       const double e = ciede2000(lab_of(pa), lab_of(pb));
+      if (!std::isfinite(e)) fail("pixel ({}, {}): the colour difference is not finite", x, y);
       d.delta_e.push_back(e);
       sum += e;
       d.max = std::max(d.max, e);
-      for (int c = 0; c < 3; ++c) squared += (pa[c] - pb[c]) * (pa[c] - pb[c]);
+      for (int c = 0; c < 3; ++c) {
+        const double diff = double(pa[c]) - double(pb[c]);  // in float, 3e38 squared would overflow
+        squared += diff * diff;
+      }
     }
   const auto n = static_cast<double>(d.delta_e.size());
   d.mean = n > 0 ? sum / n : 0.0;
   d.median = percentile(d.delta_e, 0.5);
   d.p95 = percentile(d.delta_e, 0.95);
   d.rmse = n > 0 ? std::sqrt(squared / (3.0 * n)) : 0.0;
+  if (!std::isfinite(d.rmse)) fail("the RMS difference is not finite: the images hold values near the float limit");
   return d;
 }
 

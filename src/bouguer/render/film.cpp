@@ -26,6 +26,20 @@ void Film::set_rgb(int x, int y, const Vec3f& value) {
   rgb[i + 2] = value.z;
 }
 
+NonFinitePixels find_non_finite(const Film& film) {
+  NonFinitePixels found;
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) {
+      const Vec3f rgb = film.rgb_at(x, y);
+      bool finite = std::isfinite(rgb.x) && std::isfinite(rgb.y) && std::isfinite(rgb.z);
+      if (film.has_spectra())
+        for (float v : film.spectrum_at(x, y)) finite = finite && std::isfinite(v);
+      if (finite) continue;
+      if (found.count++ == 0) found.first_x = x, found.first_y = y;
+    }
+  return found;
+}
+
 std::span<float> Film::spectrum_at(int x, int y) {
   const std::size_t n = wavelengths_nm.size();
   return {spectral.data() + n * pixel_index(x, y), n};
@@ -48,6 +62,15 @@ FilmBuffer::FilmBuffer(int width_px, int height_px, std::vector<double> spectrum
   splat_rgb_.assign(3 * pixels, 0);
   spectral_sum_.assign(wavelengths_nm_.size() * pixels, 0.0);
   splat_spectral_.assign(wavelengths_nm_.size() * pixels, 0);
+}
+
+std::uint64_t FilmBuffer::bytes_needed(int width_px, int height_px, std::size_t spectrum_wavelengths) {
+  const auto pixels = static_cast<std::uint64_t>(width_px) * static_cast<std::uint64_t>(height_px);
+  const std::uint64_t n = spectrum_wavelengths;
+  const std::uint64_t buffer = 7 * sizeof(double) + n * (sizeof(double) + sizeof(std::int64_t));
+  const std::uint64_t film = 3 * sizeof(float) + n * sizeof(float);
+  const std::uint64_t writers = 3 * sizeof(float) + n * sizeof(float);  // one converted copy at a time
+  return pixels * (buffer + film + writers);
 }
 
 void FilmBuffer::add_fixed(std::int64_t& cell, double value) {

@@ -31,6 +31,14 @@ struct Film {
   std::span<const float> spectrum_at(int x, int y) const;
 };
 
+// Pixels holding NaN or infinity in any channel or spectrum value: how many, and the first in
+// reading order (for the one line `bouguer render` prints instead of writing such an image).
+struct NonFinitePixels {
+  std::size_t count = 0;
+  int first_x = -1, first_y = -1;
+};
+NonFinitePixels find_non_finite(const Film& film);
+
 }  // namespace bouguer
 
 namespace bouguer {
@@ -44,6 +52,10 @@ namespace bouguer {
 class FilmBuffer {
  public:
   FilmBuffer(int width_px, int height_px, std::vector<double> spectrum_wavelengths_nm = {});
+
+  // The memory a render of this size takes for its image: this buffer, the resolved Film and the
+  // image writers' conversion buffers (what make_film checks before allocating).
+  static std::uint64_t bytes_needed(int width_px, int height_px, std::size_t spectrum_wavelengths);
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/memory.h"
 #include "bouguer/integrators/integrators.h"
 
 namespace bouguer {
@@ -120,6 +121,9 @@ FilmBuffer make_film(const RenderScene& scene, const RenderSettings& /*settings*
     const auto basis = make_full_basis();
     wavelengths.assign(basis.wavelength_nm.begin(), basis.wavelength_nm.end());
   }
+  const int w = scene.camera.width_px, h = scene.camera.height_px;
+  require_memory(FilmBuffer::bytes_needed(w, h, wavelengths.size()),
+                 fmt::format("{}: a {}x{} image{}", scene.file.string(), w, h, keep_spectra ? " with spectra" : ""));
   return FilmBuffer(scene.camera.width_px, scene.camera.height_px, std::move(wavelengths));
 }
 

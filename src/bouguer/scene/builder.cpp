@@ -3,8 +3,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cmath>
+#include <optional>
+
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
+#include "bouguer/io/limits.h"
 
 namespace bouguer {
 
@@ -20,6 +24,7 @@ bool is_predefined(const std::string& name) {
     if (m.name == name) return true;
   return false;
 }
+
 }  // namespace
 
 SceneBuilder::SceneBuilder(std::filesystem::path source) { desc_.file = std::move(source); }
@@ -62,6 +67,8 @@ SceneBuilder& SceneBuilder::world_medium(const std::string& name, const std::str
 SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
   if (is_predefined(m.name)) fail_at(where, fmt::format("'{}' is predefined; choose another name", m.name));
   if (desc_.media.contains(m.name)) fail_at(where, fmt::format("a medium named '{}' exists already", m.name));
+  if (const auto problem = beyond_limit(m.sigma_a_per_m, kMaxCoefficientPerM, "the absorption coefficient σ_a (per metre)"))
+    fail_at(where + ".absorption", *problem);
   const std::string name = m.name;
   desc_.media[name] = std::move(m);
   return *this;
@@ -78,6 +85,9 @@ SceneBuilder& SceneBuilder::object(ObjectDesc o, const std::string& where) {
   if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
     fail_at(where, "a filled vessel needs 'contents' (the liquid's medium)");
   if (!vessel && o.contents) fail_at(where + ".contents", "only a vessel has contents");
+  if (o.emission)
+    if (const auto problem = beyond_limit(o.emission->radiance, kMaxEmission, "the emitted radiance"))
+      fail_at(where + ".emission", *problem);
   if (o.inside) refer_to_medium(*o.inside, where + ".inside");
   if (o.outside) refer_to_medium(*o.outside, where + ".outside");
   if (o.contents) refer_to_medium(*o.contents, where + ".contents");
@@ -95,18 +105,21 @@ SceneBuilder& SceneBuilder::light(const DeltaLightDesc& l, const std::string& wh
   }
   if (l.radius_m != 0.0 && (l.type != DeltaLightType::spot || !(l.radius_m > 0.0)))
     fail_at(where + ".radius", "only a spot light takes a radius, and it must be a positive length");
+  if (const auto problem = beyond_limit(l.intensity, kMaxEmission, "the light's intensity")) fail_at(where, *problem);
   desc_.lights.push_back(l);
   return *this;
 }
 
-SceneBuilder& SceneBuilder::background(const EmissionDesc& e, const std::string& /*where*/) {
+SceneBuilder& SceneBuilder::background(const EmissionDesc& e, const std::string& where) {
+  if (const auto problem = beyond_limit(e.radiance, kMaxEmission, "the background's radiance")) fail_at(where, *problem);
   desc_.background = e;
   desc_.environment.reset();
   return *this;
 }
 
 SceneBuilder& SceneBuilder::environment(const EnvironmentDesc& e, const std::string& where) {
-  if (!(e.scale >= 0.0)) fail_at(where + ".scale", fmt::format("must not be negative (got {})", e.scale));
+  if (!(e.scale >= 0.0 && e.scale <= kMaxEnvironmentRadiance))
+    fail_at(where + ".scale", fmt::format("must be between 0 and {:g} (got {})", kMaxEnvironmentRadiance, e.scale));
   desc_.environment = e;
   return *this;
 }

@@ -5,6 +5,8 @@
 #include <tuple>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/memory.h"
+#include "bouguer/io/limits.h"
 #include "bouguer/scene/builder.h"
 #include "bouguer/spectra/cie.h"
 
@@ -20,6 +22,30 @@ int medium_index(const RenderScene& s, const std::string& name) {
 int add_spectrum(RenderScene& s, std::variant<Spectrum, IorModel> source, SpectrumRole role) {
   s.spectra.push_back({std::move(source), role});
   return static_cast<int>(s.spectra.size()) - 1;
+}
+
+// Peak memory per triangle while a scene is built: its mesh, welding and closedness checks and
+// Embree's BVH (measured: 3.9 GB for a sphere of 16.7 million triangles, 234 bytes each).
+constexpr std::uint64_t kGeometryBytesPerTriangle = 256;
+
+// The triangles of the scene so far plus `more` must fit the scene limit and the memory left.
+void require_geometry_room(std::uint64_t triangles, const SceneDesc& desc, const ObjectDesc& o) {
+  if (triangles > kMaxSceneTriangles)
+    fail("{}: object '{}': the scene would have {} triangles, more than the limit of {}", desc.file.string(), o.name,
+         triangles, kMaxSceneTriangles);
+  require_memory(triangles * kGeometryBytesPerTriangle,
+                 fmt::format("{}: object '{}': the scene up to it ({} triangles)", desc.file.string(), o.name, triangles));
+}
+
+// After its transform, every vertex must still be a finite point within the scene's extent.
+void check_world_positions(const Mesh& m, const SceneDesc& desc, const ObjectDesc& o) {
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const Vec3& p = m.positions[i];
+    for (int c = 0; c < 3; ++c)
+      if (!(std::abs(p[c]) <= kMaxSceneCoordinateM))
+        fail("{}: object '{}': its transform puts a vertex at {} = {:g} m, beyond the scene's extent of ±{:g} m",
+             desc.file.string(), o.name, "xyz"[c], p[c], kMaxSceneCoordinateM);
+  }
 }
 
 bool is_dispersive(const IorModel& ior) {
@@ -162,9 +188,16 @@ RenderScene compile(const SceneDesc& desc) {
   std::vector<ObjectDesc> objects = desc.objects;
   for (std::size_t i = 0; i < desc.lights.size(); ++i)
     if (desc.lights[i].radius_m > 0.0) objects.push_back(spot_disk(desc.lights[i], fmt::format("lights[{}]", i)));
+  std::uint64_t triangles = 0;
   for (const ObjectDesc& o : objects) {
+    require_geometry_room(triangles + triangle_bound(o.shape), desc, o);
     std::vector<ShapePart> parts = make_shape(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
-    for (ShapePart& p : parts) p.mesh = transformed(std::move(p.mesh), o.transform);
+    for (ShapePart& p : parts) {
+      p.mesh = transformed(std::move(p.mesh), o.transform);
+      check_world_positions(p.mesh, desc, o);
+      triangles += p.mesh.triangles.size();
+    }
+    require_geometry_room(triangles, desc, o);  // a mesh file's count is known only now
     Surface base;
     base.object = o.name;
     base.roughness = o.roughness;

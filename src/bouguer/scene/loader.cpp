@@ -11,6 +11,8 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/io/csv.h"
+#include "bouguer/io/json.h"
+#include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior_library.h"
@@ -64,6 +66,9 @@ double number(const json& j, const Where& w) {
 
 int integer(const json& j, const Where& w, int lo, int hi) {
   if (!j.is_number_integer()) w.fail("expected a whole number, found {}", type_name(j));
+  // An unsigned value above the range of long long would wrap in get<long long>().
+  if (j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(hi))
+    w.fail("must be between {} and {} (got {})", lo, hi, j.get<std::uint64_t>());
   const auto v = j.get<long long>();
   if (v < lo || v > hi) w.fail("must be between {} and {} (got {})", lo, hi, v);
   return static_cast<int>(v);
@@ -86,24 +91,38 @@ const json& array(const json& j, const Where& w, std::size_t size = 0) {
 }
 
 double length_m(const json& j, const Where& w) {
-  if (j.is_number()) return number(j, w);
-  if (!j.is_string()) w.fail("expected a length (metres, or a string such as \"5 mm\"), found {}", type_name(j));
-  try {
-    return parse_length_m(j.get<std::string>());
-  } catch (const Error& e) {
-    w.fail("{}", e.what());
+  double v = 0.0;
+  if (j.is_number()) {
+    v = number(j, w);
+  } else {
+    if (!j.is_string()) w.fail("expected a length (metres, or a string such as \"5 mm\"), found {}", type_name(j));
+    try {
+      v = parse_length_m(j.get<std::string>());
+    } catch (const Error& e) {
+      w.fail("{}", e.what());
+    }
   }
+  if (!(std::abs(v) <= kMaxSceneCoordinateM)) w.fail("{:g} m is beyond the scene's extent of ±{:g} m", v, kMaxSceneCoordinateM);
+  return v;
 }
 
 double positive_length_m(const json& j, const Where& w) {
   const double v = length_m(j, w);
   if (!(v > 0.0)) w.fail("must be a positive length (got {} m)", v);
+  if (v < kMinSceneLengthM) w.fail("{:g} m is below the smallest length of {:g} m", v, kMinSceneLengthM);
   return v;
 }
 
 Vec3 vec3(const json& j, const Where& w) {
   array(j, w, 3);
   return {number(j[0], w[0]), number(j[1], w[1]), number(j[2], w[2])};
+}
+
+// A direction (up, a light's direction, a rotation axis): any length but zero, finite when squared.
+Vec3 direction(const json& j, const Where& w) {
+  const Vec3 d = vec3(j, w);
+  if (!(std::isfinite(length(d)) && length(d) > 0.0)) w.fail("must be a direction of finite, non-zero length");
+  return d;
 }
 
 Vec3 length_vec3(const json& j, const Where& w) {
@@ -510,7 +529,7 @@ CameraDesc camera(const json& j, const Where& w) {
   }
   if (j.contains("position")) c.position_m = length_vec3(j["position"], w / "position");
   if (j.contains("look_at")) c.look_at_m = length_vec3(j["look_at"], w / "look_at");
-  if (j.contains("up")) c.up = vec3(j["up"], w / "up");
+  if (j.contains("up")) c.up = direction(j["up"], w / "up");
   if (j.contains("fov_deg")) c.fov_deg = number(j["fov_deg"], w / "fov_deg");
   if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
   if (j.contains("resolution")) {
@@ -558,7 +577,7 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
   }
   if (l.type != DeltaLightType::point) {
     if (j.contains("direction") == j.contains("look_at")) w.fail("give either 'direction' or 'look_at'");
-    const Vec3 d = j.contains("direction") ? vec3(j["direction"], w / "direction")
+    const Vec3 d = j.contains("direction") ? direction(j["direction"], w / "direction")
                                            : length_vec3(j["look_at"], w / "look_at") - l.position_m;
     if (length(d) == 0.0) w.fail("the light's direction is zero");
     l.direction = normalize(d);
@@ -620,19 +639,7 @@ double parse_length_m(const std::string& s) {
 }
 
 SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
-  json root;
-  try {
-    root = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    // Turn the byte offset into line and column.
-    const std::size_t at = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, json_text.size());
-    const auto line = 1 + std::count(json_text.begin(), json_text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
-    const auto nl = json_text.rfind('\n', at == 0 ? 0 : at - 1);
-    const auto column = nl == std::string::npos ? at + 1 : at - nl;
-    std::string why = e.what();
-    if (const auto p = why.find("parse error"); p != std::string::npos) why = why.substr(p);
-    fail("{}:{}:{}: malformed JSON: {}", path.string(), line, column, why);
-  }
+  const json root = parse_json(json_text, path);
   const Where top{&path, ""};
   expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "lights", "background"});
   SceneBuilder b(path);

@@ -6,6 +6,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/io/csv.h"
+#include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/scene/loader.h"
 
@@ -121,6 +122,8 @@ ResolvedMaterial resolve_material(const std::string& name_or_file, std::optional
     r.concentration = concentration.value_or(1.0);
     r.sigma_a_per_m = scaled(m->sigma_a_per_m, r.concentration);
     r.ior = m->default_ior;
+    if (const auto problem = beyond_limit(r.sigma_a_per_m, kMaxCoefficientPerM, "σ_a (per metre) at this concentration"))
+      fail("{}: {}", m->name, *problem);
     return r;
   }
   std::error_code ec;
@@ -134,6 +137,8 @@ ResolvedMaterial resolve_material(const std::string& name_or_file, std::optional
   r.name = f.name;
   r.ior = f.ior.value_or(1.5);
   r.sigma_a_per_m = to_sigma_a_per_m(f.values, f.unit, r.concentration, f.thickness_m, name_or_file);
+  if (const auto problem = beyond_limit(r.sigma_a_per_m, kMaxCoefficientPerM, "σ_a (per metre) at this concentration"))
+    fail("{}: {}", name_or_file, *problem);
   r.file = std::move(f);
   return r;
 }

@@ -115,4 +115,12 @@ double max_value(const Spectrum& s) {
   return extreme_over_domain(s, [](double a, double b) { return std::max(a, b); });
 }
 
+std::optional<std::string> beyond_limit(const Spectrum& s, double limit, std::string_view what) {
+  const double peak = max_value(s), low = min_value(s);
+  if (peak <= limit && low >= -limit) return std::nullopt;
+  if (!std::isfinite(peak) || !std::isfinite(low))
+    return fmt::format("{} is not finite (the product overflows)", what);
+  return fmt::format("{} reaches {:g}, beyond the limit of {:g}", what, std::abs(peak) > std::abs(low) ? peak : low, limit);
+}
+
 }  // namespace bouguer

@@ -4,6 +4,8 @@
 // (relative radiance, transmittance, sigma_a per metre, ...).
 #include <string_view>
 #include <variant>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace bouguer {
@@ -79,5 +81,9 @@ Spectrum scaled(const Spectrum& s, double factor);
 // Smallest and largest value over the domain [kLambdaMinNm, kLambdaMaxNm].
 double min_value(const Spectrum& s);
 double max_value(const Spectrum& s);
+
+// Why `s` is not finite or not within ±limit ("WHAT reaches 3e+20, beyond the limit of 1e+12"),
+// or nothing: for products (scale × spectrum, concentration × absorptivity) checked once formed.
+std::optional<std::string> beyond_limit(const Spectrum& s, double limit, std::string_view what);
 
 }  // namespace bouguer

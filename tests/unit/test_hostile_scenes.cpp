@@ -1,0 +1,210 @@
+// Scenes and command lines made to break Bouguer (#11): JSON the parser must refuse with its
+// place, numbers that would poison the image, renders that cannot fit in memory, and tools asked
+// for numbers they cannot give. Each ends in one line naming the file and the place, exit 1
+// (2 for a bad command line), and an earlier output at the same path byte for byte as it was.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "bouguer/core/error.h"
+#include "bouguer/render/film.h"
+#include "bouguer/render/render.h"
+#include "bouguer/scene/compile.h"
+#include "bouguer/scene/loader.h"
+#include "support/test_support.h"
+
+namespace bouguer {
+namespace {
+namespace fs = std::filesystem;
+
+testing::AssertionResult has(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return testing::AssertionSuccess();
+  return testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+// What loading and compiling the scene text says (its file is named s.json in messages).
+std::string scene_error(const std::string& json) {
+  try {
+    (void)compile(parse_scene(json, "s.json"));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// A small scene with a glass sphere over a lamp; each placeholder is replaced by a test's value.
+std::string scene(const std::string& radius = "\"20 mm\"", const std::string& lamp_scale = "1",
+                  const std::string& concentration = "1", const std::string& extra_object = "") {
+  return R"({"camera": {"position": [0, "150 mm", "1 mm"], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov_deg": 20,
+             "resolution": [16, 16]},
+  "render": {"spp": 1},
+  "media": {"glass": {"ior": 1.52, "absorption": {"library": "red-glass", "concentration": )" +
+         concentration + R"(}}},
+  "objects": [
+    {"name": "ball", "shape": {"type": "sphere", "radius": )" +
+         radius + R"(}, "inside": "glass"},)" + extra_object + R"(
+    {"name": "lamp", "shape": {"type": "quad", "size": ["300 mm", "300 mm"]},
+     "transform": [{"rotate_deg": [-90, [1, 0, 0]]}, {"translate": [0, "-40 mm", 0]}],
+     "emission": {"spectrum": "D65", "scale": )" +
+         lamp_scale + R"(}}
+  ]})";
+}
+
+TEST(HostileScene, TheTestSceneItselfIsAccepted) { EXPECT_EQ(scene_error(scene()), "accepted"); }
+
+TEST(HostileScene, JsonNumbersBeyondADoubleNameTheirLineAndColumn) {
+  EXPECT_EQ(scene_error("{\n  \"objects\": [1e999]\n}"),
+            "s.json:2:15: the number 1e999 is beyond the range of a double (about ±1.8e308)");
+  EXPECT_TRUE(has(scene_error(scene("1e999")), "s.json:6:60: the number 1e999 is beyond the range of a double"));
+  EXPECT_TRUE(has(scene_error("{\"objects\": [-1e400]}"), "s.json:1:14: the number -1e400 is beyond"));
+}
+
+TEST(HostileScene, DuplicateKeysAreErrors) {
+  EXPECT_EQ(scene_error("{\"objects\": [],\n \"objects\": []}"),
+            "s.json:2:2: (top level): duplicate key 'objects' (each key may appear once in an object)");
+  EXPECT_EQ(scene_error(R"({"objects": [{"shape": {"type": "sphere", "type": "box"}}]})"),
+            "s.json:1:43: objects[0].shape: duplicate key 'type' (each key may appear once in an object)");
+}
+
+TEST(HostileScene, MalformedJsonIsOneShortLine) {
+  const std::string long_token = scene_error("{\"a\": \"" + std::string(100000, 'x') + "\" b}");
+  EXPECT_TRUE(has(long_token, "s.json:1:100010: malformed JSON: syntax error while parsing object"));
+  EXPECT_TRUE(has(long_token, "… (100004 bytes)"));
+  EXPECT_LT(long_token.size(), 300u);
+  const std::string deep = scene_error("{\"objects\": " + std::string(100000, '[') + std::string(100000, ']') + "}");
+  EXPECT_TRUE(has(deep, "s.json:1:"));
+  EXPECT_TRUE(has(deep, "nested deeper than 64 levels"));
+  EXPECT_LT(deep.size(), 300u);
+  EXPECT_TRUE(has(scene_error("{\"objects\": tru}"), "s.json:1:16: malformed JSON: syntax error while parsing value"));
+  EXPECT_EQ(scene_error(""), "s.json:1:1: malformed JSON: syntax error while parsing value - unexpected end of input; expected '[', '{', or a literal");
+}
+
+// Values that each pass a plain "is it a number" check, and made most pixels NaN with exit 0.
+TEST(HostileScene, NumbersThatWouldPoisonTheImageAreRefusedWithTheirPlace) {
+  const std::string box = R"(
+    {"name": "far", "shape": {"type": "box", "size": [1, 1, 1]}, "material": {"type": "diffuse"},
+     "transform": [{"scale": 1e200}, {"scale": 1e200}]},)";
+  const struct {
+    std::string json, message;
+  } cases[] = {
+      {scene("1e308"), "s.json: objects[0].shape.radius: 1e+308 m is beyond the scene's extent of ±1e+07 m"},
+      {scene("\"1e300 km\""), "objects[0].shape.radius: 1e+303 m is beyond the scene's extent"},
+      {scene("1e-300"), "objects[0].shape.radius: 1e-300 m is below the smallest length of 1e-09 m"},
+      {scene("\"20 mm\"", "1e308"), "s.json: objects[1].emission: the emitted radiance reaches 1.19134e+308, beyond the limit of 1e+12"},
+      {scene("\"20 mm\"", "1", "1e308"),
+       "s.json: media.glass.absorption: the absorption coefficient σ_a (per metre) is not finite (the product overflows)"},
+      {scene("\"20 mm\"", "1", "1e10"), "media.glass.absorption: the absorption coefficient σ_a (per metre) reaches"},
+      {scene("\"20 mm\"", "1", "1", box), "s.json: object 'far': its transform puts a vertex at x = inf m, beyond the scene's extent of ±1e+07 m"},
+      {R"({"camera": {"up": [1e300, 1e300, 0]}, "objects": []})", "s.json: camera.up: must be a direction of finite, non-zero length"},
+      {R"({"objects": [], "lights": [{"type": "point", "position": [0, 1, 0], "spectrum": "D65", "scale": 1e308}]})",
+       "s.json: lights[0]: the light's intensity reaches"},
+      {R"({"objects": [], "background": {"spectrum": "E", "scale": 1e300}})", "s.json: background: the background's radiance reaches"},
+      {R"({"objects": [], "render": {"spp": 18446744073709551615}})",
+       "s.json: render.spp: must be between 1 and 1048576 (got 18446744073709551615)"},
+  };
+  for (const auto& c : cases) {
+    const std::string e = scene_error(c.json);
+    EXPECT_TRUE(has(e, c.message)) << c.json;
+  }
+}
+
+TEST(HostileScene, ARenderTooLargeForMemoryIsRefusedBeforeItAllocates) {
+  // 16384 x 16384 is within the resolution limit; its film takes about 20 GiB.
+  const std::string outcome = test::run_with_memory_budget(
+      [] {
+        SceneDesc desc = parse_scene(scene(), "s.json");
+        desc.camera.width_px = desc.camera.height_px = 16384;
+        const RenderScene s = compile(desc);
+        (void)make_film(s, desc.render, false);
+      },
+      std::size_t{1} << 30);
+  EXPECT_TRUE(has(outcome, "error: s.json: a 16384x16384 image needs about 20.0 GiB of memory; ")) << outcome;
+  EXPECT_TRUE(has(outcome, " is available")) << outcome;
+
+  // 20 000 spheres in a 2 MB scene: 184 million triangles, refused before most are made.
+  std::string many = R"({"media": {"g": {"ior": 1.5}}, "objects": [)";
+  for (int i = 0; i < 20000; ++i)
+    many += fmt::format(R"({}{{"shape": {{"type": "sphere", "radius": "1 mm"}}, "inside": "g", "transform": [{{"translate": [{}, 0, 0]}}]}})",
+                        i ? "," : "", 0.003 * i);
+  many += "]}";
+  const std::string spheres = test::run_with_memory_budget([&] { (void)compile(parse_scene(many, "s.json")); },
+                                                           std::size_t{512} << 20);
+  EXPECT_TRUE(has(spheres, "error: s.json: object 'object ")) << spheres;
+  EXPECT_TRUE(has(spheres, " triangles) needs about ")) << spheres;
+  EXPECT_TRUE(has(spheres, " of memory; ")) << spheres;
+}
+
+TEST(HostileScene, NonFinitePixelsAreCountedWithTheFirst) {
+  Film film(4, 3, {500.0});
+  EXPECT_EQ(find_non_finite(film).count, 0u);
+  film.set_rgb(2, 1, {0.0f, std::numeric_limits<float>::quiet_NaN(), 0.0f});
+  film.spectrum_at(3, 2)[0] = std::numeric_limits<float>::infinity();
+  const NonFinitePixels bad = find_non_finite(film);
+  EXPECT_EQ(bad.count, 2u);
+  EXPECT_EQ(bad.first_x, 2);
+  EXPECT_EQ(bad.first_y, 1);
+}
+
+// The command line: exit 1 with one line naming the file, and keep.png as the good render left it.
+TEST(HostileCli, RefusedScenesLeaveTheEarlierOutputByteIdentical) {
+  const fs::path dir = test::scratch_dir("hostile_cli_scenes");
+  test::write_file(dir / "good.json", scene());
+  const std::string keep = (dir / "keep.png").string();
+  ASSERT_EQ(test::run_bouguer({"render", (dir / "good.json").string(), "-o", keep, "--quiet"}).exit_code, 0);
+  const std::string before = test::read_file(keep);
+  const struct {
+    std::string name, json, message;
+  } cases[] = {
+      {"radius.json", scene("1e308"), "radius.json: objects[0].shape.radius: 1e+308 m is beyond the scene's extent"},
+      {"overflow.json", scene("1e999"), "overflow.json:6:60: the number 1e999 is beyond the range of a double"},
+      {"scale.json", scene("\"20 mm\"", "1e308"), "scale.json: objects[1].emission: the emitted radiance reaches"},
+      {"duplicate.json", "{\"objects\": [], \"objects\": []}", "duplicate.json:1:17: (top level): duplicate key 'objects'"},
+  };
+  for (const auto& c : cases) {
+    test::write_file(dir / c.name, c.json);
+    const auto r = test::run_bouguer({"render", (dir / c.name).string(), "-o", keep});
+    EXPECT_EQ(r.exit_code, 1) << c.name;
+    EXPECT_TRUE(has(r.err, "bouguer: error: ")) << r.err;
+    EXPECT_TRUE(has(r.err, c.message)) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(has(r.err, "internal error"));
+    EXPECT_EQ(test::read_file(keep), before) << c.name;
+  }
+}
+
+TEST(HostileCli, ToolsExitNonZeroRatherThanPrintNan) {
+  const auto color = test::run_bouguer({"color", "D65", "--scale", "1e308"});
+  EXPECT_EQ(color.exit_code, 2);
+  EXPECT_TRUE(has(color.err, "--scale: must be a finite number from 0 to 1e+12, got 1e308")) << color.err;
+  EXPECT_EQ(color.out, "");
+
+  const auto water = test::run_bouguer({"material", "water", "--concentration", "1e308"});
+  EXPECT_EQ(water.exit_code, 2);
+  EXPECT_TRUE(has(water.err, "--concentration: must be a finite number from 0 to 1e+12, got 1e308")) << water.err;
+  const auto glass = test::run_bouguer({"material", "red-glass", "--concentration", "1e11"});
+  EXPECT_EQ(glass.exit_code, 1);
+  EXPECT_TRUE(has(glass.err, "red-glass: σ_a (per metre) at this concentration reaches")) << glass.err;
+  EXPECT_EQ(glass.out.find("nan"), std::string::npos);
+
+  const fs::path dir = test::scratch_dir("hostile_cli_compare");
+  const auto pfm = [](float a, float b) {
+    std::string bytes = "PF\n2 1\n-1.0\n";
+    const float values[6] = {0.5f, 0.5f, 0.5f, a, b, 0.0f};
+    bytes.append(reinterpret_cast<const char*>(values), sizeof values);
+    return bytes;
+  };
+  test::write_file(dir / "ok.pfm", pfm(0.5f, 0.5f));
+  test::write_file(dir / "nan.pfm", pfm(std::numeric_limits<float>::quiet_NaN(), 0.0f));
+  test::write_file(dir / "inf.pfm", pfm(0.0f, std::numeric_limits<float>::infinity()));
+  for (const char* bad : {"nan.pfm", "inf.pfm"}) {
+    const auto r = test::run_bouguer({"compare", (dir / bad).string(), (dir / "ok.pfm").string(), "--json"});
+    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_TRUE(has(r.err, std::string(bad) + ": pixel (1, 0) holds ")) << r.err;
+    EXPECT_TRUE(has(r.err, ", not a finite number")) << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
+}  // namespace
+}  // namespace bouguer
