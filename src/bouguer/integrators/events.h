@@ -173,6 +173,18 @@ inline SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const V
   return v.tables.at(light.radiance, w) * static_cast<float>(factor);
 }
 
+// The indices on the two sides of an interface, as the path sees them (reference or kept wavelength).
+template <std::size_t N>
+inline SmoothDielectric interface_indices(const SceneView<N>& v, const Surface& surface, const SampledWavelengths<N>& w) {
+  auto eta_of = [&](int m) { return eta(v.scene.media[static_cast<std::size_t>(m)], v.tables, w); };
+  return {eta_of(surface.medium_front), eta_of(surface.medium_behind)};
+}
+
+// The medium a direction leaving an interface travels in (SurfaceEvent::medium_towards).
+inline int interface_medium_towards(const Surface& surface, const Hit& hit, const Vec3& wi) {
+  return dot(wi, hit.normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+}
+
 template <std::size_t N>
 inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
                               int medium, const SampledWavelengths<N>& w) {
@@ -187,11 +199,10 @@ inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, cons
     return {frame, ConductorReflection<N>{v.tables.at(c.n, w), v.tables.at(c.k, w), eta_of(medium), c.alpha}, medium,
             medium};
   }
-  const double eta_front = eta_of(surface.medium_front), eta_behind = eta_of(surface.medium_behind);
+  const SmoothDielectric indices = interface_indices(v, surface, w);
   const Frame frame(hit.normal);
-  if (surface.roughness == 0.0)
-    return {frame, SmoothDielectric{eta_front, eta_behind}, surface.medium_front, surface.medium_behind};
-  const RoughDielectricBsdf lobe{{surface.roughness}, eta_front, eta_behind,
+  if (surface.roughness == 0.0) return {frame, indices, surface.medium_front, surface.medium_behind};
+  const RoughDielectricBsdf lobe{{surface.roughness}, indices.eta_front, indices.eta_behind,
                                  &s.dielectric_albedo[static_cast<std::size_t>(surface.albedo)]};
   return {frame, RoughDielectric{lobe}, surface.medium_front, surface.medium_behind};
 }

@@ -28,27 +28,36 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
   const SampledSpectrum<N> tr = travel(v, medium, {from, ray.direction}, length(hit->point - from), w);
   const Vec3 wo = -ray.direction;
   if (surface.kind == SurfaceKind::emitter) return tr * emitted(v, *hit, wo, w);
+  // Every branch of a specular surface is followed, in world directions.
+  auto follow = [&](const Vec3& d, int next_medium, float branch_weight) -> SampledSpectrum<N> {
+    if (branch_weight < kMinPathWeight) return {};
+    return whitted(v, hit->point, {offset_ray_origin(*hit, d), d}, next_medium, depth + 1, branch_weight, w, rng, rays);
+  };
+  if (surface.kind == SurfaceKind::interface && surface.roughness == 0.0) {
+    // A smooth interface needs its Fresnel split only, not a BSDF in a local frame; a branch ends
+    // before its direction is computed when it is too faint to follow.
+    const float w_in = weight * tr.max_value();
+    if (depth >= v.max_depth || w_in < kMinPathWeight) return {};
+    const DielectricSplit d = split(interface_indices(v, surface, w), wo, hit->normal);
+    const auto f = static_cast<float>(d.reflectance);
+    const float w_reflected = w_in * f, w_refracted = w_in * (1.0f - f);
+    SampledSpectrum<N> l;
+    if (w_reflected >= kMinPathWeight) {
+      const Vec3 r = d.reflected();
+      l = f * follow(r, interface_medium_towards(surface, *hit, r), w_reflected);
+    }
+    if (f < 1.0f && w_refracted >= kMinPathWeight)
+      if (const auto t = d.refracted()) l += (1.0f - f) * follow(*t, interface_medium_towards(surface, *hit, *t), w_refracted);
+    return tr * l;
+  }
   const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, rng, rays, false, false);
   if (depth >= v.max_depth) return {};
-  // Every branch of a specular surface is followed, in world directions.
-  auto follow = [&](const Vec3& d, float branch_weight) -> SampledSpectrum<N> {
-    if (branch_weight < kMinPathWeight) return {};
-    return whitted(v, hit->point, {offset_ray_origin(*hit, d), d}, e.medium_towards(d), depth + 1, branch_weight, w, rng,
-                   rays);
-  };
-  if (std::holds_alternative<ConductorReflection<N>>(e.bsdf)) {
-    const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);
-    if (!s) return {};
-    return tr * s->weight * follow(e.frame.to_world(s->wi), weight * (tr * s->weight).max_value());
-  }
-  const float w_in = weight * tr.max_value();
-  if (w_in < kMinPathWeight) return {};
-  const DielectricSplit d = split(std::get<SmoothDielectric>(e.bsdf), wo, e.frame.n);
-  const auto f = static_cast<float>(d.reflectance);
-  SampledSpectrum<N> l = f * follow(d.reflected, w_in * f);
-  if (d.refracted && f < 1.0f) l += (1.0f - f) * follow(*d.refracted, w_in * (1.0f - f));
-  return tr * l;
+  // A smooth conductor: a mirror with its spectral Fresnel reflectance.
+  const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);
+  if (!s) return {};
+  const Vec3 r = e.frame.to_world(s->wi);
+  return tr * s->weight * follow(r, e.medium_towards(r), weight * (tr * s->weight).max_value());
 }
 
 }  // namespace

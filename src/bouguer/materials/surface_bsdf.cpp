@@ -34,32 +34,12 @@ double rough_importance_eval(const RoughDielectric& r, const Vec3& wo, const Vec
 
 }  // namespace
 
-DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Vec3& front_normal) {
-  const double cos_o = dot(wo, front_normal);
-  const bool front = cos_o > 0.0;
-  DielectricSplit s;
-  s.eta_o = front ? d.eta_front : d.eta_behind;
-  s.eta_t = front ? d.eta_behind : d.eta_front;
-  const Vec3 n = front ? front_normal : -front_normal;
-  s.reflectance = fresnel_dielectric(std::min(1.0, std::abs(cos_o)), s.eta_o, s.eta_t);
-  s.reflected = reflect(wo, n);
-  s.refracted = refract(wo, n, s.eta_o, s.eta_t);
-  return s;
-}
-
 template <std::size_t N>
 Spec<N> conductor_fresnel(double cos_theta_i, double eta, const Spec<N>& n, const Spec<N>& k) {
   Spec<N> f;
   for (std::size_t i = 0; i < N; ++i)
     f[i] = static_cast<float>(fresnel_conductor(cos_theta_i, eta, {double(n[i]), double(k[i])}));
   return f;
-}
-
-template <std::size_t N>
-bool is_specular(const Bsdf<N>& b) {
-  if (std::holds_alternative<SmoothDielectric>(b)) return true;
-  if (const auto* c = std::get_if<ConductorReflection<N>>(&b)) return c->alpha == 0.0;
-  return false;
 }
 
 template <std::size_t N>
@@ -113,15 +93,15 @@ std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc
   }
   if (wo.z == 0.0) return std::nullopt;
   const DielectricSplit d = split(std::get<SmoothDielectric>(b), wo);
-  if (uc < d.reflectance) return BsdfSampleN<N>{d.reflected, constant<N>(1.0), 0.0, false};
-  if (!d.refracted) return std::nullopt;  // cannot happen: F = 1 under total internal reflection
+  if (uc < d.reflectance) return BsdfSampleN<N>{d.reflected(), constant<N>(1.0), 0.0, false};
+  const auto refracted = d.refracted();
+  if (!refracted) return std::nullopt;  // cannot happen: F = 1 under total internal reflection
   const double weight = mode == TransportMode::radiance ? 1.0 : (d.eta_o * d.eta_o) / (d.eta_t * d.eta_t);
-  return BsdfSampleN<N>{*d.refracted, constant<N>(weight), 0.0, true};
+  return BsdfSampleN<N>{*refracted, constant<N>(weight), 0.0, true};
 }
 
 #define BOUGUER_BSDF_INSTANTIATE(N)                                                                          \
   template Spec<N> conductor_fresnel(double, double, const Spec<N>&, const Spec<N>&);                        \
-  template bool is_specular(const Bsdf<N>&);                                                                 \
   template Spec<N> eval(const Bsdf<N>&, const Vec3&, const Vec3&, TransportMode);                            \
   template double pdf(const Bsdf<N>&, const Vec3&, const Vec3&);                                             \
   template std::optional<BsdfSampleN<N>> sample(const Bsdf<N>&, const Vec3&, double, double, double, TransportMode);

@@ -15,10 +15,13 @@
 // Contracts (as in Mitsuba): eval is f(wo, wi)·|cos θi| and 0 for a delta lobe; pdf is the
 // solid-angle density with which sample draws wi, 0 for a delta lobe; sample returns wi, its pdf
 // (0 when specular) and weight = f·|cos θi| / pdf (for a delta lobe the factor it carries).
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <variant>
 
 #include "bouguer/materials/bsdf.h"
+#include "bouguer/materials/fresnel.h"
 #include "bouguer/spectra/sampled_spectrum.h"
 
 namespace bouguer {
@@ -50,16 +53,30 @@ struct RoughDielectric {
   RoughDielectricBsdf lobe;
 };
 
-// Both continuations of a smooth boundary seen along wo: the mirror direction, the refracted one
-// (none under total internal reflection) and the Fresnel reflectance that splits them.
+// Both continuations of a smooth boundary seen along wo: the Fresnel reflectance that splits
+// them, the mirror direction and the refracted one (none under total internal reflection). The
+// directions are computed when asked for: a path follows one, Whitted skips the faint ones.
 struct DielectricSplit {
-  Vec3 reflected;
-  std::optional<Vec3> refracted;
+  Vec3 wo, n;  // n: the unit normal on wo's side
   double reflectance = 1.0;
   double eta_o = 1.0, eta_t = 1.0;  // the index on wo's side and on the other side
+
+  Vec3 reflected() const { return reflect(wo, n); }
+  std::optional<Vec3> refracted() const { return refract(wo, n, eta_o, eta_t); }
 };
-// In any frame: `front` is the unit normal on the eta_front side (the local frame's +z).
-DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Vec3& front = {0.0, 0.0, 1.0});
+// In any frame: `front` is the unit normal on the eta_front side (the local frame's +z). Inline:
+// Whitted calls it at every interface.
+inline DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Vec3& front = {0.0, 0.0, 1.0}) {
+  const double cos_o = dot(wo, front);
+  const bool from_front = cos_o > 0.0;
+  DielectricSplit s;
+  s.wo = wo;
+  s.n = from_front ? front : -front;
+  s.eta_o = from_front ? d.eta_front : d.eta_behind;
+  s.eta_t = from_front ? d.eta_behind : d.eta_front;
+  s.reflectance = fresnel_dielectric(std::min(1.0, std::abs(cos_o)), s.eta_o, s.eta_t);
+  return s;
+}
 
 template <std::size_t N>
 using Bsdf = std::variant<DiffuseReflection<N>, ConductorReflection<N>, SmoothDielectric, RoughDielectric>;
@@ -74,7 +91,11 @@ struct BsdfSampleN {
 
 // Whether every lobe is a delta: such a surface is never connected to a light or the camera.
 template <std::size_t N>
-bool is_specular(const Bsdf<N>& b);
+bool is_specular(const Bsdf<N>& b) {
+  if (std::holds_alternative<SmoothDielectric>(b)) return true;
+  if (const auto* c = std::get_if<ConductorReflection<N>>(&b)) return c->alpha == 0.0;
+  return false;
+}
 
 template <std::size_t N>
 SampledSpectrum<N> eval(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi, TransportMode mode);

@@ -92,16 +92,6 @@ SampledWavelengths<N> SpectralTables<N>::wavelengths(double u) const {
 }
 
 template <std::size_t N>
-void SpectralTables<N>::restart(SampledWavelengths<N>& w, double u) const {
-  if (mode_ != SpectralMode::hero && w.mode == mode_) {
-    w.single = -1;
-    w.single_nm = 0.0;
-    return;
-  }
-  w = wavelengths(u);
-}
-
-template <std::size_t N>
 double SpectralTables<N>::kept_wavelength_nm(const SampledWavelengths<N>& w, int j, double u) const {
   const auto& bin = basis_.bin_nm[static_cast<std::size_t>(j)];
   if (mode_ != SpectralMode::full || bin.empty()) return w.nm[static_cast<std::size_t>(j)];
@@ -127,9 +117,9 @@ SampledSpectrum<N> SpectralTables<N>::environment(const EnvironmentMap& map, int
 }
 
 template <std::size_t N>
-Vec3 SpectralTables<N>::to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const {
+Vec3 SpectralTables<N>::spectral_to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const {
   switch (mode_) {
-    case SpectralMode::rgb3: return {l[0], l[1], l[2]};
+    case SpectralMode::rgb3: return {l[0], l[1], l[2]};  // (to_linear_rgb takes it inline)
     case SpectralMode::hero: {
       HeroWavelengths h;
       for (std::size_t i = 0; i < N && i < kHeroCount; ++i) h.nm[i] = w.nm[i], h.pdf[i] = w.pdf[i];

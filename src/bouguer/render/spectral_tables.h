@@ -54,19 +54,32 @@ class SpectralTables {
   // A new path's wavelengths: the mode's fixed set, or kHeroCount drawn from the stratified u.
   SampledWavelengths<N> wavelengths(double u) const;
   // The same into `w`, which a previous path used (cheaper: the fixed set is not copied again).
-  void restart(SampledWavelengths<N>& w, double u) const;
+  // Inline, as is to_linear_rgb's rgb3 case: both run once per sample.
+  void restart(SampledWavelengths<N>& w, double u) const {
+    if (mode_ != SpectralMode::hero && w.mode == mode_) {
+      w.single = -1;
+      w.single_nm = 0.0;
+      return;
+    }
+    w = wavelengths(u);
+  }
   // The wavelength kept at a dispersive interface by carried index j (full: uniform in bin j).
   double kept_wavelength_nm(const SampledWavelengths<N>& w, int j, double u) const;
   // The radiance of an environment texel (environment.h): its RGB lifted to a spectrum times D65
   // at the wavelengths (full: D65's bin means); rgb3 takes the texel's RGB directly.
   SampledSpectrum<N> environment(const EnvironmentMap& map, int texel, const SampledWavelengths<N>& w) const;
   // Linear Rec.709 of one sample's spectrum at its wavelengths.
-  Vec3 to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const;
+  Vec3 to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const {
+    if (mode_ == SpectralMode::rgb3) return {l[0], l[1], l[2]};
+    return spectral_to_linear_rgb(l, w);
+  }
 
   SpectralMode mode() const { return mode_; }
   const SpectralBasis<N>& basis() const { return basis_; }
 
  private:
+  Vec3 spectral_to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const;
+
   SpectralMode mode_;
   SpectralBasis<N> basis_;
   std::vector<SampledSpectrum<N>> fixed_;
