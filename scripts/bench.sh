@@ -2,8 +2,9 @@
 # make bench: the micro-benchmarks and the paper's scenes at fixed settings (512x512, 16 spp, both
 # spectral modes, all cores); the figures go into docs/performance.md between the BENCH markers.
 # Benchmarks report; they never fail on a time.
-# BENCH_BASELINE=path/to/an/older/bouguer adds its time for each row, rendered just before the
+# BENCH_BASELINE=path/to/an/older/bouguer adds its time for each row, rendered alternately with the
 # current build's on the same machine, and the change (for "no scene slower by more than 5 %").
+# BENCH_RUNS=N renders each row N times and keeps the fastest (default 3 with a baseline, else 1).
 set -euo pipefail
 build=${1:-build}
 doc=docs/performance.md
@@ -42,10 +43,12 @@ bench_table() {
   shift 4
   local extra=("$@")
   local baseline=${BENCH_BASELINE:-}
+  local runs=${BENCH_RUNS:-$([ -n "$baseline" ] && echo 3 || echo 1)}
   echo "Measured on $today, $machine, Release build; \`bouguer render SCENE ${*:+$* }--resolution $resolution --spp $spp\`."
+  if [ "$runs" -gt 1 ]; then echo "Each time is the fastest of $runs runs${baseline:+, the baseline's and the current build's alternating}."; fi
   echo
   if [ -n "$baseline" ]; then
-    echo "Baseline: \`$baseline\` (rendered just before each row's current run)."
+    echo "Baseline: \`$baseline\` (each of its runs just before one of the current build's)."
     echo
     echo "| scene | spectral | resolution | spp | seconds | baseline seconds | change | rays | rays/s |"
     echo "|---|---|---|---|---|---|---|---|---|"
@@ -57,11 +60,17 @@ bench_table() {
     local name
     name=$(basename "$scene" .json)
     for mode in $modes; do
-      local rays rays_per_second seconds base_seconds
-      if [ -n "$baseline" ]; then
-        read -r _ _ base_seconds < <(render_stats "$baseline" "$scene" "$mode" "$resolution" "$spp" base "${extra[@]}")
-      fi
-      read -r rays rays_per_second seconds < <(render_stats "$build/bouguer" "$scene" "$mode" "$resolution" "$spp" new "${extra[@]}")
+      local rays rays_per_second seconds="" base_seconds="" s run
+      # Baseline and current alternate, run after run; each column keeps its fastest run.
+      for ((run = 0; run < runs; run++)); do
+        if [ -n "$baseline" ]; then
+          read -r _ _ s < <(render_stats "$baseline" "$scene" "$mode" "$resolution" "$spp" base "${extra[@]}")
+          base_seconds=$(fastest "$base_seconds" "$s")
+        fi
+        read -r rays rays_per_second s < <(render_stats "$build/bouguer" "$scene" "$mode" "$resolution" "$spp" new "${extra[@]}")
+        seconds=$(fastest "$seconds" "$s")
+      done
+      rays_per_second=$(echo "$rays $seconds" | awk '{printf "%.6g", $1 / $2}')
       if [ -n "$baseline" ]; then
         printf '| %s | %s | %s | %s | %.2f | %.2f | %+.1f %% | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" \
           "$seconds" "$base_seconds" "$(echo "$seconds $base_seconds" | awk '{print 100 * ($1 / $2 - 1)}')" "$rays" \
@@ -73,6 +82,9 @@ bench_table() {
     done
   done
 }
+
+# The smaller of two times; the first may be empty.
+fastest() { if [ -z "$1" ]; then echo "$2"; else echo "$1 $2" | awk '{print ($1 < $2 ? $1 : $2)}'; fi; }
 
 # render_stats BINARY SCENE MODE RESOLUTION SPP TAG [flags...]: prints "rays rays_per_second seconds".
 render_stats() {

@@ -95,9 +95,10 @@ struct InterruptGuard {
   ~InterruptGuard() { sigaction(SIGINT, &previous, nullptr); }
 };
 
-// Renders in passes of sample ranges, 1, 1, 2, 4, ... samples per pixel up to a sixteenth of the
+// Renders in passes of sample ranges, 1, 1, 2, 4, ... samples per pixel, each pass doubling the
 // total (the image is the same as one pass would give), so an interrupted render has a whole
-// image early. Returns the samples per pixel every pixel has, and in `partial` how many more the
+// image early. Passes stay few (log2 spp + 1): each one walks the whole film again, which cost
+// rgb3 Whitted 5-15 % when passes were capped at a sixteenth of the samples. Returns the samples per pixel every pixel has, and in `partial` how many more the
 // interrupted pass added to the pixels it reached.
 struct Passes {
   int complete = 0, partial = 0;
@@ -106,10 +107,10 @@ struct Passes {
 
 Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
                      Progress& progress, RenderStats& stats) {
-  const int spp = settings.spp, largest_pass = std::max(1, (spp + 15) / 16);
+  const int spp = settings.spp;
   Passes p;
   for (int begin = 0; begin < spp;) {
-    const int end = std::min(spp, begin + std::clamp(begin, 1, largest_pass));
+    const int end = std::min(spp, begin + std::max(begin, 1));
     double fraction = 0.0;
     RenderControl control;
     control.threads = threads;
