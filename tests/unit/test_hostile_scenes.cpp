@@ -109,6 +109,37 @@ TEST(HostileScene, NumbersThatWouldPoisonTheImageAreRefusedWithTheirPlace) {
   }
 }
 
+// Concentration fields (#12): each mistake names the key.
+TEST(HostileScene, BadConcentrationFieldsNameTheirKey) {
+  auto with = [](const std::string& field) {
+    return R"({"media": {"g": {"ior": 1.5, "absorption": {"library": "red-glass", "concentration": )" + field +
+           R"(}}}, "objects": []})";
+  };
+  const struct {
+    std::string field, message;
+  } cases[] = {
+      {R"({"field": "linear", "value": -1, "slope_per_m": 2})",
+       "s.json: media.g.absorption.concentration.value: a concentration must not be negative (got -1)"},
+      {R"({"field": "linear", "axis": [0, 0, 0], "value": 1, "slope_per_m": 2})",
+       "media.g.absorption.concentration.axis: must be a direction of finite, non-zero length"},
+      {R"({"field": "diffusoin", "value": 1})", "media.g.absorption.concentration.field: unknown concentration field 'diffusoin' (did you mean 'diffusion'?)"},
+      {R"({"field": "diffusion", "value": 1})", "needs either 'width' (w in erfc(s/w)) or 'diffusivity_m2_per_s' and 'time_s'"},
+      {R"({"field": "diffusion", "value": 1, "diffusivity_m2_per_s": -1e-9, "time_s": 10})",
+       "concentration.diffusivity_m2_per_s: must be positive (got -1e-09)"},
+      {R"({"field": "exponential", "value": 1, "scale_length": "-2 mm"})", "concentration.scale_length: must be a positive length"},
+      {R"({"field": "layers", "layers": [["10 mm", 1], ["5 mm", 2]]})",
+       "concentration.layers[1][0]: layer bounds must increase (0.005 m follows 0.01 m)"},
+      {R"({"field": "layers", "layers": [["10 mm", -1]]})", "concentration.layers[0][1]: a concentration must not be negative"},
+      {R"({"field": "layers", "layers": []})", "concentration.layers: needs 1 to 256 layers (got 0)"},
+      {R"({"field": "linear", "value": 1, "slope_per_m": 2, "colour": 3})", "concentration.colour: unknown key"},
+      {R"({"field": "diffusion", "value": 1e13, "width": "1 mm"})",
+       "media.g.absorption.concentration: σ_a at the field's largest concentration (1e+13) exceeds 1e+12 per metre"},
+  };
+  for (const auto& c : cases) EXPECT_TRUE(has(scene_error(with(c.field)), c.message)) << c.field;
+  EXPECT_TRUE(has(scene_error(R"({"media": {"g": {"ior": 1.5, "absorption": []}}, "objects": []})"),
+                  "media.g.absorption: needs 1 to 8 absorbers (got 0)"));
+}
+
 TEST(HostileScene, ARenderTooLargeForMemoryIsRefusedBeforeItAllocates) {
   // 16384 x 16384 is within the resolution limit; its film takes about 20 GiB.
   const std::string outcome = test::run_with_memory_budget(

@@ -24,6 +24,7 @@ inline constexpr double kMinSceneLengthM = 1e-9;
 inline constexpr std::uint64_t kMaxSceneTriangles = std::uint64_t{1} << 28;  // 268 435 456
 inline constexpr double kMaxEmission = 1e12;
 inline constexpr double kMaxCoefficientPerM = 1e12;
+inline constexpr std::size_t kMaxLayers = 256;  // in a layers concentration field
 
 // Images (EXR, PFM, environment maps): each side, all pixels, all values in all channels read.
 inline constexpr int kMaxImageDimension = 65536;

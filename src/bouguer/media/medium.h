@@ -1,13 +1,19 @@
 #pragma once
 // What light meets between two surfaces: a closed set of media, each a small plain struct with
-// the same verbs. Today one alternative, a homogeneous absorber; a concentration field and a
-// scattering medium are new alternatives here, not new branches in the integrators.
+// the same verbs: a homogeneous absorber, and absorbers whose concentration varies in space; a
+// scattering medium is a new alternative here, not a new branch in the integrators.
 //
 // Spectra are referred to by id into the scene's spectral tables (render/spectral_tables.h),
 // which are passed in with the path's wavelengths: a medium holds no per-mode data.
+#include <array>
 #include <cmath>
+#include <span>
 #include <string>
 #include <variant>
+#include <vector>
+
+#include "bouguer/media/concentration_field.h"
+#include "bouguer/media/optical_depth.h"
 
 #include "bouguer/spectra/sampled_spectrum.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
@@ -20,11 +26,27 @@ struct HomogeneousMedium {
   bool absorbing = false;
 };
 
-using Medium = std::variant<HomogeneousMedium>;
+// σ_a(x, λ) = Σ_k c_k(x)·ε_k(λ): absorbers each with its own concentration field. The optical
+// depth of a segment is exact: ε_k times the field's column density (concentration_field.h).
+struct FieldAbsorber {
+  int epsilon = -1;  // spectrum id of σ_a per unit concentration (SpectrumRole::absorption)
+  ConcentrationField field;
+};
+inline constexpr std::size_t kMaxAbsorbersPerMedium = 8;
+
+struct FieldMedium {
+  std::vector<FieldAbsorber> absorbers;  // 1 to kMaxAbsorbersPerMedium
+};
+
+using Medium = std::variant<HomogeneousMedium, FieldMedium>;
 
 // Whether any wavelength is attenuated inside: an infinite path through it lets nothing through.
 inline bool absorbs(const Medium& m) {
-  return std::visit([](const auto& medium) { return medium.absorbing; }, m);
+  struct Visitor {
+    bool operator()(const HomogeneousMedium& h) const { return h.absorbing; }
+    bool operator()(const FieldMedium&) const { return true; }
+  };
+  return std::visit(Visitor{}, m);
 }
 
 // Russian roulette is never played inside an absorber: there the throughput falls because of
@@ -35,15 +57,28 @@ inline bool allows_roulette(const Medium& m) { return !absorbs(m); }
 // infinite: then zero in an absorber, one in a clear medium). Exact for every carried
 // wavelength; deterministic (no tracking estimator for media that only absorb).
 template <typename Tables, typename Ray, std::size_t N>
-SampledSpectrum<N> transmittance(const Medium& m, const Tables& tables, const Ray& /*ray*/, double t0, double t1,
+SampledSpectrum<N> transmittance(const Medium& m, const Tables& tables, const Ray& ray, double t0, double t1,
                                  const SampledWavelengths<N>& w) {
-  return std::visit(
-      [&](const HomogeneousMedium& h) {
-        if (!h.absorbing) return SampledSpectrum<N>::constant(1.0f);
-        if (std::isinf(t1)) return SampledSpectrum<N>{};
-        return tables.transmittance(h.sigma_a, t1 - t0, w);
-      },
-      m);
+  struct Visitor {
+    const Tables& tables;
+    const Ray& ray;
+    double t0, t1;
+    const SampledWavelengths<N>& w;
+    SampledSpectrum<N> operator()(const HomogeneousMedium& h) const {
+      if (!h.absorbing) return SampledSpectrum<N>::constant(1.0f);
+      if (std::isinf(t1)) return SampledSpectrum<N>{};
+      return tables.transmittance(h.sigma_a, t1 - t0, w);
+    }
+    SampledSpectrum<N> operator()(const FieldMedium& f) const {
+      if (std::isinf(t1)) return SampledSpectrum<N>{};
+      std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
+      std::size_t n = 0;
+      for (const FieldAbsorber& a : f.absorbers)
+        terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
+      return tables.transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
+    }
+  };
+  return std::visit(Visitor{tables, ray, t0, t1, w}, m);
 }
 
 // A medium of the scene: how light travels inside it and its refractive index, which the

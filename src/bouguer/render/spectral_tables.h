@@ -6,11 +6,13 @@
 //   any mode: a 1 nm table over 360–830 nm, for wavelengths drawn per path (hero) and the one
 //     wavelength a path keeps after a dispersive interface.
 #include <cstddef>
+#include <span>
 #include <variant>
 #include <vector>
 
 #include "bouguer/core/math.h"
 #include "bouguer/media/ior.h"
+#include "bouguer/media/optical_depth.h"
 #include "bouguer/render/spectral_sampling.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/scene/environment.h"
@@ -49,6 +51,23 @@ class SpectralTables {
     const auto l = static_cast<float>(length_m);
     if (mode_ == SpectralMode::full) return sub_bin_transmittance(sub_[static_cast<std::size_t>(id)], l);
     return beer_lambert_transmittance(at(id, w), l);
+  }
+  // exp(−Σ_k σ_k·l_k) for several absorbers on one segment (each term: an absorption spectrum id
+  // and a length, or an ε id and a column density). Full mode sums the exponents at each sub-bin
+  // point before the mean, as for one absorber.
+  SampledSpectrum<N> transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<N>& w) const {
+    if (mode_ == SpectralMode::full) {
+      SubBinValues<N> sum{};
+      for (const OpticalDepthTerm& t : terms) {
+        const auto l = static_cast<float>(t.length);
+        const SubBinValues<N>& sigma = sub_[static_cast<std::size_t>(t.id)];
+        for (int k = 0; k < kSubBins; ++k) sum[k] += sigma[k] * l;
+      }
+      return sub_bin_transmittance(sum, 1.0f);
+    }
+    SampledSpectrum<N> sum{};
+    for (const OpticalDepthTerm& t : terms) sum += at(t.id, w) * static_cast<float>(t.length);
+    return beer_lambert_transmittance(sum, 1.0f);
   }
 
   // A new path's wavelengths: the mode's fixed set, or kHeroCount drawn from the stratified u.

@@ -9,12 +9,13 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/io/limits.h"
+#include "bouguer/media/medium.h"
 
 namespace bouguer {
 
 const std::vector<MediumDesc>& predefined_media() {
-  static const std::vector<MediumDesc> media = {{"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false},
-                                                {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false}};
+  static const std::vector<MediumDesc> media = {{"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false, {}},
+                                                {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false, {}}};
   return media;
 }
 
@@ -69,6 +70,21 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
   if (desc_.media.contains(m.name)) fail_at(where, fmt::format("a medium named '{}' exists already", m.name));
   if (const auto problem = beyond_limit(m.sigma_a_per_m, kMaxCoefficientPerM, "the absorption coefficient σ_a (per metre)"))
     fail_at(where + ".absorption", *problem);
+  if (m.field_absorbers.size() > kMaxAbsorbersPerMedium)
+    fail_at(where + ".absorption", fmt::format("at most {} absorbers per medium (got {})", kMaxAbsorbersPerMedium,
+                                               m.field_absorbers.size()));
+  for (std::size_t i = 0; i < m.field_absorbers.size(); ++i) {
+    const FieldAbsorberDesc& a = m.field_absorbers[i];
+    const std::string at = m.field_absorbers.size() > 1 ? fmt::format("{}.absorption[{}]", where, i) : where + ".absorption";
+    if (const auto problem = beyond_limit(a.epsilon_per_m, kMaxCoefficientPerM, "σ_a per unit concentration"))
+      fail_at(at, *problem);
+    if (min_value(a.epsilon_per_m) < 0.0) fail_at(at, "σ_a must not be negative");
+    // A linear field grows without bound; its column densities are capped (concentration_field.h).
+    const double peak = max_concentration(a.field);
+    if (std::isfinite(peak) && !(peak * max_value(a.epsilon_per_m) <= kMaxCoefficientPerM))
+      fail_at(at + ".concentration", fmt::format("σ_a at the field's largest concentration ({:g}) exceeds {:g} per metre",
+                                                 peak, kMaxCoefficientPerM));
+  }
   const std::string name = m.name;
   desc_.media[name] = std::move(m);
   return *this;

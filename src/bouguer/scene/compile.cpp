@@ -175,7 +175,14 @@ RenderScene compile(const SceneDesc& desc) {
     const std::string& name = m.name;
     SceneMedium sm;
     sm.name = name;
-    sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
+    if (m.field_absorbers.empty()) {
+      sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
+    } else {
+      FieldMedium f;
+      for (const FieldAbsorberDesc& a : m.field_absorbers)
+        f.absorbers.push_back({add_spectrum(s, a.epsilon_per_m, SpectrumRole::absorption), a.field});
+      sm.medium = std::move(f);
+    }
     sm.ior = add_spectrum(s, m.ior, SpectrumRole::point);
     sm.ior_reference = ior_at(m.ior, kReferenceWavelengthNm);
     sm.dispersive = is_dispersive(m.ior);

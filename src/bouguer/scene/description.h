@@ -13,6 +13,7 @@
 #include "bouguer/geometry/shapes.h"
 #include "bouguer/geometry/transform.h"
 #include "bouguer/lights/spot.h"
+#include "bouguer/media/concentration_field.h"
 #include "bouguer/media/ior.h"
 #include "bouguer/scene/environment.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
@@ -42,11 +43,20 @@ struct RenderSettings {
   std::uint64_t seed = 0;
 };
 
+// An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).
+struct FieldAbsorberDesc {
+  Spectrum epsilon_per_m = ConstantSpectrum{0.0};  // σ_a at concentration 1 (natural log, 1/m)
+  ConcentrationField field;
+};
+
 struct MediumDesc {
   std::string name;
   IorModel ior = ConstantIor{1.0};
   Spectrum sigma_a_per_m = ConstantSpectrum{0.0};  // natural log, 1/m, concentration applied
   bool absorbing = false;
+  // Set instead of sigma_a_per_m when the medium has several absorbers or a concentration field
+  // (then every absorber is here, a uniform one with a ConstantField).
+  std::vector<FieldAbsorberDesc> field_absorbers;
 };
 
 // Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.

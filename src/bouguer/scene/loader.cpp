@@ -15,6 +15,7 @@
 #include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/media/absorption.h"
+#include "bouguer/media/medium.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
 #include "bouguer/render/integrator.h"
@@ -276,15 +277,104 @@ IorModel ior(const json& j, const Where& w) {
   return t;
 }
 
+// {"field": "linear" | "exponential" | "diffusion" | "layers", "origin": [...], "axis": [...], ...}:
+// a concentration that varies along an axis (media/concentration_field.h, docs/scene-format.md).
+ConcentrationField concentration_field(const json& j, const Where& w) {
+  static const std::vector<std::string> kinds = {"linear", "exponential", "diffusion", "layers"};
+  if (!j.is_object() || !j.contains("field")) w.fail("a concentration field needs 'field' ({})", fmt::join(kinds, ", "));
+  const std::string kind = text(j["field"], w / "field");
+  auto keys = [&](std::vector<std::string> own) {
+    own.insert(own.end(), {"field", "origin", "axis"});
+    expect_keys(j, w, own);
+  };
+  auto frame = [&] {
+    FieldAxis a;
+    if (j.contains("origin")) a.origin_m = length_vec3(j["origin"], w / "origin");
+    if (j.contains("axis")) a.axis = normalize(direction(j["axis"], w / "axis"));
+    return a;
+  };
+  auto concentration = [&](const json& v, const Where& wv) {
+    const double c = number(v, wv);
+    if (c < 0.0) wv.fail("a concentration must not be negative (got {})", c);
+    return c;
+  };
+  auto value = [&] {
+    if (!j.contains("value")) w.fail("a {} field needs 'value' (the concentration at the origin)", kind);
+    return concentration(j["value"], w / "value");
+  };
+  if (kind == "linear") {
+    keys({"value", "slope_per_m"});
+    if (!j.contains("slope_per_m")) w.fail("a linear field needs 'slope_per_m' (concentration per metre along the axis)");
+    return LinearField{frame(), value(), number(j["slope_per_m"], w / "slope_per_m")};
+  }
+  if (kind == "exponential") {
+    keys({"value", "scale_length"});
+    if (!j.contains("scale_length")) w.fail("an exponential field needs 'scale_length' (H in c0·exp(−s/H))");
+    return ExponentialField{frame(), value(), positive_length_m(j["scale_length"], w / "scale_length")};
+  }
+  if (kind == "diffusion") {
+    keys({"value", "width", "diffusivity_m2_per_s", "time_s"});
+    const bool by_time = j.contains("diffusivity_m2_per_s") || j.contains("time_s");
+    if (j.contains("width") == by_time)
+      w.fail("a diffusion field needs either 'width' (w in erfc(s/w)) or 'diffusivity_m2_per_s' and 'time_s'");
+    double width = 0.0;
+    if (by_time) {
+      if (!j.contains("diffusivity_m2_per_s") || !j.contains("time_s"))
+        w.fail("give both 'diffusivity_m2_per_s' and 'time_s' (w = 2·sqrt(D·t))");
+      const double d = number(j["diffusivity_m2_per_s"], w / "diffusivity_m2_per_s");
+      const double t = number(j["time_s"], w / "time_s");
+      if (!(d > 0.0)) (w / "diffusivity_m2_per_s").fail("must be positive (got {})", d);
+      if (!(t > 0.0)) (w / "time_s").fail("must be positive (got {})", t);
+      width = 2.0 * std::sqrt(d * t);
+      if (!(width >= kMinSceneLengthM && width <= kMaxSceneCoordinateM))
+        w.fail("the diffusion width 2·sqrt(D·t) = {:g} m is outside {:g} to {:g} m", width, kMinSceneLengthM,
+               kMaxSceneCoordinateM);
+    } else {
+      width = positive_length_m(j["width"], w / "width");
+    }
+    return DiffusionField{frame(), value(), width};
+  }
+  if (kind == "layers") {
+    keys({"layers"});
+    if (!j.contains("layers")) w.fail("a layers field needs 'layers' [[upper bound, concentration], ...]");
+    const Where wl = w / "layers";
+    const json& layers = array(j["layers"], wl);
+    if (layers.empty() || layers.size() > kMaxLayers) wl.fail("needs 1 to {} layers (got {})", kMaxLayers, layers.size());
+    LayersField f{frame(), {}, {}};
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      array(layers[i], wl[i], 2);
+      const double upper = length_m(layers[i][0], wl[i][0]);
+      if (!f.upper_s_m.empty() && !(upper > f.upper_s_m.back()))
+        wl[i][0].fail("layer bounds must increase ({:g} m follows {:g} m)", upper, f.upper_s_m.back());
+      f.upper_s_m.push_back(upper);
+      f.value.push_back(concentration(layers[i][1], wl[i][1]));
+    }
+    return f;
+  }
+  (w / "field").fail("unknown concentration field '{}'{}", kind, suggestion(kind, kinds));
+}
+
 struct Absorption {
-  Spectrum sigma_a_per_m;
+  Spectrum sigma_a_per_m;  // at the concentration given; with a field, at concentration 1 (ε)
   std::optional<double> library_ior;
+  std::optional<ConcentrationField> field;
 };
+
+Absorption absorption_at(const json& j, const Where& w, double concentration);
 
 Absorption absorption(const json& j, const Where& w) {
   if (!j.is_object()) w.fail("expected an object with 'library' or 'unit'");
+  if (j.contains("concentration") && j["concentration"].is_object()) {
+    Absorption a = absorption_at(j, w, 1.0);
+    a.field = concentration_field(j["concentration"], w / "concentration");
+    return a;
+  }
   const double concentration = j.contains("concentration") ? number(j["concentration"], w / "concentration") : 1.0;
   if (concentration < 0.0) (w / "concentration").fail("must not be negative (got {})", concentration);
+  return absorption_at(j, w, concentration);
+}
+
+Absorption absorption_at(const json& j, const Where& w, double concentration) {
   if (j.contains("library")) {
     expect_keys(j, w, {"library", "concentration"});
     const std::string name = text(j["library"], w / "library");
@@ -292,7 +382,7 @@ Absorption absorption(const json& j, const Where& w) {
     if (!m) (w / "library").fail("unknown material '{}'{}", name, suggestion(name, library_material_names()));
     if (m->molar && !j.contains("concentration"))
       w.fail("'{}' is a solute: give its 'concentration' in mol/L", name);
-    return {scaled(m->sigma_a_per_m, concentration), m->default_ior};
+    return {scaled(m->sigma_a_per_m, concentration), m->default_ior, std::nullopt};
   }
   if (j.contains("csv") && !j.contains("unit")) {
     // A material file that names its own unit (scene/material_file.h).
@@ -306,7 +396,7 @@ Absorption absorption(const json& j, const Where& w) {
     }
     if (f.unit == AbsorptionUnit::molar_absorptivity && !j.contains("concentration"))
       w.fail("{} is in molar_absorptivity: give 'concentration' in mol/L", path.string());
-    return {to_sigma_a_per_m(f.values, f.unit, concentration, f.thickness_m, w.path), f.ior};
+    return {to_sigma_a_per_m(f.values, f.unit, concentration, f.thickness_m, w.path), f.ior, std::nullopt};
   }
   const TabulatedSpectrum values = table(j, w, {"unit", "concentration", "thickness"});
   if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, absorbance_per_cm, internal_transmittance, "
@@ -323,7 +413,7 @@ Absorption absorption(const json& j, const Where& w) {
   std::optional<double> thickness;
   if (j.contains("thickness")) thickness = positive_length_m(j["thickness"], w / "thickness");
   try {
-    return {to_sigma_a_per_m(values, *unit, concentration, thickness, w.path), std::nullopt};
+    return {to_sigma_a_per_m(values, *unit, concentration, thickness, w.path), std::nullopt, std::nullopt};
   } catch (const Error& e) {
     bouguer::fail("{}: {}", w.file->string(), e.what());
   }
@@ -335,10 +425,27 @@ MediumDesc medium(const std::string& name, const json& j, const Where& w) {
   m.name = name;
   std::optional<double> library_ior;
   if (j.contains("absorption")) {
-    Absorption a = absorption(j["absorption"], w / "absorption");
-    m.sigma_a_per_m = std::move(a.sigma_a_per_m);
-    m.absorbing = max_value(m.sigma_a_per_m) > 0.0;
-    library_ior = a.library_ior;
+    // One absorber, or a list whose σ_a add up (a dye diffusing into wine; a layered cocktail).
+    const Where wa = w / "absorption";
+    std::vector<Absorption> parts;
+    if (j["absorption"].is_array()) {
+      const json& list = array(j["absorption"], wa);
+      if (list.empty() || list.size() > kMaxAbsorbersPerMedium)
+        wa.fail("needs 1 to {} absorbers (got {})", kMaxAbsorbersPerMedium, list.size());
+      for (std::size_t i = 0; i < list.size(); ++i) parts.push_back(absorption(list[i], wa[i]));
+    } else {
+      parts.push_back(absorption(j["absorption"], wa));
+    }
+    for (const Absorption& a : parts)
+      if (!library_ior) library_ior = a.library_ior;
+    if (parts.size() == 1 && !parts[0].field) {
+      m.sigma_a_per_m = std::move(parts[0].sigma_a_per_m);
+      m.absorbing = max_value(m.sigma_a_per_m) > 0.0;
+    } else {
+      for (Absorption& a : parts)
+        m.field_absorbers.push_back({std::move(a.sigma_a_per_m), a.field.value_or(ConcentrationField{ConstantField{1.0}})});
+      m.absorbing = true;
+    }
   }
   if (j.contains("ior")) m.ior = ior(j["ior"], w / "ior");
   else if (library_ior) m.ior = ConstantIor{*library_ior};

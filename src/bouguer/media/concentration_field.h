@@ -1,0 +1,79 @@
+#pragma once
+// Concentrations that vary in space (the paper's future work: "solutions with varying
+// concentrations according to Beer's law"). A field gives c(x) >= 0, in the unit of the absorber
+// it scales (mol/L for a solute, else a factor on σ_a), and the exact integral of c along a ray
+// segment, so that with σ_a(x, λ) = Σ_k c_k(x)·ε_k(λ) the optical depth of every wavelength is
+// τ(λ) = Σ_k ε_k(λ)·∫c_k ds: one scalar per absorber, no noise, no bias.
+//
+// The analytic fields depend on s, the signed distance along a unit axis from an origin
+// (docs/scene-format.md, "Concentration fields"). Along a ray x(t) = o + t·d, s is linear in t,
+// s(t) = s0 + a·t with a = d·axis; each field's integral is a closed form in s, with the limit
+// a -> 0 (a ray running across the axis, where c is constant) taken explicitly.
+#include <variant>
+#include <vector>
+
+#include "bouguer/core/math.h"
+
+namespace bouguer {
+
+// s = (x − origin)·axis, axis of unit length.
+struct FieldAxis {
+  Vec3 origin_m;
+  Vec3 axis{0, 1, 0};
+  double s_at(const Vec3& x) const { return dot(x - origin_m, axis); }
+};
+
+// c = max(0, c0 + g·s).
+struct LinearField {
+  FieldAxis frame;
+  double value = 0.0;
+  double slope_per_m = 0.0;
+};
+
+// c = c0·exp(−s/H), the sedimentation profile of a colloid. Below s = −kExponentialFloor·H the
+// concentration stays at c0·e^kExponentialFloor (an unbounded exponential is no liquid).
+struct ExponentialField {
+  FieldAxis frame;
+  double value = 0.0;
+  double scale_length_m = 1.0;
+};
+inline constexpr double kExponentialFloor = 40.0;
+
+// c = c0/2·erfc(s/w): a layer poured at s < 0 diffusing upwards, w = 2·sqrt(D·t).
+struct DiffusionField {
+  FieldAxis frame;
+  double value = 0.0;
+  double width_m = 1.0;
+};
+
+// Piecewise constant: value[i] for upper_s_m[i−1] <= s < upper_s_m[i] (the first from −∞), and
+// the last value beyond the last bound. upper_s_m increases; value.size() == upper_s_m.size().
+struct LayersField {
+  FieldAxis frame;
+  std::vector<double> upper_s_m;
+  std::vector<double> value;
+};
+
+struct ConstantField {
+  double value = 0.0;
+};
+
+using ConcentrationField = std::variant<ConstantField, LinearField, ExponentialField, DiffusionField, LayersField>;
+
+// c at a point.
+double concentration_at(const ConcentrationField& field, const Vec3& x_m);
+
+// ∫ c(o + t·d) dt over [t0, t1] (t1 >= t0, finite), in concentration × metres; d of unit length.
+// Exact up to rounding; never negative, at most kMaxColumnDensity.
+double column_density(const ConcentrationField& field, const Vec3& origin_m, const Vec3& direction, double t0,
+                      double t1);
+inline constexpr double kMaxColumnDensity = 1e30;  // beyond it every absorbing wavelength is dark
+
+// The largest c anywhere (the range check of the scene builder); +∞ for the fields that grow
+// without bound: linear with a non-zero slope, exponential (towards −s).
+double max_concentration(const ConcentrationField& field);
+
+// Whether c is the same everywhere (then a medium folds it into a homogeneous σ_a).
+bool is_constant(const ConcentrationField& field);
+
+}  // namespace bouguer
