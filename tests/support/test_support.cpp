@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <new>
@@ -125,5 +126,21 @@ Film render_desc(const SceneDesc& desc, int threads) {
 Film render_text(const std::string& json, int threads) { return render_desc(parse_scene(json, "test.json"), threads); }
 
 fs::path test_data(const std::string& relative) { return fs::path(BOUGUER_SOURCE_DIR) / "tests" / "data" / relative; }
+
+double chromaticity_spread(const Film& f, int& lit) {
+  double sx = 0, sy = 0, sxx = 0, syy = 0;
+  lit = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const Vec3f c = f.rgb_at(x, y);
+      const double sum = c.x + c.y + c.z;
+      if (sum < 0.05) continue;
+      const double cx = c.x / sum, cy = c.y / sum;
+      sx += cx, sy += cy, sxx += cx * cx, syy += cy * cy, ++lit;
+    }
+  if (lit == 0) return 0.0;
+  const double n = lit;
+  return std::sqrt(std::max(0.0, sxx / n - sx * sx / n / n) + std::max(0.0, syy / n - sy * sy / n / n));
+}
 
 }  // namespace bouguer::test

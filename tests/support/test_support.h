@@ -45,4 +45,9 @@ Film render_desc(const SceneDesc& desc, int threads = 0);
 // The same from scene-file text.
 Film render_text(const std::string& json, int threads = 0);
 
+// The measure of chromatic noise of #4: the spread (standard deviation, x and y combined) of the
+// chromaticity over the pixels whose r + g + b is at least 0.05 (light reflected away has no colour
+// to measure); `lit` receives how many pixels that is.
+double chromaticity_spread(const Film& film, int& lit);
+
 }  // namespace bouguer::test
