@@ -19,8 +19,10 @@ void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelR
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
 // stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's
 // samples in a shuffled order; the fixed modes stratify the wavelength kept at a dispersive
-// interface instead), handed to sample(x, y, s, rng, wavelengths, dispersion_u, rays).
-template <std::size_t N, typename Sample>
+// interface instead), handed to sample(x, y, s, rng, wavelengths, dispersion_u, rays). An estimator
+// that never keeps one wavelength (kDispersion false: Whitted) gets dispersion_u 0 in the fixed
+// modes, and the strata are not drawn for it.
+template <std::size_t N, bool kDispersion = true, typename Sample>
 void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& tables, const RenderSettings& settings, int film_width,
                            PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
                            std::uint64_t salt, Sample sample) {
@@ -32,11 +34,12 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
       for (int x = tile.x0; x < tile.x1; ++x) {
         const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(film_width) +
                            static_cast<std::uint64_t>(x);
-        strata.reset(settings.seed, pixel, settings.spp);
+        const bool stratify = hero || (kDispersion && scene.dispersive);
+        if (stratify) strata.reset(settings.seed, pixel, settings.spp);
         for (int s = range.begin; s < range.end; ++s) {
           Rng rng = sample_rng(settings.seed, pixel, s, salt);
           tables.restart(w, hero ? strata.u(s) / static_cast<double>(N) : 0.0);
-          const double dispersion_u = hero ? rng.next_double() : scene.dispersive ? strata.u(s) : 0.0;
+          const double dispersion_u = hero ? rng.next_double() : stratify ? strata.u(s) : 0.0;
           sample(x, y, s, rng, w, dispersion_u, rays);
         }
       }
@@ -45,14 +48,14 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
 
 // The camera-sample loop of the estimators that trace from the camera: a camera ray through a
 // stratified sub-pixel position and li(view, ray, wavelengths, dispersion_u, rng, rays) → radiance.
-template <std::size_t N, typename Li>
+template <std::size_t N, bool kDispersion = true, typename Li>
 void render_camera_paths(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
                          PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
                          Li li) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth};
-  for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, 0,
+  for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, range, control, stats, 0,
                            [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                std::uint64_t& rays) {
                              const auto [u, v] = subpixel(s, settings.spp, rng);

@@ -16,11 +16,30 @@ namespace {
 
 constexpr float kMinPathWeight = 1e-4f;
 
-// Radiance along `ray`, which left the surface point `from` (the camera: its origin) in `medium`.
+// One camera sample's recursion: what stays the same down every branch (the scene, the
+// wavelengths, the random stream, the ray count) is held here, so each recursive call passes only
+// what changes and its arguments all fit in registers.
 template <std::size_t N>
-SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& ray, int medium, int depth,
-                           float weight, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
-  ++rays;
+class WhittedTracer {
+ public:
+  WhittedTracer(const SceneView<N>& v, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
+      : v_(v), w_(w), rng_(rng), rays_(rays) {}
+
+  // Radiance along `ray`, which left the surface point `from` (the camera: its origin) in `medium`.
+  SampledSpectrum<N> radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight);
+
+ private:
+  const SceneView<N>& v_;
+  const SampledWavelengths<N>& w_;
+  Rng& rng_;
+  std::uint64_t& rays_;
+};
+
+template <std::size_t N>
+SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight) {
+  const SceneView<N>& v = v_;
+  const SampledWavelengths<N>& w = w_;
+  ++rays_;
   const auto hit = v.scene.rays.intersect(ray);
   if (!hit) return escaped(v, medium, ray.direction, w);
   const Surface& surface = v.scene.surfaces[hit->geometry];
@@ -31,7 +50,7 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
   // Every branch of a specular surface is followed, in world directions.
   auto follow = [&](const Vec3& d, int next_medium, float branch_weight) -> SampledSpectrum<N> {
     if (branch_weight < kMinPathWeight) return {};
-    return whitted(v, hit->point, {offset_ray_origin(*hit, d), d}, next_medium, depth + 1, branch_weight, w, rng, rays);
+    return radiance(hit->point, {offset_ray_origin(*hit, d), d}, next_medium, depth + 1, branch_weight);
   };
   if (surface.kind == SurfaceKind::interface && surface.roughness == 0.0) {
     // A smooth interface needs its Fresnel split only, not a BSDF in a local frame; a branch ends
@@ -51,7 +70,7 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
     return tr * l;
   }
   const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
-  if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, rng, rays, false, false);
+  if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, rng_, rays_, false, false);
   if (depth >= v.max_depth) return {};
   // A smooth conductor: a mirror with its spectral Fresnel reflectance.
   const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);
@@ -65,9 +84,12 @@ SampledSpectrum<N> whitted(const SceneView<N>& v, const Vec3& from, const Ray& r
 void render_whitted(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                     SampleRange range, const RenderControl& control, RenderStats& stats) {
   with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    render_camera_paths<N>(scene, settings, film, region, range, control, stats,
+    // Whitted keeps every carried wavelength (no dispersion_u).
+    render_camera_paths<N, false>(scene, settings, film, region, range, control, stats,
                            [](const SceneView<N>& v, const Ray& ray, SampledWavelengths<N>& w, double, Rng& rng,
-                              std::uint64_t& rays) { return whitted(v, ray.origin, ray, v.scene.world_medium, 0, 1.0f, w, rng, rays); });
+                              std::uint64_t& rays) {
+                             return WhittedTracer<N>(v, w, rng, rays).radiance(ray.origin, ray, v.scene.world_medium, 0, 1.0f);
+                           });
   });
 }
 
