@@ -4,6 +4,7 @@
 # Benchmarks report; they never fail on a time.
 # BENCH_BASELINE=path/to/an/older/bouguer adds its time for each row, rendered alternately with the
 # current build's on the same machine, and the change (for "no scene slower by more than 5 %").
+# BENCH_SECTIONS picks some of "micro scenes showcase" (default all).
 # BENCH_RUNS=N renders each row N times and keeps the fastest (default 3 with a baseline, else 1).
 set -euo pipefail
 build=${1:-build}
@@ -22,6 +23,10 @@ replace_section() {
     !skip { print }' "$doc" > "$doc.tmp" && mv "$doc.tmp" "$doc"
 }
 
+sections=${BENCH_SECTIONS:-micro scenes showcase}
+wants() { [[ " $sections " == *" $1 "* ]]; }
+
+if wants micro; then
 "$build/bench/bouguer_bench" --benchmark_out=out/bench/micro.csv --benchmark_out_format=csv
 {
   echo "Measured on $today, $machine, Release build."
@@ -35,6 +40,7 @@ replace_section() {
       printf "| %s | %.1f | %s |\n", $1, $3, ($7 == "" ? "" : sprintf("%.3g wavelengths/s", $7))
     }' out/bench/micro.csv
 } | replace_section micro
+fi
 
 # Renders every scene of a glob in each spectral mode at fixed settings; prints a table.
 # bench_table GLOB WIDTHxHEIGHT SPP "MODES" [extra render flags...]
@@ -99,6 +105,8 @@ render_stats() {
   tr -d '\n ' < "$stats" | sed -E 's/.*"rays":([0-9]+),"rays_per_second":([0-9.e+]+),.*"seconds":([0-9.e+-]+),.*/\1 \2 \3\n/'
 }
 
-bench_table "scenes/paper/*.json" 512x512 16 "full rgb3" | replace_section scenes
-bench_table "scenes/showcase/*.json" 480x360 64 "full hero" --integrator path | replace_section showcase
+if wants scenes; then bench_table "scenes/paper/*.json" 512x512 16 "full rgb3" | replace_section scenes; fi
+if wants showcase; then
+  bench_table "scenes/showcase/*.json" 480x360 64 "full hero" --integrator path | replace_section showcase
+fi
 echo "bench: figures written to $doc"
