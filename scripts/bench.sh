@@ -69,18 +69,27 @@ bench_table() {
       local rays rays_per_second seconds="" base_seconds="" s run
       # Baseline and current alternate, run after run; each column keeps its fastest run.
       for ((run = 0; run < runs; run++)); do
-        if [ -n "$baseline" ]; then
-          read -r _ _ s < <(render_stats "$baseline" "$scene" "$mode" "$resolution" "$spp" base "${extra[@]}")
-          base_seconds=$(fastest "$base_seconds" "$s")
+        # A baseline that cannot read the scene (a feature newer than it) leaves its column empty.
+        if [ -n "$baseline" ] && [ "$base_seconds" != "-" ]; then
+          if read -r _ _ s < <(render_stats "$baseline" "$scene" "$mode" "$resolution" "$spp" base "${extra[@]}" 2>/dev/null); then
+            base_seconds=$(fastest "$base_seconds" "$s")
+          else
+            base_seconds="-"
+          fi
         fi
         read -r rays rays_per_second s < <(render_stats "$build/bouguer" "$scene" "$mode" "$resolution" "$spp" new "${extra[@]}")
         seconds=$(fastest "$seconds" "$s")
       done
       rays_per_second=$(echo "$rays $seconds" | awk '{printf "%.6g", $1 / $2}')
       if [ -n "$baseline" ]; then
-        printf '| %s | %s | %s | %s | %.2f | %.2f | %+.1f %% | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" \
-          "$seconds" "$base_seconds" "$(echo "$seconds $base_seconds" | awk '{print 100 * ($1 / $2 - 1)}')" "$rays" \
-          "$rays_per_second"
+        if [ "$base_seconds" = "-" ]; then
+          printf '| %s | %s | %s | %s | %.2f | - | - | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" "$seconds" \
+            "$rays" "$rays_per_second"
+        else
+          printf '| %s | %s | %s | %s | %.2f | %.2f | %+.1f %% | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" \
+            "$seconds" "$base_seconds" "$(echo "$seconds $base_seconds" | awk '{print 100 * ($1 / $2 - 1)}')" "$rays" \
+            "$rays_per_second"
+        fi
       else
         printf '| %s | %s | %s | %s | %.2f | %s | %.3g |\n' "$name" "$mode" "$resolution" "$spp" "$seconds" "$rays" \
           "$rays_per_second"
