@@ -12,6 +12,7 @@
 
 #include "bouguer/materials/bsdf.h"
 #include "bouguer/materials/fresnel.h"
+#include "bouguer/media/phase.h"
 
 namespace bouguer {
 namespace {
@@ -169,6 +170,44 @@ TEST(Bsdf, SamplingMatchesDensityChiSquare) {
   const auto all = cases();
   ASSERT_EQ(all.size(), static_cast<std::size_t>(kCases));  // the Bonferroni count
   for (const Case& c : all) chi_square(c.sample, c.pdf, c.name);
+}
+
+// Phase functions of scattering media (media/phase.h) by the same test: sampled directions of
+// travel against the density, for light arriving along an oblique direction.
+TEST(Phase, SamplingMatchesDensityChiSquare) {
+  const Vec3 in = normalize(Vec3{0.3, -0.4, 0.85});
+  const PhaseFunction phases[] = {IsotropicPhase{}, HenyeyGreensteinPhase{0.7}, HenyeyGreensteinPhase{-0.5},
+                                  HenyeyGreensteinPhase{0.95}};
+  for (const PhaseFunction& phase : phases) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const std::string name = "phase g=" + std::to_string(mean_cosine(phase));
+    chi_square(
+        [&](std::mt19937_64& rng) -> std::optional<BsdfSample> {
+          const double a = u(rng), b = u(rng);
+          const PhaseSample s = sample_phase(phase, in, a, b);
+          return BsdfSample{s.out, s.pdf, 1.0, false};
+        },
+        [&](const Vec3& out) { return phase_value(phase, in, out); }, name);
+  }
+}
+
+// Normalised over the sphere, with the mean cosine it claims (midpoint rule in cos θ).
+TEST(Phase, NormalisedWithItsMeanCosine) {
+  const Vec3 in{0, 0, 1};
+  for (const double g : {0.0, 0.3, 0.7, -0.8, 0.95}) {
+    const PhaseFunction phase = HenyeyGreensteinPhase{g};
+    double total = 0.0, mean = 0.0;
+    const int n = 2000000;
+    for (int i = 0; i < n; ++i) {
+      const double c = -1.0 + (i + 0.5) * 2.0 / n;
+      const double p = phase_value(phase, in, direction(c, 0.0)) * 2.0 * kPi * 2.0 / n;
+      total += p;
+      mean += p * c;
+    }
+    EXPECT_NEAR(total, 1.0, 1e-6) << g;
+    EXPECT_NEAR(mean, g, 1e-6) << g;
+  }
+  EXPECT_NEAR(phase_value(IsotropicPhase{}, in, in), 1.0 / (4.0 * kPi), 1e-15);
 }
 
 TEST(Bsdf, SampleWeightsAreEvalOverPdfAndConserveEnergy) {
