@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -16,16 +17,21 @@ namespace {
 
 constexpr std::uint64_t kUnknown = std::numeric_limits<std::uint64_t>::max();
 
-// A "Name:   1234 kB" line of /proc/meminfo or /proc/self/status, in bytes.
-std::uint64_t proc_kb_field(const char* file, std::string_view name) {
+// "Name:   1234 kB" lines of /proc/meminfo or /proc/self/status, in bytes (kUnknown if absent),
+// read in one pass.
+template <std::size_t K>
+std::array<std::uint64_t, K> proc_kb_fields(const char* file, const std::array<std::string_view, K>& names) {
+  std::array<std::uint64_t, K> values;
+  values.fill(kUnknown);
   std::ifstream in(file);
   std::string line;
   while (std::getline(in, line))
-    if (line.compare(0, name.size(), name) == 0) {
-      unsigned long long kb = 0;
-      if (std::sscanf(line.c_str() + name.size(), " %llu", &kb) == 1) return kb * 1024;
-    }
-  return kUnknown;
+    for (std::size_t k = 0; k < K; ++k)
+      if (line.compare(0, names[k].size(), names[k]) == 0) {
+        unsigned long long kb = 0;
+        if (std::sscanf(line.c_str() + names[k].size(), " %llu", &kb) == 1) values[k] = kb * 1024;
+      }
+  return values;
 }
 
 // What a resource limit leaves above what the process already uses of it.
@@ -39,9 +45,8 @@ std::uint64_t left_under(int resource, std::uint64_t used) {
 }  // namespace
 
 std::uint64_t memory_available_bytes() {
-  std::uint64_t available = proc_kb_field("/proc/meminfo", "MemAvailable:");
-  const std::uint64_t vm = proc_kb_field("/proc/self/status", "VmSize:");
-  const std::uint64_t data = proc_kb_field("/proc/self/status", "VmData:");
+  std::uint64_t available = proc_kb_fields<1>("/proc/meminfo", {"MemAvailable:"})[0];
+  const auto [vm, data] = proc_kb_fields<2>("/proc/self/status", {"VmSize:", "VmData:"});
   if (vm != kUnknown) available = std::min(available, left_under(RLIMIT_AS, vm));
   if (data != kUnknown) available = std::min(available, left_under(RLIMIT_DATA, data));
   return available;
@@ -54,8 +59,7 @@ std::string format_bytes(std::uint64_t bytes) {
   return fmt::format("{:.0f} KiB", b / 1024.0);
 }
 
-void require_memory(std::uint64_t bytes, std::string_view what) {
-  const std::uint64_t available = memory_available_bytes();
+void require_memory(std::uint64_t bytes, std::string_view what, std::uint64_t available) {
   if (available == kUnknown || bytes <= available) return;
   fail("{} needs about {} of memory; {} is available", what, format_bytes(bytes), format_bytes(available));
 }

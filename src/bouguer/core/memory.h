@@ -12,8 +12,8 @@ namespace bouguer {
 std::uint64_t memory_available_bytes();
 
 // Throws bouguer::Error ("WHAT needs about 22.5 GiB of memory; 9.1 GiB is available") when `bytes`
-// exceed memory_available_bytes().
-void require_memory(std::uint64_t bytes, std::string_view what);
+// exceed `available` (a caller that checks a growing estimate reads it once, before it allocates).
+void require_memory(std::uint64_t bytes, std::string_view what, std::uint64_t available = memory_available_bytes());
 
 // "22.5 GiB", "310 MiB", "12 KiB": for messages.
 std::string format_bytes(std::uint64_t bytes);

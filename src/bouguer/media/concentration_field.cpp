@@ -123,12 +123,4 @@ double max_concentration(const ConcentrationField& field) {
   return std::visit(Visitor{}, field);
 }
 
-bool is_constant(const ConcentrationField& field) {
-  if (std::holds_alternative<ConstantField>(field)) return true;
-  if (const auto* l = std::get_if<LinearField>(&field)) return l->slope_per_m == 0.0;
-  if (const auto* l = std::get_if<LayersField>(&field))
-    return std::all_of(l->value.begin(), l->value.end(), [&](double v) { return v == l->value.front(); });
-  return false;
-}
-
 }  // namespace bouguer

@@ -73,7 +73,4 @@ inline constexpr double kMaxColumnDensity = 1e30;  // beyond it every absorbing 
 // without bound: linear with a non-zero slope, exponential (towards −s).
 double max_concentration(const ConcentrationField& field);
 
-// Whether c is the same everywhere (then a medium folds it into a homogeneous σ_a).
-bool is_constant(const ConcentrationField& field);
-
 }  // namespace bouguer
