@@ -85,11 +85,4 @@ std::optional<Hit> RayScene::intersect(const Ray& ray) const {
   return h;
 }
 
-Vec3 offset_ray_origin(const Hit& hit, const Vec3& direction) {
-  const Vec3& p = hit.point;
-  const double magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1e-3});
-  const double offset = 4e-6 * magnitude;  // ≈ 32 float ulps of the largest coordinate
-  return p + hit.normal * (dot(direction, hit.normal) > 0.0 ? offset : -offset);
-}
-
 }  // namespace bouguer

@@ -1,6 +1,8 @@
 #pragma once
 // Ray queries against all triangles of a scene (Embree 3 behind this one interface; no other
 // file includes Embree). Geometry ids are given out in the order meshes are added.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -45,6 +47,15 @@ class RayScene {
 // Start point for a ray leaving `hit` in `direction`: moved off the surface, to the side the
 // direction points to, by a distance that scales with the coordinates' magnitude (a few dozen
 // float ulps), so secondary rays neither re-hit their own surface nor skip thin slivers.
-Vec3 offset_ray_origin(const Hit& hit, const Vec3& direction);
+// Inline: it runs at every vertex of every path.
+inline Vec3 offset_ray_origin(const Hit& hit, bool towards_normal) {
+  const Vec3& p = hit.point;
+  const double magnitude = std::max(std::max(std::abs(p.x), std::abs(p.y)), std::max(std::abs(p.z), 1e-3));
+  const double offset = 4e-6 * magnitude;  // ≈ 32 float ulps of the largest coordinate
+  return p + hit.normal * (towards_normal ? offset : -offset);
+}
+inline Vec3 offset_ray_origin(const Hit& hit, const Vec3& direction) {
+  return offset_ray_origin(hit, dot(direction, hit.normal) > 0.0);
+}
 
 }  // namespace bouguer

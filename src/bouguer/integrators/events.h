@@ -157,6 +157,17 @@ inline SampledSpectrum<N> travel(const SceneView<N>& v, int medium, const Ray& r
   return transmittance(v.scene.media[static_cast<std::size_t>(medium)].medium, v.tables, ray, 0.0, t_m, w);
 }
 
+// The same from point `from` to point `to` along the unit direction d: the length is computed
+// only where the medium absorbs.
+template <std::size_t N>
+inline SampledSpectrum<N> travel_to(const SceneView<N>& v, int medium, const Vec3& from, const Vec3& d, const Vec3& to,
+                                    const SampledWavelengths<N>& w) {
+  if (medium < 0 || !absorbs(v.scene.media[static_cast<std::size_t>(medium)].medium))
+    return SampledSpectrum<N>::constant(1.0f);
+  return transmittance(v.scene.media[static_cast<std::size_t>(medium)].medium, v.tables, Ray{from, d}, 0.0,
+                       length(to - from), w);
+}
+
 template <std::size_t N>
 inline SampledSpectrum<N> escaped(const SceneView<N>& v, int medium, const Vec3& d, const SampledWavelengths<N>& w) {
   if (absorbs(v.scene, medium)) return {};

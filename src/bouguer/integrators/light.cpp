@@ -54,7 +54,7 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
     if (!hit) return;
     const Surface& surface = scene.surfaces[hit->geometry];
     medium = medium_arrived_through(surface, ray, *hit, medium);
-    beta *= travel(v, medium, {from, ray.direction}, length(hit->point - from), w);
+    beta *= travel_to(v, medium, from, ray.direction, hit->point, w);
     if (surface.kind == SurfaceKind::emitter || depth >= v.max_depth) return;  // lamps absorb what reaches them
     keep_one_wavelength(v, surface, w, beta, dispersion_u, rng);
     const Vec3 wo = -ray.direction;

@@ -35,7 +35,7 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
     }
     const Surface& surface = scene.surfaces[hit->geometry];
     medium = medium_arrived_through(surface, ray, *hit, medium);
-    beta *= travel(v, medium, {prev_point, ray.direction}, length(hit->point - prev_point), w);
+    beta *= travel_to(v, medium, prev_point, ray.direction, hit->point, w);
     const Vec3 wo = -ray.direction;
     if (surface.kind == SurfaceKind::emitter) {
       const double mis =

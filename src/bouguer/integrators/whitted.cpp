@@ -44,17 +44,13 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   if (!hit) return escaped(v, medium, ray.direction, w);
   const Surface& surface = v.scene.surfaces[hit->geometry];
   medium = medium_arrived_through(surface, ray, *hit, medium);
-  const SampledSpectrum<N> tr = travel(v, medium, {from, ray.direction}, length(hit->point - from), w);
+  const SampledSpectrum<N> tr = travel_to(v, medium, from, ray.direction, hit->point, w);
   const Vec3 wo = -ray.direction;
   if (surface.kind == SurfaceKind::emitter) return tr * emitted(v, *hit, wo, w);
-  // Every branch of a specular surface is followed, in world directions.
-  auto follow = [&](const Vec3& d, int next_medium, float branch_weight) -> SampledSpectrum<N> {
-    if (branch_weight < kMinPathWeight) return {};
-    return radiance(hit->point, {offset_ray_origin(*hit, d), d}, next_medium, depth + 1, branch_weight);
-  };
   if (surface.kind == SurfaceKind::interface && surface.roughness == 0.0) {
     // A smooth interface needs its Fresnel split only, not a BSDF in a local frame; a branch ends
-    // before its direction is computed when it is too faint to follow.
+    // before its direction is computed when it is too faint to follow. The reflected branch stays
+    // in the medium the ray came through, the refracted one crosses to the other side.
     const float w_in = weight * tr.max_value();
     if (depth >= v.max_depth || w_in < kMinPathWeight) return {};
     const DielectricSplit d = split(interface_indices(v, surface, w), wo, hit->normal);
@@ -63,10 +59,13 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     SampledSpectrum<N> l;
     if (w_reflected >= kMinPathWeight) {
       const Vec3 r = d.reflected();
-      l = f * follow(r, interface_medium_towards(surface, *hit, r), w_reflected);
+      l = f * radiance(hit->point, {offset_ray_origin(*hit, d.from_front), r}, medium, depth + 1, w_reflected);
     }
     if (f < 1.0f && w_refracted >= kMinPathWeight)
-      if (const auto t = d.refracted()) l += (1.0f - f) * follow(*t, interface_medium_towards(surface, *hit, *t), w_refracted);
+      if (const auto t = d.refracted()) {
+        const int other = d.from_front ? surface.medium_behind : surface.medium_front;
+        l += (1.0f - f) * radiance(hit->point, {offset_ray_origin(*hit, !d.from_front), *t}, other, depth + 1, w_refracted);
+      }
     return tr * l;
   }
   const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
@@ -76,7 +75,9 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);
   if (!s) return {};
   const Vec3 r = e.frame.to_world(s->wi);
-  return tr * s->weight * follow(r, e.medium_towards(r), weight * (tr * s->weight).max_value());
+  const float w_reflected = weight * (tr * s->weight).max_value();
+  if (w_reflected < kMinPathWeight) return {};
+  return tr * s->weight * radiance(hit->point, {offset_ray_origin(*hit, r), r}, e.medium_towards(r), depth + 1, w_reflected);
 }
 
 }  // namespace

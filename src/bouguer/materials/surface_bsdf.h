@@ -58,23 +58,32 @@ struct RoughDielectric {
 // directions are computed when asked for: a path follows one, Whitted skips the faint ones.
 struct DielectricSplit {
   Vec3 wo, n;  // n: the unit normal on wo's side
+  double cos_o = 1.0;   // dot(wo, n) ≥ 0
+  double cos_t = -1.0;  // cos θt on the other side; negative under total internal reflection
   double reflectance = 1.0;
   double eta_o = 1.0, eta_t = 1.0;  // the index on wo's side and on the other side
+  bool from_front = true;           // wo lies on the front side (`front` in split())
 
-  Vec3 reflected() const { return reflect(wo, n); }
-  std::optional<Vec3> refracted() const { return refract(wo, n, eta_o, eta_t); }
+  Vec3 reflected() const { return n * (2.0 * cos_o) - wo; }
+  std::optional<Vec3> refracted() const {
+    if (cos_t < 0.0) return std::nullopt;
+    return refract(wo, n, cos_o, cos_t, eta_o / eta_t);
+  }
 };
 // In any frame: `front` is the unit normal on the eta_front side (the local frame's +z). Inline:
 // Whitted calls it at every interface.
 inline DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Vec3& front = {0.0, 0.0, 1.0}) {
-  const double cos_o = dot(wo, front);
-  const bool from_front = cos_o > 0.0;
+  const double cos_front = dot(wo, front);
   DielectricSplit s;
+  s.from_front = cos_front > 0.0;
   s.wo = wo;
-  s.n = from_front ? front : -front;
-  s.eta_o = from_front ? d.eta_front : d.eta_behind;
-  s.eta_t = from_front ? d.eta_behind : d.eta_front;
-  s.reflectance = fresnel_dielectric(std::min(1.0, std::abs(cos_o)), s.eta_o, s.eta_t);
+  s.n = s.from_front ? front : -front;
+  s.cos_o = std::abs(cos_front);
+  s.eta_o = s.from_front ? d.eta_front : d.eta_behind;
+  s.eta_t = s.from_front ? d.eta_behind : d.eta_front;
+  const double cos_i = std::min(1.0, s.cos_o);
+  s.cos_t = cos_theta_transmitted(cos_i, s.eta_o, s.eta_t);
+  s.reflectance = s.cos_t < 0.0 ? 1.0 : fresnel_dielectric(cos_i, s.cos_t, s.eta_o, s.eta_t);
   return s;
 }
 
