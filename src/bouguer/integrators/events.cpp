@@ -23,68 +23,126 @@ double environment_pdf(const RenderScene& scene, const Vec3& d) {
   return scene.environment ? scene.environment->pdf(d) : 0.0;
 }
 
-bool unoccluded(const RenderScene& scene, const Hit& hit, const Vec3& wi, double distance_m, std::uint64_t& rays) {
-  const Vec3 origin = offset_ray_origin(hit, wi);
-  ++rays;
-  // Stop just short of the target, so its own surface never blocks it.
-  const double t_max = std::isinf(distance_m) ? distance_m : distance_m * (1.0 - 1e-4);
-  return !scene.rays.intersect({origin, wi, t_max});
+template <std::size_t N>
+std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
+                                            double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
+                                            std::uint64_t& rays) {
+  const RenderScene& s = v.scene;
+  Transmission<N> out;
+  Vec3 start = from.point, origin = from.origin_towards(wi);
+  double remaining = distance_m;
+  for (int crossing = 0;; ++crossing) {
+    ++rays;
+    // Stop just short of the target, so its own surface never blocks it.
+    const double t_max = std::isinf(remaining) ? remaining : remaining * (1.0 - 1e-4);
+    const auto hit = s.rays.intersect({origin, wi, t_max});
+    const double length_m = hit ? length(hit->point - start) : remaining;
+    if (const ScatteringMedium* sm = scattering_medium(s, medium))
+      ratio_track(*sm, v.tables, Ray{start, wi}, length_m, w, rng, out.tr, out.ratios);
+    else
+      out.tr *= travel(v, medium, Ray{start, wi}, length_m, w);
+    if (out.tr.is_zero()) return std::nullopt;
+    if (!hit) return out;
+    const Surface& surface = s.surfaces[hit->geometry];
+    if (!surface.index_matched || crossing == kMaxCrossings) return std::nullopt;  // then it counts as blocked
+    medium = dot(wi, hit->normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+    remaining = std::max(0.0, remaining - length_m);
+    start = hit->point;
+    origin = offset_ray_origin(*hit, wi);
+  }
 }
+
+namespace {
+
+// Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
+// vertex's f·|cos θ| (or phase value) towards wi and the density with which the vertex itself
+// would sample wi; medium_towards(wi) the medium wi leaves into.
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, Towards towards,
+                                   MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                                   const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, bool mis,
+                                   bool environment) {
+  const RenderScene& s = v.scene;
+  // A strategy's ratios for this connection: the path's so far times the connection's own.
+  auto light_ratio = [&](const Transmission<N>& t) { return path_r_u * t.ratios.r_l; };
+  auto unidirectional_ratio = [&](const Transmission<N>& t) { return path_r_u * t.ratios.r_u; };
+  SampledSpectrum<N> sum;
+  const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
+  if (const auto chosen = s.area_lights.sample(u_light)) {
+    const auto& [index, p_choice] = *chosen;
+    if (const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, u1, u2)) {
+      double vertex_pdf = 0.0;
+      const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+      if (!f.is_zero())
+        if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
+          const double light_pdf = p_choice * li->pdf;
+          const SampledSpectrum<N> r_l = light_ratio(*t);
+          const double weight =
+              (mis ? spectral_power_heuristic(light_pdf, r_l, vertex_pdf, unidirectional_ratio(*t)) : 1.0) *
+              li->factor / (light_pdf * r_l.average());
+          sum += f * v.tables.at(li->spectrum, w) * t->tr * static_cast<float>(weight);
+        }
+    }
+  }
+  for (const int index : s.delta_lights) {
+    const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, 0.0, 0.0);
+    if (!li) continue;
+    const SampledSpectrum<N> radiance = v.tables.at(li->spectrum, w);
+    if (li->factor == 0.0 || radiance.is_zero()) continue;
+    double vertex_pdf = 0.0;
+    const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+    if (f.is_zero()) continue;
+    if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays))
+      sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t).average());
+  }
+  if (environment && s.environment_light >= 0) {
+    const double ue1 = rng.next_double(), ue2 = rng.next_double();
+    const auto li = sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
+    if (li && !absorbs(s, medium_towards(li->wi))) {
+      double vertex_pdf = 0.0;
+      const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+      if (!f.is_zero())
+        if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
+          const SampledSpectrum<N> r_l = light_ratio(*t);
+          const double weight =
+              (mis ? spectral_power_heuristic(li->pdf, r_l, vertex_pdf, unidirectional_ratio(*t)) : 1.0) /
+              (li->pdf * r_l.average());
+          sum += f * v.tables.environment(*s.environment, li->texel, w) * t->tr * static_cast<float>(weight);
+        }
+    }
+  }
+  return sum;
+}
+
+}  // namespace
 
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
-                                const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays, bool mis,
-                                bool environment) {
-  const RenderScene& s = v.scene;
+                                const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                std::uint64_t& rays, bool mis, bool environment) {
   const Vec3 wo_local = e.frame.to_local(wo);
-  // f·|cos θi| towards wi and the BSDF's density for it, or nothing when f is zero.
   auto bsdf_towards = [&](const Vec3& wi, double& bsdf_pdf) {
     const Vec3 wi_local = e.frame.to_local(wi);
     bsdf_pdf = pdf(e.bsdf, wo_local, wi_local);
     return eval(e.bsdf, wo_local, wi_local, TransportMode::radiance);
   };
-  SampledSpectrum<N> sum;
-  const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
-  if (const auto chosen = s.area_lights.sample(u_light)) {
-    const auto& [index, p_choice] = *chosen;
-    if (const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], hit.point, u1, u2)) {
-      double bsdf_pdf = 0.0;
-      const SampledSpectrum<N> f = bsdf_towards(li->wi, bsdf_pdf);
-      if (!f.is_zero() && unoccluded(s, hit, li->wi, li->distance_m, rays)) {
-        const double light_pdf = p_choice * li->pdf;
-        const double weight = (mis ? power_heuristic(light_pdf, bsdf_pdf) : 1.0) * li->factor / light_pdf;
-        const Ray segment{hit.point, li->wi};
-        sum += f * v.tables.at(li->spectrum, w) * travel(v, e.medium_towards(li->wi), segment, li->distance_m, w) *
-               static_cast<float>(weight);
-      }
-    }
-  }
-  for (const int index : s.delta_lights) {
-    const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], hit.point, 0.0, 0.0);
-    if (!li) continue;
-    double bsdf_pdf = 0.0;
-    const Ray segment{hit.point, li->wi};
-    const SampledSpectrum<N> incident = v.tables.at(li->spectrum, w) *
-                                        travel(v, e.medium_towards(li->wi), segment, li->distance_m, w) *
-                                        static_cast<float>(li->factor);
-    if (incident.is_zero()) continue;
-    const SampledSpectrum<N> f = bsdf_towards(li->wi, bsdf_pdf);
-    if (f.is_zero() || !unoccluded(s, hit, li->wi, li->distance_m, rays)) continue;
-    sum += f * incident;
-  }
-  if (environment && s.environment_light >= 0) {
-    const double ue1 = rng.next_double(), ue2 = rng.next_double();
-    const auto li = sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], hit.point, ue1, ue2);
-    if (li && !absorbs(s, e.medium_towards(li->wi))) {
-      double bsdf_pdf = 0.0;
-      const SampledSpectrum<N> f = bsdf_towards(li->wi, bsdf_pdf);
-      if (!f.is_zero() && unoccluded(s, hit, li->wi, li->distance_m, rays)) {
-        const double weight = (mis ? power_heuristic(li->pdf, bsdf_pdf) : 1.0) / li->pdf;
-        sum += f * v.tables.environment(*s.environment, li->texel, w) * static_cast<float>(weight);
-      }
-    }
-  }
-  return sum;
+  return direct_light_at(
+      v, PathVertex{hit.point, &hit}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
+      path_r_u, rng, rays, mis, environment);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                          const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  // Light arriving along −wi continues along `direction` after the event.
+  auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
+    phase_pdf = phase_value(phase, -wi, -direction);
+    return SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
+  };
+  return direct_light_at(
+      v, PathVertex{x, nullptr}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays, true,
+      true);
 }
 
 template <std::size_t N>
@@ -105,15 +163,18 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
 
 namespace {
 
-// Adds `value` (already multiplied by everything but the medium and the camera's factor) at the
-// camera's film position when nothing blocks the way.
+// Adds `value` (already multiplied by everything but the connection and the camera's factor) at
+// the camera's film position when the connection gets through; the light tracer has no other
+// strategy for it, so only its own ratios divide it.
 template <std::size_t N>
-void splat_towards(const SceneView<N>& v, const Hit& hit, const CameraConnection& c, int medium,
-                   const SampledSpectrum<N>& value, const SampledWavelengths<N>& w, FilmBuffer& film,
-                   std::uint64_t& rays) {
-  if (value.is_zero() || !unoccluded(v.scene, hit, c.wi, c.distance_m, rays)) return;
+void splat_towards(const SceneView<N>& v, const PathVertex& at, const CameraConnection& c, int medium,
+                   const SampledSpectrum<N>& value, const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
+                   Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
+  if (value.is_zero()) return;
+  const auto t = transmission(v, at, c.wi, c.distance_m, medium, w, rng, rays);
+  if (!t) return;
   const SampledSpectrum<N> l =
-      value * travel(v, medium, Ray{hit.point, c.wi}, c.distance_m, w) * static_cast<float>(c.factor);
+      value * t->tr * static_cast<float>(c.factor / (path_r_u * t->ratios.r_l).average());
   if (film.has_spectra()) {
     film.add_splat(c.film_x, c.film_y, v.tables.to_linear_rgb(l, w), std::span<const float>(l.v.data(), N));
   } else {
@@ -125,35 +186,55 @@ void splat_towards(const SceneView<N>& v, const Hit& hit, const CameraConnection
 
 template <std::size_t N>
 void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
-                             const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, FilmBuffer& film,
-                             std::uint64_t& rays) {
+                             const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
+                             const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
   const auto c = v.camera.connect(hit.point);
   if (!c) return;
   const SampledSpectrum<N> f =
       eval(e.bsdf, e.frame.to_local(wo), e.frame.to_local(c->wi), TransportMode::importance);
-  splat_towards(v, hit, *c, e.medium_towards(c->wi), beta * f, w, film, rays);
+  splat_towards(v, PathVertex{hit.point, &hit}, *c, e.medium_towards(c->wi), beta * f, w, path_r_u, rng, film, rays);
+}
+
+template <std::size_t N>
+void splat_medium_to_camera(const SceneView<N>& v, const Vec3& x, const Vec3& direction, const PhaseFunction& phase,
+                            int medium, const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
+                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
+  const auto c = v.camera.connect(x);
+  if (!c) return;
+  const auto p = static_cast<float>(phase_value(phase, direction, c->wi));
+  splat_towards(v, PathVertex{x, nullptr}, *c, medium, beta * p, w, path_r_u, rng, film, rays);
 }
 
 template <std::size_t N>
 void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight& light, int medium,
-                           const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, FilmBuffer& film,
-                           std::uint64_t& rays) {
+                           const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, Rng& rng,
+                           FilmBuffer& film, std::uint64_t& rays) {
   const auto c = v.camera.connect(at.point);
   if (!c) return;
   const double factor = emitted_factor(light, c->wi) * std::abs(dot(c->wi, light.normal));
-  splat_towards(v, at, *c, medium, beta * static_cast<float>(factor), w, film, rays);
+  splat_towards(v, PathVertex{at.point, &at}, *c, medium, beta * static_cast<float>(factor), w,
+                SampledSpectrum<N>::constant(1.0f), rng, film, rays);
 }
 
 #define BOUGUER_EVENTS_INSTANTIATE(N)                                                                                 \
+  template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double,   \
+                                                       int, const SampledWavelengths<N>&, Rng&, std::uint64_t&);      \
   template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,      \
-                                           const SampledWavelengths<N>&, Rng&, std::uint64_t&, bool, bool);           \
+                                           const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&,             \
+                                           std::uint64_t&, bool, bool);                                               \
+  template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&,                   \
+                                                     const PhaseFunction&, int, const SampledWavelengths<N>&,         \
+                                                     const SampledSpectrum<N>&, Rng&, std::uint64_t&);                \
   template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
                                     double, Rng&);                                                                    \
   template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,         \
-                                        const SampledSpectrum<N>&, const SampledWavelengths<N>&, FilmBuffer&,         \
-                                        std::uint64_t&);                                                              \
+                                        const SampledSpectrum<N>&, const SampledWavelengths<N>&,                      \
+                                        const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&);                \
+  template void splat_medium_to_camera(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int,      \
+                                       const SampledSpectrum<N>&, const SampledWavelengths<N>&,                       \
+                                       const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&);                 \
   template void splat_light_to_camera(const SceneView<N>&, const Hit&, const AreaLight&, int,                         \
-                                      const SampledSpectrum<N>&, const SampledWavelengths<N>&, FilmBuffer&,           \
+                                      const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&,     \
                                       std::uint64_t&);
 BOUGUER_EVENTS_INSTANTIATE(kFullBins)
 BOUGUER_EVENTS_INSTANTIATE(3)

@@ -10,12 +10,18 @@
 
 #include "bouguer/core/frame.h"
 #include "bouguer/materials/surface_bsdf.h"
+#include "bouguer/media/scattering.h"
 #include "bouguer/render/camera.h"
 #include "bouguer/render/film.h"
 #include "bouguer/render/rng.h"
 #include "bouguer/scene/compile.h"
 
 namespace bouguer {
+
+// A path's scattering events, and the index-matched interfaces it crosses, are not bounded by
+// max_depth (a dense medium needs thousands); these stop a path that would never end.
+inline constexpr int kMaxScatterings = 100000;
+inline constexpr int kMaxCrossings = 1024;
 
 // What every event reads: the compiled scene, its spectra for this render's mode, the camera.
 template <std::size_t N>
@@ -68,14 +74,57 @@ template <std::size_t N>
 SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
                               int medium, const SampledWavelengths<N>& w);
 
+// Where a connection (to a light or the camera) starts: a surface hit, whose rays leave from its
+// offset origin while lengths are measured from the hit point itself, or a point inside a medium.
+struct PathVertex {
+  Vec3 point;
+  const Hit* hit = nullptr;  // null: a point inside a medium
+  Vec3 origin_towards(const Vec3& d) const { return hit ? offset_ray_origin(*hit, d) : point; }
+};
+
+// What gets through along a connection: the transmittance (ratio-tracked in scattering media,
+// exact elsewhere) and the connection's factors of the spectral MIS ratios (media/scattering.h).
+template <std::size_t N>
+struct Transmission {
+  SampledSpectrum<N> tr = SampledSpectrum<N>::constant(1.0f);
+  SpectralMis<N> ratios;
+};
+
+// The connection from `from` along wi to a point distance_m away (infinite: a distant light or
+// the environment), starting in `medium`: nullopt when a surface blocks it. It crosses
+// index-matched interfaces (Surface::index_matched: medium boundaries that neither reflect nor
+// refract) into the medium beyond and stops at any other surface, glass included; so a medium
+// inside glass or behind a water surface gets no direct light (docs/rendering.md).
+template <std::size_t N>
+std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
+                                            double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
+                                            std::uint64_t& rays);
+
 // Direct light at a non-specular surface event, towards wo: one area light drawn by power, every
 // delta light and (with `environment`) one direction of the environment map; MIS-weighted
-// against BSDF sampling by the power heuristic when `mis` is set. Shadow rays are blocked by any
-// surface, glass included.
+// against BSDF sampling by the power heuristic when `mis` is set. Shadow rays go as
+// transmission() says. path_r_u: the path's unidirectional ratios so far (all 1 outside
+// scattering media).
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
-                                const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays, bool mis,
-                                bool environment);
+                                const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                std::uint64_t& rays, bool mis, bool environment);
+
+// The same at a scattering event at `x` inside scattering medium `medium`, for light travelling
+// along `direction`: the phase function in place of the BSDF, always MIS-weighted against phase
+// sampling.
+template <std::size_t N>
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                          const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays);
+
+// The MIS weight (power heuristic) of a strategy with density pdf_a and ratios r_a against one
+// with pdf_b and r_b: the densities of the two one-sample mixtures over the carried wavelengths.
+template <std::size_t N>
+double spectral_power_heuristic(double pdf_a, const SampledSpectrum<N>& r_a, double pdf_b,
+                                const SampledSpectrum<N>& r_b) {
+  return power_heuristic(pdf_a * r_a.average(), pdf_b * r_b.average());
+}
 
 // At the first dispersive interface a path meets, keep carried wavelength j = ⌊u·N⌋ with weight
 // N and terminate the others (their throughput becomes 0): each wavelength's expected
@@ -86,28 +135,36 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
 
 // A light-path vertex at a non-specular surface, arrived at along wo (towards the light): the
 // light it sends to the camera, through the medium on the camera's side, splatted at its film
-// position. The throughput beta carries importance-mode weights.
+// position. The throughput beta carries importance-mode weights; path_r_u the path's ratios.
 template <std::size_t N>
 void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
-                             const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, FilmBuffer& film,
-                             std::uint64_t& rays);
+                             const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
+                             const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays);
+
+// The same for a scattering event at `x` in `medium` of a light path travelling along `direction`.
+template <std::size_t N>
+void splat_medium_to_camera(const SceneView<N>& v, const Vec3& x, const Vec3& direction, const PhaseFunction& phase,
+                            int medium, const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
+                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays);
 
 // A light path's first vertex on an area light (the lamp seen directly): `beta` is the emitted
 // radiance over the densities of choosing the light and the point; medium is the one in front.
 template <std::size_t N>
 void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight& light, int medium,
-                           const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, FilmBuffer& film,
-                           std::uint64_t& rays);
+                           const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, Rng& rng,
+                           FilmBuffer& film, std::uint64_t& rays);
 
 // Russian roulette from depth 4, never where the medium forbids it (inside an absorber,
-// media/medium.h); the survival probability is the largest throughput over wavelengths, at least
-// 5 %. Whether the path goes on (beta rescaled if it does).
+// media/medium.h); the survival probability is the largest throughput over wavelengths (beta over
+// the mean of the path's ratios, which is what a contribution is divided by), at least 5 %.
+// Whether the path goes on (beta rescaled if it does).
 template <std::size_t N>
-bool survives_roulette(const RenderScene& scene, int depth, int medium, SampledSpectrum<N>& beta, Rng& rng) {
+bool survives_roulette(const RenderScene& scene, int depth, int medium, SampledSpectrum<N>& beta, Rng& rng,
+                       float mean_ratio = 1.0f) {
   constexpr int kRouletteDepth = 4;
   if (depth < kRouletteDepth || (medium >= 0 && !allows_roulette(scene.media[static_cast<std::size_t>(medium)].medium)))
     return true;
-  const float survive = std::max(0.05f, std::min(1.0f, beta.max_value()));
+  const float survive = std::max(0.05f, std::min(1.0f, beta.max_value() / mean_ratio));
   if (rng.next_double() >= survive) return false;
   beta /= survive;
   return true;
@@ -126,21 +183,18 @@ inline int medium_arrived_through(const Surface& surface, const Ray& ray, const 
 template <std::size_t N>
 std::optional<double> continue_path(const RenderScene& scene, const Hit& hit, const SurfaceEvent<N>& e,
                                     const Vec3& wo, TransportMode mode, int depth, SampledSpectrum<N>& beta,
-                                    int& medium, Ray& ray, Rng& rng) {
+                                    int& medium, Ray& ray, Rng& rng, float mean_ratio = 1.0f) {
   const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
   const auto s = sample(e.bsdf, e.frame.to_local(wo), uc, u1, u2, mode);
   if (!s) return std::nullopt;
   const Vec3 wi = e.frame.to_world(s->wi);
   beta *= s->weight;
   medium = e.medium_towards(wi);
-  if (!survives_roulette(scene, depth, medium, beta, rng) || beta.is_zero()) return std::nullopt;
+  if (!survives_roulette(scene, depth, medium, beta, rng, mean_ratio) || beta.is_zero()) return std::nullopt;
   ray = {offset_ray_origin(hit, wi), wi};
   return s->pdf;
 }
 
-// Whether nothing lies between the hit and a point `distance_m` away along wi (infinite: a distant
-// light); traces one shadow ray from the offset origin, counted in `rays`.
-bool unoccluded(const RenderScene& scene, const Hit& hit, const Vec3& wi, double distance_m, std::uint64_t& rays);
 
 
 // ---- small events, inline: they run at every vertex -----------------------------------------
@@ -194,6 +248,22 @@ inline SmoothDielectric interface_indices(const SceneView<N>& v, const Surface& 
 // The medium a direction leaving an interface travels in (SurfaceEvent::medium_towards).
 inline int interface_medium_towards(const Surface& surface, const Hit& hit, const Vec3& wi) {
   return dot(wi, hit.normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+}
+
+// The scattering medium `medium` is, or null.
+inline const ScatteringMedium* scattering_medium(const RenderScene& scene, int medium) {
+  return medium < 0 ? nullptr : scattering(scene.media[static_cast<std::size_t>(medium)].medium);
+}
+
+// A new path's w.hero, the carried wavelength whose majorant draws its distances in scattering
+// media (media/scattering.h): uniform over the carried ones (hero mode: index 0, the hero
+// wavelength itself, already random). Drawn only in scenes that scatter, so other scenes' random
+// streams are unchanged.
+template <std::size_t N>
+void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, Rng& rng) {
+  w.hero = 0;
+  if (!scene.scatters || w.mode == SpectralMode::hero) return;
+  w.hero = std::min(static_cast<int>(rng.next_double() * static_cast<double>(N)), static_cast<int>(N) - 1);
 }
 
 template <std::size_t N>

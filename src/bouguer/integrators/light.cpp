@@ -6,6 +6,8 @@
 // What it cannot see: anything the camera sees through a purely specular chain (mirrors, glass)
 // and the background or environment seen directly, since a connection to a pinhole ends on a
 // non-specular surface or a lamp. The same Russian roulette and depth limit as the path tracer.
+// In scattering media: the same delta tracking as the path tracer, and every medium vertex is
+// connected to the camera through the phase function.
 // Light path i of pixel slot p is seeded by (seed, p, i): region and sample-range splits give the
 // same splats, whose fixed-point sums (render/film.h) do not depend on the order of arrival.
 #include "bouguer/integrators/integrators.h"
@@ -30,6 +32,7 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
   const Light& light = scene.lights[static_cast<std::size_t>(chosen->first)];
   const auto le = sample_le(light, scene.bounds, u1, u2, u3, u4);
   if (!le) return;
+  draw_hero(scene, w, rng);
   const SampledSpectrum<N> radiance =
       le->texel >= 0 ? v.tables.environment(*scene.environment, le->texel, w) : v.tables.at(le->spectrum, w);
   int medium = emission_medium(scene, light);
@@ -42,26 +45,57 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
     at.geometry = area->geometry;
     at.primitive = area->primitive;
     splat_light_to_camera(v, at, *area, medium, radiance * static_cast<float>(1.0 / (chosen->second * le->pdf_pos)), w,
-                          film, rays);
+                          rng, film, rays);
     ray.origin = offset_ray_origin(at, ray.direction);
   }
   SampledSpectrum<N> beta =
       radiance * static_cast<float>(le->factor * cos_light / (chosen->second * le->pdf_pos * le->pdf_dir));
-  Vec3 from = le->ray.origin;  // the surface point the ray left
+  SpectralMis<N> mis;        // only r_u: a light path's splats have no competing strategy
+  Vec3 start = le->ray.origin;  // where the current segment started
+  int scatterings = 0, crossings = 0;
   for (int depth = 0;; ++depth) {
     ++rays;
     const auto hit = scene.rays.intersect(ray);
     if (!hit) return;
     const Surface& surface = scene.surfaces[hit->geometry];
     medium = medium_arrived_through(surface, ray, *hit, medium);
-    beta *= travel_to(v, medium, from, ray.direction, hit->point, w);
-    if (surface.kind == SurfaceKind::emitter || depth >= v.max_depth) return;  // lamps absorb what reaches them
+    if (const ScatteringMedium* sm = scattering_medium(scene, medium)) {
+      const MediumEvent event =
+          sample_scattering(*sm, v.tables, Ray{start, ray.direction}, length(hit->point - start), w, rng, beta, mis);
+      if (beta.is_zero()) return;
+      if (event.scattered) {
+        if (++scatterings > kMaxScatterings) return;
+        const Vec3 x = start + ray.direction * event.t;
+        splat_medium_to_camera(v, x, ray.direction, sm->phase, medium, beta, w, mis.r_u, rng, film, rays);
+        const double p1 = rng.next_double(), p2 = rng.next_double();
+        const PhaseSample ps = sample_phase(sm->phase, ray.direction, p1, p2);
+        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mis.r_u.average())) return;
+        start = x;
+        ray = {x, ps.out};
+        --depth;
+        continue;
+      }
+    } else {
+      beta *= travel_to(v, medium, start, ray.direction, hit->point, w);
+    }
+    if (surface.kind == SurfaceKind::emitter) return;  // lamps absorb what reaches them
+    if (surface.index_matched) {  // crossed unchanged, as camera paths and connections do
+      if (++crossings > kMaxCrossings) return;
+      medium = interface_medium_towards(surface, *hit, ray.direction);
+      start = hit->point;
+      ray.origin = offset_ray_origin(*hit, ray.direction);
+      --depth;
+      continue;
+    }
+    if (depth >= v.max_depth) return;
     keep_one_wavelength(v, surface, w, beta, dispersion_u, rng);
     const Vec3 wo = -ray.direction;
     const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
-    if (!is_specular(e.bsdf)) splat_surface_to_camera(v, *hit, e, wo, beta, w, film, rays);
-    if (!continue_path(scene, *hit, e, wo, TransportMode::importance, depth, beta, medium, ray, rng)) return;
-    from = hit->point;
+    if (!is_specular(e.bsdf)) splat_surface_to_camera(v, *hit, e, wo, beta, w, mis.r_u, rng, film, rays);
+    if (!continue_path(scene, *hit, e, wo, TransportMode::importance, depth + scatterings, beta, medium, ray, rng,
+                       mis.r_u.average()))
+      return;
+    start = hit->point;
   }
 }
 

@@ -10,6 +10,11 @@
 // Dispersion: at the first dispersive interface the path keeps one wavelength (keep_one_wavelength;
 // its choice stratified over the pixel's samples by the caller) and follows n(λ) from there on;
 // each wavelength's expected contribution is unchanged.
+// Scattering media: delta tracking of the scattering with spectral MIS (media/scattering.h), the
+// absorption in closed form; next-event estimation at every medium vertex through the phase
+// function; Russian roulette by throughput there too. Scattering events do not count against
+// max_depth; a path stops after kMaxScatterings of them (integrators/events.h). Index-matched
+// interfaces are crossed without a vertex.
 #include "bouguer/integrators/integrators.h"
 
 namespace bouguer {
@@ -19,38 +24,78 @@ template <std::size_t N>
 SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                         std::uint64_t& rays) {
   const RenderScene& scene = v.scene;
+  draw_hero(scene, w, rng);
   SampledSpectrum<N> l, beta = SampledSpectrum<N>::constant(1.0f);
-  double prev_pdf = 0.0;  // 0: the last event was specular (or the camera)
-  Vec3 prev_point = ray.origin;
+  SpectralMis<N> mis;     // r_u over the path; r_l since its last vertex (media/scattering.h)
+  double prev_pdf = 0.0;  // 0: the last vertex was specular (or the camera)
+  Vec3 vertex = ray.origin;  // the last vertex: where next-event estimation would have started
+  Vec3 start = ray.origin;   // where the current segment started (a vertex or a medium boundary)
   int medium = scene.world_medium;
+  int scatterings = 0, crossings = 0;
   for (int depth = 0;; ++depth) {
     ++rays;
     const auto hit = scene.rays.intersect(ray);
     if (!hit) {  // an environment map is also reached by next-event estimation: weighted against it
-      const double mis = prev_pdf == 0.0 || !scene.environment
-                             ? 1.0
-                             : power_heuristic(prev_pdf, environment_pdf(scene, ray.direction));
-      l += beta * escaped(v, medium, ray.direction, w) * static_cast<float>(mis);
+      const double weight = prev_pdf == 0.0 || !scene.environment
+                                ? 1.0
+                                : spectral_power_heuristic(prev_pdf, mis.r_u, environment_pdf(scene, ray.direction), mis.r_l);
+      l += beta * escaped(v, medium, ray.direction, w) * static_cast<float>(weight / mis.r_u.average());
       break;
     }
     const Surface& surface = scene.surfaces[hit->geometry];
     medium = medium_arrived_through(surface, ray, *hit, medium);
-    beta *= travel_to(v, medium, prev_point, ray.direction, hit->point, w);
+    if (const ScatteringMedium* sm = scattering_medium(scene, medium)) {
+      const MediumEvent event =
+          sample_scattering(*sm, v.tables, Ray{start, ray.direction}, length(hit->point - start), w, rng, beta, mis);
+      if (beta.is_zero()) break;
+      if (event.scattered) {
+        // A vertex in the medium: direct light through the phase function, then a new direction
+        // drawn from it (weight 1). Scattering events do not count against max_depth.
+        if (++scatterings > kMaxScatterings) break;
+        const Vec3 x = start + ray.direction * event.t;
+        l += beta * direct_light_in_medium(v, x, ray.direction, sm->phase, medium, w, mis.r_u, rng, rays);
+        const double u1 = rng.next_double(), u2 = rng.next_double();
+        const PhaseSample ps = sample_phase(sm->phase, ray.direction, u1, u2);
+        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mis.r_u.average())) break;
+        mis.r_l = mis.r_u;
+        prev_pdf = ps.pdf;
+        vertex = start = x;
+        ray = {x, ps.out};
+        --depth;
+        continue;
+      }
+    } else {
+      beta *= travel_to(v, medium, start, ray.direction, hit->point, w);
+    }
     const Vec3 wo = -ray.direction;
     if (surface.kind == SurfaceKind::emitter) {
-      const double mis =
-          prev_pdf == 0.0 ? 1.0 : power_heuristic(prev_pdf, area_light_pdf(scene, *hit, prev_point, ray.direction));
-      l += beta * emitted(v, *hit, wo, w) * static_cast<float>(mis);
+      const double weight =
+          prev_pdf == 0.0
+              ? 1.0
+              : spectral_power_heuristic(prev_pdf, mis.r_u, area_light_pdf(scene, *hit, vertex, ray.direction), mis.r_l);
+      l += beta * emitted(v, *hit, wo, w) * static_cast<float>(weight / mis.r_u.average());
       break;
+    }
+    if (surface.index_matched) {
+      // A boundary between media of one index: the path crosses it unchanged; it is no vertex
+      // (next-event estimation crosses it too).
+      if (++crossings > kMaxCrossings) break;
+      medium = interface_medium_towards(surface, *hit, ray.direction);
+      start = hit->point;
+      ray.origin = offset_ray_origin(*hit, ray.direction);
+      --depth;
+      continue;
     }
     if (depth >= v.max_depth) break;
     keep_one_wavelength(v, surface, w, beta, dispersion_u, rng);
     const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
-    if (!is_specular(e.bsdf)) l += beta * direct_light(v, *hit, e, wo, w, rng, rays, true, true);
-    const auto pdf = continue_path(scene, *hit, e, wo, TransportMode::radiance, depth, beta, medium, ray, rng);
+    if (!is_specular(e.bsdf)) l += beta * direct_light(v, *hit, e, wo, w, mis.r_u, rng, rays, true, true);
+    const auto pdf = continue_path(scene, *hit, e, wo, TransportMode::radiance, depth + scatterings, beta, medium, ray,
+                                   rng, mis.r_u.average());
     if (!pdf) break;
     prev_pdf = *pdf;
-    prev_point = hit->point;
+    mis.r_l = mis.r_u;
+    vertex = start = hit->point;
   }
   return l;
 }

@@ -69,7 +69,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     return tr * l;
   }
   const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
-  if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, rng_, rays_, false, false);
+  if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, false, false);
   if (depth >= v.max_depth) return {};
   // A smooth conductor: a mirror with its spectral Fresnel reflectance.
   const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);

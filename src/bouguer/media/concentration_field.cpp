@@ -123,4 +123,44 @@ double max_concentration(const ConcentrationField& field) {
   return std::visit(Visitor{}, field);
 }
 
+double max_concentration_on(const ConcentrationField& field, const Vec3& o, const Vec3& d, double t0, double t1) {
+  return std::visit(
+      [&](const auto& f) -> double {
+        using F = std::decay_t<decltype(f)>;
+        if constexpr (std::is_same_v<F, ConstantField>) {
+          return f.value;
+        } else if constexpr (std::is_same_v<F, LayersField>) {
+          const double sa = f.frame.s_at(o + d * t0), sb = f.frame.s_at(o + d * t1);
+          const double lo = std::min(sa, sb), hi = std::max(sa, sb);
+          double peak = 0.0, below = -std::numeric_limits<double>::infinity();
+          for (std::size_t i = 0; i < f.value.size(); ++i) {
+            const double above = i + 1 < f.value.size() ? f.upper_s_m[i] : std::numeric_limits<double>::infinity();
+            if (hi >= below && lo < above) peak = std::max(peak, f.value[i]);
+            below = above;
+          }
+          return peak;
+        } else {
+          return std::max(at_s(f, f.frame.s_at(o + d * t0)), at_s(f, f.frame.s_at(o + d * t1)));
+        }
+      },
+      field);
+}
+
+ConcentrationField scaled(ConcentrationField field, double factor) {
+  std::visit(
+      [&](auto& f) {
+        using F = std::decay_t<decltype(f)>;
+        if constexpr (std::is_same_v<F, LayersField>) {
+          for (double& v : f.value) v *= factor;
+        } else if constexpr (std::is_same_v<F, LinearField>) {
+          f.value *= factor;
+          f.slope_per_m *= factor;
+        } else {
+          f.value *= factor;
+        }
+      },
+      field);
+  return field;
+}
+
 }  // namespace bouguer

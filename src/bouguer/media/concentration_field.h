@@ -73,4 +73,13 @@ inline constexpr double kMaxColumnDensity = 1e30;  // beyond it every absorbing 
 // without bound: linear with a non-zero slope, exponential (towards −s).
 double max_concentration(const ConcentrationField& field);
 
+// The largest c on the segment o + t·d, t in [t0, t1] (finite): a majorant for tracking the
+// scattering a density field scales. The analytic fields are monotone in s, so their largest
+// value lies at an end; layers take the largest layer the segment reaches.
+double max_concentration_on(const ConcentrationField& field, const Vec3& origin_m, const Vec3& direction, double t0,
+                            double t1);
+
+// The field times a factor >= 0 (a medium's density field scaling an absorber's concentration).
+ConcentrationField scaled(ConcentrationField field, double factor);
+
 }  // namespace bouguer

@@ -14,6 +14,7 @@
 
 #include "bouguer/media/concentration_field.h"
 #include "bouguer/media/optical_depth.h"
+#include "bouguer/media/phase.h"
 
 #include "bouguer/spectra/sampled_spectrum.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
@@ -38,24 +39,53 @@ struct FieldMedium {
   std::vector<FieldAbsorber> absorbers;  // 1 to kMaxAbsorbersPerMedium
 };
 
-using Medium = std::variant<HomogeneousMedium, FieldMedium>;
+// A medium that scatters: σ_s(x, λ) = ρ(x)·σ_s(λ), with a density field ρ (constant 1 when the
+// medium is homogeneous) and one phase function. Its absorption is that of the absorbers (their
+// fields already multiplied by ρ), and stays exact: the estimators track the scattering only
+// (media/scattering.h) and multiply by the absorption's transmittance in closed form, so an
+// absorbing, weakly scattering liquid keeps its colour free of absorption noise.
+struct ScatteringMedium {
+  std::vector<FieldAbsorber> absorbers;  // 0 to kMaxAbsorbersPerMedium
+  int sigma_s = -1;                      // spectrum id of σ_s per metre at ρ = 1 (SpectrumRole::coefficient)
+  ConcentrationField density = ConstantField{1.0};
+  PhaseFunction phase;
+};
 
-// Whether any wavelength is attenuated inside: an infinite path through it lets nothing through.
+using Medium = std::variant<HomogeneousMedium, FieldMedium, ScatteringMedium>;
+
+// Whether light is lost along an infinite path inside (absorbed or scattered away).
 inline bool absorbs(const Medium& m) {
   struct Visitor {
     bool operator()(const HomogeneousMedium& h) const { return h.absorbing; }
     bool operator()(const FieldMedium&) const { return true; }
+    bool operator()(const ScatteringMedium&) const { return true; }
   };
   return std::visit(Visitor{}, m);
 }
 
-// Russian roulette is never played inside an absorber: there the throughput falls because of
-// absorption the estimator must follow to the end (docs/rendering.md).
-inline bool allows_roulette(const Medium& m) { return !absorbs(m); }
+inline const ScatteringMedium* scattering(const Medium& m) { return std::get_if<ScatteringMedium>(&m); }
+
+// Russian roulette is never played inside a medium that only absorbs: there the throughput falls
+// because of absorption the estimator must follow to the end (docs/rendering.md). A scattering
+// medium plays it by throughput: a path may scatter thousands of times there.
+inline bool allows_roulette(const Medium& m) { return !absorbs(m) || scattering(m) != nullptr; }
+
+// exp(−Σ_k ε_k·∫c_k dt) over [t0, t1] (finite) for a medium's absorbers (one if there are none).
+template <typename Tables, typename Ray, std::size_t N>
+SampledSpectrum<N> absorbers_transmittance(const std::vector<FieldAbsorber>& absorbers, const Tables& tables,
+                                           const Ray& ray, double t0, double t1, const SampledWavelengths<N>& w) {
+  if (absorbers.empty()) return SampledSpectrum<N>::constant(1.0f);
+  std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
+  std::size_t n = 0;
+  for (const FieldAbsorber& a : absorbers)
+    terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
+  return tables.transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
+}
 
 // The fraction of light kept along ray.origin + t·ray.direction for t in [t0, t1] (t1 may be
 // infinite: then zero in an absorber, one in a clear medium). Exact for every carried
-// wavelength; deterministic (no tracking estimator for media that only absorb).
+// wavelength; deterministic (no tracking estimator for media that only absorb). For a scattering
+// medium: its absorption only (the scattering is tracked, media/scattering.h).
 template <typename Tables, typename Ray, std::size_t N>
 SampledSpectrum<N> transmittance(const Medium& m, const Tables& tables, const Ray& ray, double t0, double t1,
                                  const SampledWavelengths<N>& w) {
@@ -71,11 +101,11 @@ SampledSpectrum<N> transmittance(const Medium& m, const Tables& tables, const Ra
     }
     SampledSpectrum<N> operator()(const FieldMedium& f) const {
       if (std::isinf(t1)) return SampledSpectrum<N>{};
-      std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
-      std::size_t n = 0;
-      for (const FieldAbsorber& a : f.absorbers)
-        terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
-      return tables.transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
+      return absorbers_transmittance(f.absorbers, tables, ray, t0, t1, w);
+    }
+    SampledSpectrum<N> operator()(const ScatteringMedium& s) const {
+      if (std::isinf(t1)) return SampledSpectrum<N>{};
+      return absorbers_transmittance(s.absorbers, tables, ray, t0, t1, w);
     }
   };
   return std::visit(Visitor{tables, ray, t0, t1, w}, m);

@@ -48,6 +48,7 @@ struct IntegratorInfo {
   RenderFn render;
   bool rough_interfaces;  // whether it handles rough dielectric interfaces
   bool splats;            // whether its light arrives through the film's splat buffer
+  bool scattering_media;  // whether it renders media that scatter
 };
 
 std::span<const IntegratorInfo> integrator_table();

@@ -20,12 +20,12 @@ constexpr int kTileSize = 16;
 
 constexpr IntegratorInfo kIntegrators[] = {
     {IntegratorType::whitted, "whitted", "the paper's ray tracer: Fresnel-split interfaces, direct light by shadow rays",
-     render_whitted, false, false},
+     render_whitted, false, false, false},
     {IntegratorType::path, "path", "unbiased spectral path tracing with next-event estimation and MIS", render_path,
-     true, false},
+     true, false, true},
     {IntegratorType::light, "light",
      "light tracing: paths from the lamps connected to the camera (caustics on diffuse surfaces)", render_light, true,
-     true},
+     true, true},
 };
 
 constexpr SpectralModeInfo kSpectralModes[] = {
@@ -113,6 +113,13 @@ void check_settings(const RenderScene& scene, const RenderSettings& settings, bo
       if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0)
         fail("{}: object '{}': a rough interface needs the path tracer (--integrator path)", scene.file.string(),
              surface.object);
+  if (!integrator.scattering_media)
+    for (const Surface& surface : scene.surfaces)
+      for (const int m : {surface.medium_front, surface.medium_behind})
+        if (m >= 0 && scattering(scene.media[static_cast<std::size_t>(m)].medium))
+          fail("{}: object '{}': medium '{}' scatters; the {} integrator renders absorption only (use --integrator "
+               "path or light)",
+               scene.file.string(), surface.object, scene.media[static_cast<std::size_t>(m)].name, integrator.name);
 }
 
 FilmBuffer make_film(const RenderScene& scene, const RenderSettings& /*settings*/, bool keep_spectra) {

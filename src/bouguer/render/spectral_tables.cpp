@@ -35,6 +35,7 @@ SampledSpectrum<N> fixed_values(const SceneSpectrum& s, const SpectralBasis<N>& 
   switch (s.role) {
     case SpectrumRole::radiance: return basis.emission(spectrum);
     case SpectrumRole::reflectance:
+    case SpectrumRole::coefficient:
       return basis.mode == SpectralMode::rgb3 ? basis.at_wavelengths(spectrum) : basis.emission(spectrum);
     case SpectrumRole::point:
     case SpectrumRole::absorption: break;

@@ -21,9 +21,10 @@
 namespace bouguer {
 
 // How a spectrum enters the carried wavelengths (spectral_sampling.h): radiance as bin means
-// (rgb3: its linear sRGB colour), reflectance as bin means (rgb3: the values at the three lines),
-// point quantities (n, k) at the wavelengths, absorption at the wavelengths and the sub-bins.
-enum class SpectrumRole { radiance, reflectance, point, absorption };
+// (rgb3: its linear sRGB colour), reflectance and scattering coefficients as bin means (rgb3: the
+// values at the three lines), point quantities (n, k) at the wavelengths, absorption at the
+// wavelengths and the sub-bins.
+enum class SpectrumRole { radiance, reflectance, coefficient, point, absorption };
 
 struct SceneSpectrum {
   std::variant<Spectrum, IorModel> source;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -14,8 +15,8 @@
 namespace bouguer {
 
 const std::vector<MediumDesc>& predefined_media() {
-  static const std::vector<MediumDesc> media = {{"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false, {}},
-                                                {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false, {}}};
+  static const std::vector<MediumDesc> media = {{"vacuum", ConstantIor{1.0}, ConstantSpectrum{0.0}, false, {}, {}},
+                                                {"air", ConstantIor{1.000293}, ConstantSpectrum{0.0}, false, {}, {}}};
   return media;
 }
 
@@ -84,6 +85,24 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
     if (std::isfinite(peak) && !(peak * max_value(a.epsilon_per_m) <= kMaxCoefficientPerM))
       fail_at(at + ".concentration", fmt::format("σ_a at the field's largest concentration ({:g}) exceeds {:g} per metre",
                                                  peak, kMaxCoefficientPerM));
+  }
+  if (m.scattering) {
+    const std::string at = where + ".scattering";
+    if (const auto problem = beyond_limit(m.scattering->sigma_s_per_m, kMaxCoefficientPerM, "the scattering coefficient σ_s (per metre)"))
+      fail_at(at, *problem);
+    if (min_value(m.scattering->sigma_s_per_m) < 0.0) fail_at(at, "σ_s must not be negative");
+    if (const auto* hg = std::get_if<HenyeyGreensteinPhase>(&m.scattering->phase); hg && !(std::abs(hg->g) < 1.0))
+      fail_at(at + ".phase.g", fmt::format("must lie strictly between −1 and 1 (got {})", hg->g));
+    if (m.scattering->density) {
+      const double peak = max_concentration(*m.scattering->density);
+      const double sigma = std::max(max_value(m.scattering->sigma_s_per_m), max_value(m.sigma_a_per_m));
+      if (std::isfinite(peak) && !(peak * sigma <= kMaxCoefficientPerM))
+        fail_at(at + ".density", fmt::format("σ at the density's largest value ({:g}) exceeds {:g} per metre", peak,
+                                             kMaxCoefficientPerM));
+      for (const FieldAbsorberDesc& a : m.field_absorbers)
+        if (!std::holds_alternative<ConstantField>(a.field))
+          fail_at(where + ".absorption", "with a scattering density, the absorption's concentration must be a number");
+    }
   }
   const std::string name = m.name;
   desc_.media[name] = std::move(m);

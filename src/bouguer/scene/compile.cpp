@@ -177,7 +177,28 @@ RenderScene compile(const SceneDesc& desc) {
     const std::string& name = m.name;
     SceneMedium sm;
     sm.name = name;
-    if (m.field_absorbers.empty()) {
+    if (m.scattering) {
+      // The density scales the absorption too: each absorber's field becomes its concentration
+      // times the density (the loader requires numbers for those concentrations).
+      ScatteringMedium sc;
+      const ConcentrationField density = m.scattering->density.value_or(ConcentrationField{ConstantField{1.0}});
+      auto absorber = [&](const Spectrum& epsilon, double concentration) {
+        sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), scaled(density, concentration)});
+      };
+      if (m.field_absorbers.empty()) {
+        if (m.absorbing) absorber(m.sigma_a_per_m, 1.0);
+      } else {
+        for (const FieldAbsorberDesc& a : m.field_absorbers) {
+          if (!m.scattering->density) sc.absorbers.push_back({add_spectrum(s, a.epsilon_per_m, SpectrumRole::absorption), a.field});
+          else absorber(a.epsilon_per_m, std::get<ConstantField>(a.field).value);
+        }
+      }
+      sc.sigma_s = add_spectrum(s, m.scattering->sigma_s_per_m, SpectrumRole::coefficient);
+      sc.density = density;
+      sc.phase = m.scattering->phase;
+      sm.medium = std::move(sc);
+      s.scatters = true;
+    } else if (m.field_absorbers.empty()) {
       sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
     } else {
       FieldMedium f;
@@ -192,6 +213,10 @@ RenderScene compile(const SceneDesc& desc) {
     s.media.push_back(std::move(sm));
   }
   s.world_medium = medium_index(s, desc.world_medium);
+  if (scattering(s.media[static_cast<std::size_t>(s.world_medium)].medium))
+    fail("{}: world_medium: '{}' scatters; the world medium cannot (an unbounded scattering medium has no end to "
+         "track to): put the scattering medium inside an object",
+         desc.file.string(), desc.world_medium);
   std::map<std::tuple<double, double, double>, int> albedo_index;  // (alpha, eta front, eta behind)
 
   std::vector<ObjectDesc> objects = desc.objects;
@@ -238,6 +263,11 @@ RenderScene compile(const SceneDesc& desc) {
       Surface surface = base;
       surface.medium_behind = pick(p.behind);
       surface.medium_front = pick(p.in_front);
+      if (surface.kind == SurfaceKind::interface && surface.roughness == 0.0) {
+        const SceneMedium& front = s.media[static_cast<std::size_t>(surface.medium_front)];
+        const SceneMedium& behind = s.media[static_cast<std::size_t>(surface.medium_behind)];
+        surface.index_matched = !front.dispersive && !behind.dispersive && front.ior_reference == behind.ior_reference;
+      }
       if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0) {
         const auto key = std::make_tuple(surface.roughness, s.media[static_cast<std::size_t>(surface.medium_front)].ior_reference,
                                          s.media[static_cast<std::size_t>(surface.medium_behind)].ior_reference);

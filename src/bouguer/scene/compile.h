@@ -29,6 +29,9 @@ struct Surface {
   int first_light = -1;    // emitters: the area light of primitive p is lights[first_light + p]
   double roughness = 0.0;  // interfaces: GGX alpha (0: smooth)
   int albedo = -1;         // rough interfaces: index into RenderScene::dielectric_albedo
+  // A smooth interface between two media of the same index: it neither reflects nor refracts, so
+  // light crosses it unchanged and shadow rays pass through it (a medium boundary only).
+  bool index_matched = false;
   std::string object;      // for messages
 };
 
@@ -51,6 +54,7 @@ struct RenderScene {
   std::vector<SceneMedium> media;
   int world_medium = 0;
   bool dispersive = false;  // whether any medium's index varies with wavelength
+  bool scatters = false;    // whether any medium scatters (the estimators then track it)
   std::vector<SurfaceMaterial> materials;
   std::unique_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
   std::vector<Light> lights;

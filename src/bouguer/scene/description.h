@@ -15,6 +15,7 @@
 #include "bouguer/lights/spot.h"
 #include "bouguer/media/concentration_field.h"
 #include "bouguer/media/ior.h"
+#include "bouguer/media/phase.h"
 #include "bouguer/scene/environment.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/spectra/spectrum.h"
@@ -49,6 +50,14 @@ struct FieldAbsorberDesc {
   ConcentrationField field;
 };
 
+// A scattering medium's σ_s(x, λ) = ρ(x)·σ_s(λ) and its phase function; ρ (the density) also
+// scales the medium's absorption.
+struct ScatteringDesc {
+  Spectrum sigma_s_per_m = ConstantSpectrum{0.0};  // natural log, 1/m, at density 1
+  PhaseFunction phase = IsotropicPhase{};
+  std::optional<ConcentrationField> density;
+};
+
 struct MediumDesc {
   std::string name;
   IorModel ior = ConstantIor{1.0};
@@ -57,6 +66,7 @@ struct MediumDesc {
   // Set instead of sigma_a_per_m when the medium has several absorbers or a concentration field
   // (then every absorber is here, a uniform one with a ConstantField).
   std::vector<FieldAbsorberDesc> field_absorbers;
+  std::optional<ScatteringDesc> scattering;
 };
 
 // Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.

@@ -18,6 +18,7 @@
 #include "bouguer/media/medium.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
+#include "bouguer/media/scattering_library.h"
 #include "bouguer/render/integrator.h"
 #include "bouguer/scene/builder.h"
 #include "bouguer/scene/material_file.h"
@@ -419,8 +420,85 @@ Absorption absorption_at(const json& j, const Where& w, double concentration) {
   }
 }
 
+// σ_s as a table with a unit, an RGB triple with a unit (lifted to a smooth spectrum, for data
+// measured in RGB only), or Rayleigh's λ⁻⁴ through one value; natural log, per metre inside.
+Spectrum scattering_coefficient(const json& j, const Where& w) {
+  if (j.contains("rayleigh")) {
+    const Where wr = w / "rayleigh";
+    const json& r = j["rayleigh"];
+    if (!r.is_object()) wr.fail("expected an object with 'at_nm' and 'value_per_m'");
+    expect_keys(r, wr, {"at_nm", "value_per_m"});
+    if (!r.contains("at_nm") || !r.contains("value_per_m")) wr.fail("needs 'at_nm' and 'value_per_m' (σ_s there)");
+    const double at_nm = number(r["at_nm"], wr / "at_nm");
+    if (!(at_nm >= 200.0 && at_nm <= 2000.0)) (wr / "at_nm").fail("must lie between 200 and 2000 nm (got {})", at_nm);
+    const double value = number(r["value_per_m"], wr / "value_per_m");
+    if (value < 0.0) (wr / "value_per_m").fail("σ_s must not be negative (got {})", value);
+    return tabulate_visible([&](double nm) { return value * std::pow(at_nm / nm, 4.0); });
+  }
+  if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, attenuation_per_cm or attenuation_per_mm), "
+                                  "'rayleigh' or 'library'");
+  const std::string unit = text(j["unit"], w / "unit");
+  static const std::vector<std::pair<std::string, double>> kUnits = {
+      {"attenuation_per_m", 1.0}, {"attenuation_per_cm", 100.0}, {"attenuation_per_mm", 1000.0}};
+  const auto u = std::find_if(kUnits.begin(), kUnits.end(), [&](const auto& p) { return p.first == unit; });
+  if (u == kUnits.end()) {
+    std::vector<std::string> names;
+    for (const auto& p : kUnits) names.push_back(p.first);
+    (w / "unit").fail("unknown unit '{}'{} (σ_s is a natural-log coefficient)", unit, suggestion(unit, names));
+  }
+  if (j.contains("rgb")) {
+    const Vec3 rgb = vec3(j["rgb"], w / "rgb");
+    for (int i = 0; i < 3; ++i)
+      if (!(std::array{rgb.x, rgb.y, rgb.z}[i] >= 0.0)) (w / "rgb")[i].fail("σ_s must not be negative");
+    // Lifted as pbrt-v4 lifts unbounded RGB: a sigmoid spectrum around 1/2, scaled by 2·max.
+    const double peak = std::max({rgb.x, rgb.y, rgb.z});
+    if (peak == 0.0) return ConstantSpectrum{0.0};
+    return scaled(Spectrum{rgb_to_reflectance(rgb / (2.0 * peak))}, 2.0 * peak * u->second);
+  }
+  return scaled(Spectrum{table(j, w, {"unit", "phase", "density"})}, u->second);
+}
+
+PhaseFunction phase_function(const json& j, const Where& w) {
+  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type' (isotropic or henyey_greenstein)");
+  const std::string type = text(j["type"], w / "type");
+  if (type == "isotropic") {
+    expect_keys(j, w, {"type"});
+    return IsotropicPhase{};
+  }
+  if (type == "henyey_greenstein") {
+    expect_keys(j, w, {"type", "g"});
+    if (!j.contains("g")) w.fail("a Henyey-Greenstein phase function needs 'g' (the mean cosine, −1 < g < 1)");
+    const double g = number(j["g"], w / "g");
+    if (!(g > -1.0 && g < 1.0)) (w / "g").fail("must lie strictly between −1 and 1 (got {})", g);
+    return HenyeyGreensteinPhase{g};
+  }
+  (w / "type").fail("unknown phase function '{}'{}", type, suggestion(type, {"isotropic", "henyey_greenstein"}));
+}
+
+// `library` is set to the entry when the medium comes from the scattering library (its
+// absorption and index are the medium's defaults).
+ScatteringDesc scattering(const json& j, const Where& w, const ScatteringLibraryEntry*& library) {
+  if (!j.is_object()) w.fail("expected an object with 'unit' and σ_s values, 'rayleigh' or 'library'");
+  ScatteringDesc d;
+  if (j.contains("library")) {
+    expect_keys(j, w, {"library", "density"});
+    const std::string name = text(j["library"], w / "library");
+    const ScatteringLibraryEntry* e = find_scattering_medium(name);
+    if (!e) (w / "library").fail("unknown scattering medium '{}'{}", name, suggestion(name, scattering_medium_names()));
+    d.sigma_s_per_m = e->sigma_s_per_m;
+    d.phase = e->phase;
+    library = e;
+  } else {
+    expect_keys(j, w, {"unit", "wavelength_nm", "value", "csv", "rgb", "rayleigh", "phase", "density"});
+    d.sigma_s_per_m = scattering_coefficient(j, w);
+    if (j.contains("phase")) d.phase = phase_function(j["phase"], w / "phase");
+  }
+  if (j.contains("density")) d.density = concentration_field(j["density"], w / "density");
+  return d;
+}
+
 MediumDesc medium(const std::string& name, const json& j, const Where& w) {
-  expect_keys(j, w, {"ior", "absorption"});
+  expect_keys(j, w, {"ior", "absorption", "scattering"});
   MediumDesc m;
   m.name = name;
   std::optional<double> library_ior;
@@ -446,6 +524,21 @@ MediumDesc medium(const std::string& name, const json& j, const Where& w) {
         m.field_absorbers.push_back({std::move(a.sigma_a_per_m), a.field.value_or(ConcentrationField{ConstantField{1.0}})});
       m.absorbing = true;
     }
+  }
+  if (j.contains("scattering")) {
+    const ScatteringLibraryEntry* library = nullptr;
+    m.scattering = scattering(j["scattering"], w / "scattering", library);
+    if (library && !j.contains("absorption")) {
+      m.sigma_a_per_m = library->sigma_a_per_m;
+      m.absorbing = max_value(m.sigma_a_per_m) > 0.0;
+    }
+    if (library && !library_ior) library_ior = library->ior;
+    if (m.scattering->density)
+      for (std::size_t i = 0; i < m.field_absorbers.size(); ++i)
+        if (!std::holds_alternative<ConstantField>(m.field_absorbers[i].field))
+          (m.field_absorbers.size() > 1 ? (w / "absorption")[i] : w / "absorption")
+              .fail("with a scattering 'density', the absorption's concentration must be a number (the density "
+                    "field scales it)");
   }
   if (j.contains("ior")) m.ior = ior(j["ior"], w / "ior");
   else if (library_ior) m.ior = ConstantIor{*library_ior};

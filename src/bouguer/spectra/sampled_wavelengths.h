@@ -21,6 +21,9 @@ struct SampledWavelengths {
   std::array<double, N> pdf{};  // hero: density per nm of each draw; 0 in the fixed modes
   int single = -1;              // the one wavelength left after a dispersive interface, or -1
   double single_nm = 0.0;
+  // The carried wavelength whose majorant draws distances in scattering media
+  // (media/scattering.h), drawn per path (integrators/events.h: draw_hero).
+  int hero = 0;
 
   // Whether the values at the carried wavelengths are the same for every path (full, rgb3), so
   // spectra can be taken from tables precomputed for the mode.
