@@ -114,5 +114,30 @@ TEST(SampledSpectrum, FastExponentialMatchesStdExp) {
   EXPECT_EQ(exp_nonpositive(0.0f), 1.0f);
   EXPECT_EQ(exp_nonpositive(-1000.0f), exp_nonpositive(-87.0f));
 }
+
+// The ratio exponential (media/scattering.h) covers [−87, 80] with the same accuracy.
+TEST(SampledSpectrum, LimitedExponentialMatchesStdExp) {
+  double worst = 0.0;
+  for (double x = -87.0; x <= 80.0; x += 0.001) {
+    const float fx = static_cast<float>(x);
+    const double exact = std::exp(static_cast<double>(fx));
+    worst = std::max(worst, std::abs(exp_limited(fx) - exact) / exact);
+  }
+  EXPECT_LT(worst, 3e-7);
+  EXPECT_EQ(exp_limited(1000.0f), exp_limited(80.0f));
+}
+
+// The vectorised logarithm matches std::log to 2e-7 (absolute near 1, relative elsewhere) from
+// the smallest normal float to the largest.
+TEST(SampledSpectrum, FastLogarithmMatchesStdLog) {
+  double worst = 0.0;
+  for (double e = -125.0; e < 127.0; e += 0.0007) {
+    const auto x = static_cast<float>(std::exp2(e));
+    const double exact = std::log(static_cast<double>(x));
+    worst = std::max(worst, std::abs(log_positive(x) - exact) / std::max(1.0, std::abs(exact)));
+  }
+  EXPECT_LT(worst, 2e-7);
+  EXPECT_EQ(log_positive(1.0f), 0.0f);
+}
 }  // namespace
 }  // namespace bouguer

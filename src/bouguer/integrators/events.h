@@ -256,13 +256,13 @@ inline const ScatteringMedium* scattering_medium(const RenderScene& scene, int m
 }
 
 // A new path's w.hero, the carried wavelength whose majorant draws its distances in scattering
-// media (media/scattering.h): uniform over the carried ones (hero mode: index 0, the hero
-// wavelength itself, already random). Drawn only in scenes that scatter, so other scenes' random
-// streams are unchanged.
+// media (media/scattering.h): uniform over the carried ones, which the spectral MIS needs (in hero
+// mode too: there index 0 is always the bluest of the four). Drawn only in scenes that scatter, so
+// other scenes' random streams are unchanged.
 template <std::size_t N>
 void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, Rng& rng) {
   w.hero = 0;
-  if (!scene.scatters || w.mode == SpectralMode::hero) return;
+  if (!scene.scatters) return;
   w.hero = std::min(static_cast<int>(rng.next_double() * static_cast<double>(N)), static_cast<int>(N) - 1);
 }
 

@@ -37,57 +37,69 @@ inline constexpr int kMajorantPieces = 8;
 
 namespace detail {
 
-// exp(−(σ̄_k − σ̄_hero)·dt) for every k: T_maj over the hero's T_maj, in one exponent (their ratio
-// can exceed any float where T_maj underflows). Capped at e^80: a weight that large has a chance
-// below e^−80 of being drawn.
-template <std::size_t N>
-SampledSpectrum<N> majorant_ratio(const SampledSpectrum<N>& sigma_bar, std::size_t hero, double dt) {
-  SampledSpectrum<N> r;
-  const double h = sigma_bar[hero];
-  for (std::size_t k = 0; k < N; ++k) r[k] = static_cast<float>(std::exp(std::min(80.0, -(sigma_bar[k] - h) * dt)));
-  return r;
-}
+// A walk along a segment drawing tentative collisions with the hero's majorant σ_s,hero·ρ̄: how
+// many it drew (n) and M = ∫ρ̄ dt over the part it walked.
+struct MajorantWalk {
+  double rho_length_m = 0.0;
+  int collisions = 0;
+};
 
-// Walks the pieces of [0, t_max] along `ray`, drawing tentative collisions with the hero's
-// majorant. At each: on_collision(t, ρ/ρ̄, factor, sigma_ratio) where factor = T_maj/T_maj,hero
-// and sigma_ratio = σ_s/σ_s,hero (per wavelength); it returns false to stop the walk. When a
-// piece is passed, on_pass(factor). Returns whether the walk was stopped.
-// After a dispersive interface (`single`) only the hero is carried: every ratio is 1.
-template <std::size_t N, typename Ray, typename OnCollision, typename OnPass>
-bool walk_majorant(const ScatteringMedium& m, const SampledSpectrum<N>& sigma_s, const Ray& ray, double t_max,
-                   std::size_t hero, bool single, Rng& rng, OnCollision on_collision, OnPass on_pass) {
+// Walks the pieces of [0, t_max] along `ray`; at each tentative collision calls
+// on_collision(t, ρ(x)/ρ̄), which returns false to stop the walk there.
+template <typename Ray, typename OnCollision>
+MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const Ray& ray, double t_max, Rng& rng,
+                           OnCollision on_collision) {
   const bool homogeneous = std::holds_alternative<ConstantField>(m.density);
   const int pieces = homogeneous ? 1 : kMajorantPieces;
-  const float sigma_hero = sigma_s[hero];
-  SampledSpectrum<N> sigma_ratio = SampledSpectrum<N>::constant(1.0f);
-  if (sigma_hero > 0.0f && !single)
-    for (std::size_t k = 0; k < N; ++k) sigma_ratio[k] = sigma_s[k] / sigma_hero;
-  auto ratio = [&](const SampledSpectrum<N>& sigma_bar, double dt) {
-    return single ? SampledSpectrum<N>::constant(1.0f) : majorant_ratio(sigma_bar, hero, dt);
-  };
+  MajorantWalk walk;
   for (int p = 0; p < pieces; ++p) {
     const double a = t_max * p / pieces, b = p + 1 == pieces ? t_max : t_max * (p + 1) / pieces;
     const double rho_bar = max_concentration_on(m.density, ray.origin, ray.direction, a, b);
     if (!(rho_bar > 0.0)) continue;
-    const SampledSpectrum<N> sigma_bar = sigma_s * static_cast<float>(rho_bar);
-    const double rate = sigma_bar[hero];
+    const double rate = sigma_hero * rho_bar;
     double t = a;
     for (;;) {
-      if (!(rate > 0.0)) {  // the hero does not scatter here: it passes with certainty
-        on_pass(ratio(sigma_bar, b - t));
-        break;
-      }
-      const double dt = -std::log1p(-rng.next_double()) / rate;
+      const double dt = rate > 0.0 ? -std::log1p(-rng.next_double()) / rate : b - t;
       if (t + dt >= b) {
-        on_pass(ratio(sigma_bar, b - t));
+        walk.rho_length_m += rho_bar * (b - t);
         break;
       }
       t += dt;
+      walk.rho_length_m += rho_bar * dt;
+      ++walk.collisions;
       const double real = concentration_at(m.density, ray.origin + ray.direction * t) / rho_bar;
-      if (!on_collision(t, std::min(1.0, real), ratio(sigma_bar, dt), sigma_ratio)) return true;
+      if (!on_collision(t, std::min(1.0, real))) return walk;
     }
   }
-  return false;
+  return walk;
+}
+
+// What a walk multiplies every wavelength's weight by, relative to the hero's: the product over
+// its collisions of T_maj,k/T_maj,hero · σ_s,k/σ_s,hero (the ratio of the two majorants' densities
+// for each collision, the wavelength-independent ρ/ρ̄ or 1 − ρ/ρ̄ left out) and the ratio of the
+// pass-through probabilities to its end. The majorant is constant within a piece and σ̄ = σ_s·ρ̄,
+// so this is one exponential per wavelength for the whole walk:
+//   exp(−(σ_s,k − σ_s,hero)·M) · (σ_s,k/σ_s,hero)^n.
+// After a dispersive interface (`single`) only the hero is carried: all ones.
+template <std::size_t N>
+SampledSpectrum<N> walk_factor(const SampledSpectrum<N>& sigma_s, std::size_t hero, bool single,
+                               const MajorantWalk& walk) {
+  if (single) return SampledSpectrum<N>::constant(1.0f);
+  const float h = sigma_s[hero], m = static_cast<float>(walk.rho_length_m);
+  SampledSpectrum<N> f;
+  if (walk.collisions == 0) {
+    for (std::size_t k = 0; k < N; ++k) f[k] = exp_limited(-(sigma_s[k] - h) * m);
+    return f;
+  }
+  // n ≥ 1 only when h > 0; a wavelength that does not scatter cannot have drawn a collision.
+  const auto n = static_cast<float>(walk.collisions);
+  const float log_h = log_positive(h);
+  for (std::size_t k = 0; k < N; ++k) {
+    const float s = sigma_s[k];
+    const float log_ratio = s > 0.0f ? n * (log_positive(std::max(s, 1e-30f)) - log_h) : -1e30f;
+    f[k] = exp_limited(-(s - h) * m + log_ratio);
+  }
+  return f;
 }
 
 }  // namespace detail
@@ -107,39 +119,30 @@ MediumEvent sample_scattering(const ScatteringMedium& m, const Tables& tables, c
                               SpectralMis<N>& mis) {
   const SampledSpectrum<N> sigma_s = tables.at(m.sigma_s, w);
   const bool single = w.secondary_terminated();
+  const auto hero = static_cast<std::size_t>(single ? w.single : w.hero);
   MediumEvent event;
-  detail::walk_majorant<N>(
-      m, sigma_s, ray, t_max, static_cast<std::size_t>(single ? w.single : w.hero), single, rng,
-      [&](double t, double real, const SampledSpectrum<N>& factor, const SampledSpectrum<N>& sigma_ratio) {
-        if (rng.next_double() < real) {
-          // Real: density T_maj·σ_s at the hero. σ_s(x) = ρ(x)·σ_s, so ρ cancels in the ratio.
-          const SampledSpectrum<N> f = factor * sigma_ratio;
-          beta *= f;
-          mis.r_u *= f;
-          event = {true, t};
-          return false;
-        }
-        // Null: density T_maj·σ_n at the hero, σ_n = σ_s·(ρ̄ − ρ); a light connection would have
-        // drawn the same point with T_maj·σ̄.
-        const SampledSpectrum<N> f = factor * sigma_ratio;
-        beta *= f;
-        mis.r_u *= f;
-        mis.r_l *= f * static_cast<float>(1.0 / (1.0 - real));
-        return true;
-      },
-      [&](const SampledSpectrum<N>& factor) {
-        beta *= factor;
-        mis.r_u *= factor;
-        mis.r_l *= factor;
-      });
+  double null_ratio = 1.0;  // Π 1/(1 − ρ/ρ̄) over the null collisions: a light connection's density is T_maj·σ̄
+  const detail::MajorantWalk walk = detail::walk_majorant(m, sigma_s[hero], ray, t_max, rng, [&](double t, double real) {
+    if (rng.next_double() < real) {  // real: density T_maj·σ_s at the hero
+      event = {true, t};
+      return false;
+    }
+    null_ratio /= 1.0 - real;  // null: density T_maj·σ_n, σ_n = σ_s·(ρ̄ − ρ)
+    return true;
+  });
+  const SampledSpectrum<N> f = detail::walk_factor(sigma_s, hero, single, walk);
+  beta *= f;
+  mis.r_u *= f;
+  mis.r_l *= f * static_cast<float>(null_ratio);
   beta *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, event.scattered ? event.t : t_max, w);
   return event;
 }
 
 // Ratio tracking over [0, t_max] for a connection (to a light or the camera): multiplies tr by an
 // unbiased estimate of the transmittance (times the absorption, exact), and the ratios by the
-// densities of the two strategies for the same tentative collisions. A faint estimate plays
-// Russian roulette.
+// densities of the two strategies for the same tentative collisions (drawn with density T_maj·σ̄
+// at the hero; the estimate keeps σ_n/σ̄ = 1 − ρ/ρ̄ at each). A faint estimate plays Russian
+// roulette.
 template <typename Tables, typename Ray, std::size_t N>
 void ratio_track(const ScatteringMedium& m, const Tables& tables, const Ray& ray, double t_max,
                  const SampledWavelengths<N>& w, Rng& rng, SampledSpectrum<N>& tr, SpectralMis<N>& mis) {
@@ -149,31 +152,30 @@ void ratio_track(const ScatteringMedium& m, const Tables& tables, const Ray& ray
   }
   const SampledSpectrum<N> sigma_s = tables.at(m.sigma_s, w);
   const bool single = w.secondary_terminated();
-  int collisions = 0;
-  detail::walk_majorant<N>(
-      m, sigma_s, ray, t_max, static_cast<std::size_t>(single ? w.single : w.hero), single, rng,
-      [&](double, double real, const SampledSpectrum<N>& factor, const SampledSpectrum<N>& sigma_ratio) {
-        // Drawn with density T_maj·σ̄ at the hero; the estimate keeps σ_n/σ̄ = 1 − ρ/ρ̄.
-        const SampledSpectrum<N> f = factor * sigma_ratio;
-        const SampledSpectrum<N> kept = f * static_cast<float>(1.0 - real);
-        tr *= kept;
-        mis.r_u *= kept;
-        mis.r_l *= f;
-        if (++collisions >= 8 && tr.max_value() < 0.1f) {
-          if (rng.next_double() < 0.75) {
-            tr = {};
-            return false;
-          }
-          tr *= 4.0f;
-        }
-        return !tr.is_zero();
-      },
-      [&](const SampledSpectrum<N>& factor) {
-        tr *= factor;
-        mis.r_u *= factor;
-        mis.r_l *= factor;
-      });
-  if (!tr.is_zero()) tr *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, t_max, w);
+  const auto hero = static_cast<std::size_t>(single ? w.single : w.hero);
+  double kept = 1.0, roulette = 1.0;  // Π (1 − ρ/ρ̄): the hero's own estimate; the roulette's 1/survival
+  bool killed = false;
+  const detail::MajorantWalk walk = detail::walk_majorant(m, sigma_s[hero], ray, t_max, rng, [&](double, double real) {
+    kept *= 1.0 - real;
+    if (kept == 0.0) return false;
+    if (kept * roulette < 0.1) {
+      if (rng.next_double() < 0.75) {
+        killed = true;
+        return false;
+      }
+      roulette *= 4.0;
+    }
+    return true;
+  });
+  if (killed || kept == 0.0) {
+    tr = {};
+    return;
+  }
+  const SampledSpectrum<N> f = detail::walk_factor(sigma_s, hero, single, walk);
+  tr *= f * static_cast<float>(kept * roulette);
+  mis.r_u *= f * static_cast<float>(kept);
+  mis.r_l *= f;
+  tr *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, t_max, w);
 }
 
 }  // namespace bouguer

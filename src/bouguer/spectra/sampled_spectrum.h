@@ -77,6 +77,33 @@ inline float exp_nonpositive(float x) {
   return p * std::bit_cast<float>(bits);
 }
 
+// e^x for x in [−87, 80] (clamped there), by the same vectorising scheme: a ratio of two
+// transmittances, which may exceed 1 (media/scattering.h).
+inline float exp_limited(float x) {
+  x = std::min(std::max(x, -87.0f), 80.0f);
+  const float n = (x * 1.44269504f + 12582912.0f) - 12582912.0f;
+  const float r = x - n * 0.693145752f - n * 1.42860677e-6f;
+  const float p =
+      1.0f + r * (1.0f + r * (0.5f + r * (0.166666672f + r * (0.0416666679f + r * (0.00833333377f + r * 0.00138888892f)))));
+  const auto bits = static_cast<std::uint32_t>(static_cast<std::int32_t>(n) + 127) << 23;
+  return p * std::bit_cast<float>(bits);
+}
+
+// ln x for x > 0 (normal floats), vectorising likewise: x = m·2^e with m in [√½, √2), and
+// ln m = 2·atanh(s), s = (m − 1)/(m + 1), |s| ≤ 0.172, by its series to s^11 (error below 2e-7,
+// float rounding; tested against std::log).
+inline float log_positive(float x) {
+  const auto bits = std::bit_cast<std::uint32_t>(x);
+  int e = static_cast<int>((bits >> 23) & 0xffu) - 127;
+  float m = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u);  // in [1, 2)
+  const bool high = m > 1.41421356f;
+  m = high ? m * 0.5f : m;
+  e = high ? e + 1 : e;
+  const float t = (m - 1.0f) / (m + 1.0f), t2 = t * t;
+  const float series = t * (2.0f + t2 * (0.666666667f + t2 * (0.4f + t2 * (0.285714286f + t2 * (0.222222222f + t2 * 0.181818182f)))));
+  return series + static_cast<float>(e) * 0.693147181f;
+}
+
 template <std::size_t N>
 SampledSpectrum<N> exp(SampledSpectrum<N> s) {
   for (float& x : s.v) x = std::exp(x);
