@@ -17,6 +17,8 @@ packages=(
   libtinyobjloader-dev # OBJ meshes
   libgtest-dev         # tests
   libbenchmark-dev     # micro-benchmarks
+  libopenvdb-dev       # voxel grids (the grid concentration field)
+  libboost-iostreams-dev # OpenVDB's FindOpenVDB.cmake needs it; libopenvdb-dev does not pull it in without recommends
   libcairo2-dev        # plots (bouguer material --plot): SVG, PNG and PDF from one drawing
   chromium             # the report page is checked in a real browser (headless) by the tests
   fonts-dejavu-core    # a font for plot labels and the report screenshot

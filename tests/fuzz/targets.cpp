@@ -1,6 +1,8 @@
 #include "fuzz/targets.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -12,6 +14,8 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
+#include "bouguer/io/vdb.h"
+#include "bouguer/media/concentration_field.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/environment.h"
 #include "bouguer/scene/loader.h"
@@ -139,13 +143,43 @@ void scene(std::string_view bytes, const fs::path& dir) {
           compiled.bounds.radius_m);
 }
 
+// A .vdb file: its first float grid ("density" when it has one) as a grid field, walked along a
+// few rays as the renderer does. Every value it gives is finite, >= 0 and within the maxima.
+void vdb(std::string_view bytes, const fs::path& dir) {
+  const fs::path path = write(dir, "input.vdb", bytes);
+  const std::vector<std::string> names = vdb_grid_names(path);
+  if (names.empty()) return;
+  const bool has_density = std::find(names.begin(), names.end(), "density") != names.end();
+  VdbGrid g = read_vdb_grid(path, has_density ? "density" : names.front());
+  const auto& n = g.values.nodes;
+  require(n[0] >= 2 && n[1] >= 2 && n[2] >= 2, "nodes {}x{}x{}", n[0], n[1], n[2]);
+  require(g.values.value.size() == std::size_t(n[0]) * n[1] * n[2], "value count");
+  for (float v : g.values.value) require(std::isfinite(v) && v >= 0.0f && v <= g.values.max_value, "value {}", v);
+  const double det = Transform{g.world_per_index, {}}.determinant();
+  if (!(std::isfinite(det) && std::abs(det) > 1e-30)) return;  // the loader refuses it
+  const Mat3 index_per_m = inverse(g.world_per_index);
+  const GridField f{std::make_shared<const GridValues>(std::move(g.values)), index_per_m,
+                    -(index_per_m * g.node_origin_m), 1.0};
+  const Vec3 centre = g.world_per_index * Vec3{n[0] * 0.5, n[1] * 0.5, n[2] * 0.5} + g.node_origin_m;
+  const double reach = length(g.world_per_index * Vec3{double(n[0]), double(n[1]), double(n[2])});
+  if (!std::isfinite(reach)) return;
+  for (const Vec3& d : {Vec3{1, 0, 0}, Vec3{0, -1, 0}, normalize(Vec3{1, 2, 3}), normalize(Vec3{-0.3, 0.1, 1})}) {
+    const Vec3 o = centre - d * reach;
+    const double column = column_density(f, o, d, 0.0, 2.0 * reach);
+    const double peak = max_concentration_on(f, o, d, 0.0, 2.0 * reach);
+    require(std::isfinite(column) && column >= 0.0, "column density {}", column);
+    require(peak >= 0.0 && peak <= max_concentration(f), "peak {} of {}", peak, max_concentration(f));
+    require(column <= peak * 2.0 * reach * (1.0 + 1e-9) + 1e-300, "column {} above peak {} × length", column, peak);
+  }
+}
+
 }  // namespace
 
 const std::vector<Target>& targets() {
   static const std::vector<Target> all = {
       {"spectrum_csv", spectrum_csv}, {"material_csv", material_csv}, {"obj", obj}, {"ply_ascii", ply},
       {"ply_binary", ply},            {"exr", exr},                   {"pfm", pfm}, {"environment", environment},
-      {"scene", scene},
+      {"scene", scene},           {"vdb", vdb},
   };
   return all;
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 #include "bouguer/core/error.h"
@@ -13,6 +14,7 @@
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "support/test_support.h"
+#include "support/vdb_files.h"
 
 namespace bouguer {
 namespace {
@@ -138,6 +140,88 @@ TEST(HostileScene, BadConcentrationFieldsNameTheirKey) {
   for (const auto& c : cases) EXPECT_TRUE(has(scene_error(with(c.field)), c.message)) << c.field;
   EXPECT_TRUE(has(scene_error(R"({"media": {"g": {"ior": 1.5, "absorption": []}}, "objects": []})"),
                   "media.g.absorption: needs 1 to 8 absorbers (got 0)"));
+}
+
+// Grid fields (#12): every bad .vdb ends in one line naming the scene key and the file.
+TEST(HostileScene, BadGridFilesNameTheKeyAndTheFile) {
+  const fs::path dir = test::scratch_dir("hostile_grid_files");
+  auto with = [](const fs::path& file, const std::string& extra = "") {
+    return R"({"media": {"g": {"ior": 1.5, "absorption": {"library": "red-glass", "concentration":
+        {"field": "grid", "file": ")" + file.string() + "\"" + extra + R"(}}}}, "objects": []})";
+  };
+  const std::string key = "s.json: media.g.absorption.concentration.";
+  test::VdbTestGrid good;
+  test::write_vdb_file(dir / "good.vdb", {good});
+  ASSERT_EQ(scene_error(with(dir / "good.vdb")), "accepted");
+  const std::string bytes = test::read_file(dir / "good.vdb");
+  test::write_file(dir / "truncated.vdb", bytes.substr(0, bytes.size() / 2));
+  std::string flipped = bytes;
+  for (std::size_t i = 16; i < flipped.size(); i += 7) flipped[i] = static_cast<char>(flipped[i] ^ 0x5a);
+  test::write_file(dir / "corrupt.vdb", flipped);
+  test::write_file(dir / "text.vdb", "not a voxel grid\n");
+  { std::ofstream(dir / "huge.vdb").close(); fs::resize_file(dir / "huge.vdb", std::uintmax_t{3} << 30); }  // sparse
+  test::VdbTestGrid named = good, vec3 = good, negative = good, nan = good, background = good, empty = good;
+  named.name = "temperature";
+  vec3.vec3 = true;
+  negative.value = [](const Vec3& x) { return x.x > 0.0015 ? -0.5 : 1.0; };
+  nan.value = [](const Vec3& x) { return x.z > 0.0025 ? std::nan("") : 1.0; };
+  background.background = 0.25f;
+  empty.count = {0, 0, 0};
+  test::write_vdb_file(dir / "names.vdb", {named});
+  test::write_vdb_file(dir / "vec3.vdb", {vec3});
+  test::write_vdb_file(dir / "negative.vdb", {negative});
+  test::write_vdb_file(dir / "nan.vdb", {nan});
+  test::write_vdb_file(dir / "background.vdb", {background});
+  test::write_vdb_file(dir / "empty.vdb", {empty});
+  const struct {
+    std::string file, extra, message;
+  } cases[] = {
+      {"missing.vdb", "", "file: " + (dir / "missing.vdb").string() + ": file not found"},
+      {"text.vdb", "", "file: " + (dir / "text.vdb").string() + ": not an OpenVDB file"},
+      {"huge.vdb", "", "file: " + (dir / "huge.vdb").string() + ": the file has 3072.0 MiB, more than"},
+      {"truncated.vdb", "", "file: " + (dir / "truncated.vdb").string() + ": OpenVDB cannot read it"},
+      {"names.vdb", "", "grid: " + (dir / "names.vdb").string() + ": no grid named 'density' (the file has: temperature)"},
+      {"vec3.vdb", "", "grid: " + (dir / "vec3.vdb").string() + ": grid 'density': holds vec3s values; a concentration grid holds floats"},
+      {"negative.vdb", "", "grid: " + (dir / "negative.vdb").string() + ": grid 'density': voxel (2, 0, 0) is negative (-0.5)"},
+      {"nan.vdb", "", "grid: " + (dir / "nan.vdb").string() + ": grid 'density': voxel (0, 0, 3) is nan"},
+      {"background.vdb", "", "grid 'density': its background is 0.25; the field is zero outside"},
+      {"empty.vdb", "", "grid: " + (dir / "empty.vdb").string() + ": grid 'density': the grid has no active voxels"},
+      {"good.vdb", R"(, "scale": -1)", key + "scale: must not be negative (got -1)"},
+      {"good.vdb", R"(, "grid": 3)", key + "grid: expected a string, found number"},
+      {"good.vdb", R"(, "origin": [0, 0, 0])", key + "origin: unknown key"},
+      {"good.vdb", R"(, "transform": [{"scale": 1e10}])", "grid: " + (dir / "good.vdb").string() + ": the grid reaches ("},
+      {"good.vdb", R"(, "scale": 1e13)", key.substr(0, key.size() - 1) + ": σ_a at the field's largest concentration (1e+13)"},
+  };
+  for (const auto& c : cases) {
+    const std::string e = scene_error(with(dir / c.file, c.extra));
+    EXPECT_TRUE(has(e, c.message)) << c.file << c.extra;
+    EXPECT_TRUE(has(e, "s.json: media.g.absorption.concentration")) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  // Damaged bytes: refused with an Error on the file key (what OpenVDB makes of them varies).
+  EXPECT_TRUE(has(scene_error(with(dir / "corrupt.vdb")), key)) << scene_error(with(dir / "corrupt.vdb"));
+}
+
+TEST(HostileScene, AGridTooLargeForItsLimitsOrMemoryIsRefusedBeforeItIsCopied) {
+  const fs::path dir = test::scratch_dir("hostile_grid_memory");
+  auto with = [](const fs::path& file) {
+    return R"({"media": {"g": {"ior": 1.5, "absorption": {"library": "red-glass", "concentration":
+        {"field": "grid", "file": ")" + file.string() + R"("}}}}, "objects": []})";
+  };
+  // Two voxels 2000 apart: 8·10⁹ nodes in the dense copy of their bounding box.
+  test::VdbTestGrid far;
+  far.count = {1, 1, 1};
+  far.more = {{1999, 1999, 1999}};
+  test::write_vdb_file(dir / "far.vdb", {far});
+  EXPECT_TRUE(has(scene_error(with(dir / "far.vdb")), "concentration.grid: " + (dir / "far.vdb").string() +
+                  ": grid 'density': its active voxels span 2002×2002×2002 voxels with the border, more than 268435456"));
+  // 600 apart: 218 million nodes, within the limit, but 832 MiB as floats.
+  far.more = {{599, 599, 599}};
+  test::write_vdb_file(dir / "wide.vdb", {far});
+  const std::string outcome =
+      test::run_with_memory_budget([&] { (void)parse_scene(with(dir / "wide.vdb"), "s.json"); }, std::size_t{256} << 20);
+  EXPECT_TRUE(has(outcome, "error: s.json: media.g.absorption.concentration.grid: ")) << outcome;
+  EXPECT_TRUE(has(outcome, "grid 'density' needs about 832 MiB of memory; ")) << outcome;
 }
 
 TEST(HostileScene, ARenderTooLargeForMemoryIsRefusedBeforeItAllocates) {

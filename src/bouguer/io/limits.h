@@ -10,6 +10,7 @@ namespace bouguer {
 inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{64} << 20;  // scenes, CSV, MTL
 inline constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t{2} << 30;   // OBJ, PLY
 inline constexpr std::uintmax_t kMaxImageFileBytes = std::uintmax_t{2} << 30;  // EXR, PFM
+inline constexpr std::uintmax_t kMaxVdbFileBytes = std::uintmax_t{2} << 30;    // OpenVDB grids
 
 // Meshes (one file): vertices, triangles after fan triangulation, |x|, |y|, |z| in the file's units.
 inline constexpr std::size_t kMaxMeshVertices = std::size_t{1} << 25;   // 33 554 432
@@ -25,6 +26,10 @@ inline constexpr std::uint64_t kMaxSceneTriangles = std::uint64_t{1} << 28;  // 
 inline constexpr double kMaxEmission = 1e12;
 inline constexpr double kMaxCoefficientPerM = 1e12;
 inline constexpr std::size_t kMaxLayers = 256;  // in a layers concentration field
+// A grid concentration field: nodes of its dense copy (the active voxels' bounding box plus a
+// border of one), in all and along each axis; 1 GiB as floats.
+inline constexpr std::uint64_t kMaxGridNodes = std::uint64_t{1} << 28;  // 268 435 456, e.g. 645³
+inline constexpr std::int64_t kMaxGridNodesPerAxis = std::int64_t{1} << 20;
 
 // Images (EXR, PFM, environment maps): each side, all pixels, all values in all channels read.
 inline constexpr int kMaxImageDimension = 65536;

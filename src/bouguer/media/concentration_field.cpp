@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "bouguer/media/grid_field.h"
+
 namespace bouguer {
 namespace {
 
@@ -90,7 +92,9 @@ double column_along_axis(const F& f, const Vec3& o, const Vec3& d, double t0, do
 double concentration_at(const ConcentrationField& field, const Vec3& x) {
   return std::visit(
       [&](const auto& f) -> double {
-        if constexpr (std::is_same_v<std::decay_t<decltype(f)>, ConstantField>) return f.value;
+        using F = std::decay_t<decltype(f)>;
+        if constexpr (std::is_same_v<F, ConstantField>) return f.value;
+        else if constexpr (std::is_same_v<F, GridField>) return grid_concentration_at(f, x);
         else return at_s(f, f.frame.s_at(x));
       },
       field);
@@ -100,7 +104,9 @@ double column_density(const ConcentrationField& field, const Vec3& o, const Vec3
   if (!(t1 > t0)) return 0.0;
   const double c = std::visit(
       [&](const auto& f) -> double {
-        if constexpr (std::is_same_v<std::decay_t<decltype(f)>, ConstantField>) return f.value * (t1 - t0);
+        using F = std::decay_t<decltype(f)>;
+        if constexpr (std::is_same_v<F, ConstantField>) return f.value * (t1 - t0);
+        else if constexpr (std::is_same_v<F, GridField>) return grid_column_density(f, o, d, t0, t1);
         else return column_along_axis(f, o, d, t0, t1);
       },
       field);
@@ -119,6 +125,7 @@ double max_concentration(const ConcentrationField& field) {
     }
     double operator()(const DiffusionField& f) const { return f.value; }
     double operator()(const LayersField& f) const { return *std::max_element(f.value.begin(), f.value.end()); }
+    double operator()(const GridField& f) const { return f.values ? f.scale * f.values->max_value : 0.0; }
   };
   return std::visit(Visitor{}, field);
 }
@@ -139,6 +146,8 @@ double max_concentration_on(const ConcentrationField& field, const Vec3& o, cons
             below = above;
           }
           return peak;
+        } else if constexpr (std::is_same_v<F, GridField>) {
+          return grid_max_concentration_on(f, o, d, t0, t1);
         } else {
           return std::max(at_s(f, f.frame.s_at(o + d * t0)), at_s(f, f.frame.s_at(o + d * t1)));
         }
@@ -155,6 +164,8 @@ ConcentrationField scaled(ConcentrationField field, double factor) {
         } else if constexpr (std::is_same_v<F, LinearField>) {
           f.value *= factor;
           f.slope_per_m *= factor;
+        } else if constexpr (std::is_same_v<F, GridField>) {
+          f.scale *= factor;  // the shared values stay as they are
         } else {
           f.value *= factor;
         }

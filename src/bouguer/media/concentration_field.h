@@ -8,7 +8,12 @@
 // The analytic fields depend on s, the signed distance along a unit axis from an origin
 // (docs/scene-format.md, "Concentration fields"). Along a ray x(t) = o + t·d, s is linear in t,
 // s(t) = s0 + a·t with a = d·axis; each field's integral is a closed form in s, with the limit
-// a -> 0 (a ray running across the axis, where c is constant) taken explicitly.
+// a -> 0 (a ray running across the axis, where c is constant) taken explicitly. A voxel grid
+// (GridField) is trilinear between its nodes: along a ray it is a cubic in t inside each cell, so
+// its integral is exact too, cell by cell.
+#include <array>
+#include <cstddef>
+#include <memory>
 #include <variant>
 #include <vector>
 
@@ -58,7 +63,35 @@ struct ConstantField {
   double value = 0.0;
 };
 
-using ConcentrationField = std::variant<ConstantField, LinearField, ExponentialField, DiffusionField, LayersField>;
+// The values of a voxel grid on the nodes of a lattice, x fastest: node (i, j, k) is the point
+// (i, j, k) of index space. The outermost nodes are zero (the reader pads the file's active
+// voxels by one), so the trilinear field is continuous and zero outside the lattice. At least 2
+// nodes along each axis; every value finite and >= 0.
+struct GridValues {
+  std::array<int, 3> nodes{};
+  std::vector<float> value;
+  float max_value = 0.0f;
+  std::size_t index(int i, int j, int k) const {
+    return (static_cast<std::size_t>(k) * static_cast<std::size_t>(nodes[1]) + static_cast<std::size_t>(j)) *
+               static_cast<std::size_t>(nodes[0]) +
+           static_cast<std::size_t>(i);
+  }
+};
+
+// c(x) = scale · trilinear(values) at index_per_m·x + index_at_origin: a grid read from a file
+// (io/vdb.h), placed by its own index-to-world map and the scene's transform (inverted here).
+// The values are shared and immutable: a field is copied by value (scaled(), compile), its
+// millions of voxels are not.
+struct GridField {
+  std::shared_ptr<const GridValues> values;
+  Mat3 index_per_m = Mat3::identity();
+  Vec3 index_at_origin{};
+  double scale = 1.0;
+  Vec3 index_at(const Vec3& x_m) const { return index_per_m * x_m + index_at_origin; }
+};
+
+using ConcentrationField =
+    std::variant<ConstantField, LinearField, ExponentialField, DiffusionField, LayersField, GridField>;
 
 // c at a point.
 double concentration_at(const ConcentrationField& field, const Vec3& x_m);
@@ -70,12 +103,14 @@ double column_density(const ConcentrationField& field, const Vec3& origin_m, con
 inline constexpr double kMaxColumnDensity = 1e30;  // beyond it every absorbing wavelength is dark
 
 // The largest c anywhere (the range check of the scene builder); +∞ for the fields that grow
-// without bound: linear with a non-zero slope, exponential (towards −s).
+// without bound: linear with a non-zero slope, exponential (towards −s). A grid: its largest
+// node times its scale.
 double max_concentration(const ConcentrationField& field);
 
 // The largest c on the segment o + t·d, t in [t0, t1] (finite): a majorant for tracking the
 // scattering a density field scales. The analytic fields are monotone in s, so their largest
-// value lies at an end; layers take the largest layer the segment reaches.
+// value lies at an end; layers take the largest layer the segment reaches; a grid the largest
+// corner of the cells the segment crosses (trilinear values never exceed their cell's corners).
 double max_concentration_on(const ConcentrationField& field, const Vec3& origin_m, const Vec3& direction, double t0,
                             double t1);
 

@@ -14,6 +14,7 @@
 #include "bouguer/io/json.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
+#include "bouguer/io/vdb.h"
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/media/ior_library.h"
@@ -278,12 +279,55 @@ IorModel ior(const json& j, const Where& w) {
   return t;
 }
 
+Transform transform(const json& j, const Where& w);
+
+// {"field": "grid", "file": "dye.vdb", "grid": "density", "scale": 1, "transform": [...]}: an
+// OpenVDB float grid (io/vdb.h), placed by its own index-to-world map and then the transform.
+GridField grid_field(const json& j, const Where& w) {
+  expect_keys(j, w, {"field", "file", "grid", "scale", "transform"});
+  if (!j.contains("file")) w.fail("a grid field needs 'file' (an OpenVDB .vdb file)");
+  const fs::path file = w.resolve(text(j["file"], w / "file"));
+  const std::string name = j.contains("grid") ? text(j["grid"], w / "grid") : "density";
+  const double scale = j.contains("scale") ? number(j["scale"], w / "scale") : 1.0;
+  if (scale < 0.0) (w / "scale").fail("must not be negative (got {})", scale);
+  const Transform placement = j.contains("transform") ? transform(j["transform"], w / "transform") : Transform{};
+  VdbGrid g;
+  try {
+    g = read_vdb_grid(file, name);
+  } catch (const VdbError& e) {
+    (w / (e.in_grid ? "grid" : "file")).fail("{}", e.what());
+  }
+  const Transform to_world = Transform{g.world_per_index, g.node_origin_m}.then(placement);
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 node{corner & 1 ? g.values.nodes[0] - 1.0 : 0.0, corner & 2 ? g.values.nodes[1] - 1.0 : 0.0,
+                    corner & 4 ? g.values.nodes[2] - 1.0 : 0.0};
+    const Vec3 x = to_world.apply(node);
+    if (!(std::abs(x.x) <= kMaxSceneCoordinateM && std::abs(x.y) <= kMaxSceneCoordinateM &&
+          std::abs(x.z) <= kMaxSceneCoordinateM))
+      (w / "grid").fail("{}: the grid reaches ({:g}, {:g}, {:g}) m, beyond the scene's extent of ±{:g} m",
+                        file.string(), x.x, x.y, x.z, kMaxSceneCoordinateM);
+  }
+  const double det = to_world.determinant();
+  if (!(std::isfinite(det) && std::abs(det) > 0.0))
+    (w / "grid").fail("{}: the grid's index-to-world map is singular", file.string());
+  const Mat3 index_per_m = inverse(to_world.linear);
+  GridField f{std::make_shared<const GridValues>(std::move(g.values)), index_per_m,
+              -(index_per_m * to_world.translation), scale};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(f.index_per_m.m[r][c]))
+        (w / "grid").fail("{}: the grid's voxels are too small to invert their map", file.string());
+  return f;
+}
+
 // {"field": "linear" | "exponential" | "diffusion" | "layers", "origin": [...], "axis": [...], ...}:
-// a concentration that varies along an axis (media/concentration_field.h, docs/scene-format.md).
+// a concentration that varies along an axis (media/concentration_field.h, docs/scene-format.md),
+// or {"field": "grid", ...}, a voxel grid.
 ConcentrationField concentration_field(const json& j, const Where& w) {
-  static const std::vector<std::string> kinds = {"linear", "exponential", "diffusion", "layers"};
+  static const std::vector<std::string> kinds = {"linear", "exponential", "diffusion", "layers", "grid"};
   if (!j.is_object() || !j.contains("field")) w.fail("a concentration field needs 'field' ({})", fmt::join(kinds, ", "));
   const std::string kind = text(j["field"], w / "field");
+  if (kind == "grid") return grid_field(j, w);
   auto keys = [&](std::vector<std::string> own) {
     own.insert(own.end(), {"field", "origin", "axis"});
     expect_keys(j, w, own);

@@ -1,0 +1,32 @@
+#pragma once
+// Small OpenVDB files written by the tests themselves (tests/support/vdb_files.cpp, the tests'
+// only OpenVDB user besides io/vdb.cpp), and OpenVDB's own trilinear sampler as a reference.
+#include <array>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bouguer/core/math.h"
+
+namespace bouguer::test {
+
+struct VdbTestGrid {
+  std::string name = "density";
+  Vec3 voxel_m{1e-3, 1e-3, 1e-3};   // a scale map (one value: a uniform one)
+  Vec3 origin_m{};                  // where voxel (0, 0, 0) sits
+  std::array<int, 3> first{0, 0, 0};  // the voxels [first, first + count) are set (active)
+  std::array<int, 3> count{4, 4, 4};
+  std::vector<std::array<int, 3>> more;  // single voxels set (to 1) besides the box
+  std::function<double(const Vec3& x_m)> value = [](const Vec3&) { return 1.0; };  // at each voxel
+  float background = 0.0f;
+  bool vec3 = false;  // a Vec3f grid (value in every component) instead of a float grid
+};
+
+void write_vdb_file(const std::filesystem::path& path, const std::vector<VdbTestGrid>& grids);
+
+// OpenVDB's BoxSampler (trilinear) of the file's grid at world points.
+std::vector<double> openvdb_box_samples(const std::filesystem::path& path, const std::string& grid,
+                                        const std::vector<Vec3>& points_m);
+
+}  // namespace bouguer::test
