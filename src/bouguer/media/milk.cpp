@@ -98,6 +98,8 @@ FatGlobuleSize fat_globule_size(const MilkComposition& milk) {
   return {r, r * kCv};
 }
 
+double milk_host_index(double wavelength_nm) { return eval(inputs().water_n, wavelength_nm); }
+
 MilkCoefficients milk_coefficients(const MilkComposition& milk, double wavelength_nm, int intervals) {
   const FatGlobuleSize fat_size = fat_globule_size(milk);
   const LogNormalVolume fat =
@@ -108,7 +110,7 @@ MilkCoefficients milk_coefficients(const MilkComposition& milk, double wavelengt
   const double casein_rmin = 1e-9, casein_rmax = 0.999 * kCaseinRmaxM;
   const LogNormalVolume casein = log_normal_volume(casein_transform(kCaseinRvsM), kCaseinCs, casein_volume,
                                                    casein_transform, casein_rmin, casein_rmax, intervals);
-  const double host = eval(inputs().water_n, wavelength_nm);
+  const double host = milk_host_index(wavelength_nm);
   const std::complex<double> fat_index{eval(inputs().fat_n, wavelength_nm), eval(inputs().fat_k, wavelength_nm)};
   const MieBulk f = mie_bulk({[&](double r) { return fat.number_density(r); }, kFatRminM, kFatRmaxM, fat_index}, host,
                              wavelength_nm, intervals);

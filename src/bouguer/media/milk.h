@@ -33,6 +33,9 @@ struct MilkCoefficients {
 MilkCoefficients milk_coefficients(const MilkComposition& milk, double wavelength_nm,
                                    int intervals = kMilkIntervals);
 
+// The real index of milk's host (water, Hale & Querry 1973); the model takes it as milk's index.
+double milk_host_index(double wavelength_nm);
+
 struct MilkSpectra {
   TabulatedSpectrum sigma_s_per_m, sigma_a_per_m, g;
 };

@@ -23,12 +23,12 @@ namespace {
 
 constexpr std::string_view kFrisvad =
     "J. R. Frisvad, N. J. Christensen and H. W. Jensen, 'Computing the scattering properties of participating "
-    "media using Lorenz-Mie theory', ACM Trans. Graph. 26(3), article 60 (SIGGRAPH 2007), "
-    "doi:10.1145/1276377.1276452; inputs: Hale & Querry 1973 (water), Michalski et al. 2001 (fat), Du et al. "
+    "media using Lorenz-Mie theory', ACM Trans. Graph. 26(3), article 60 (SIGGRAPH 2007); "
+    "inputs: Hale & Querry 1973 (water), Michalski et al. 2001 (fat), Du et al. "
     "1998 (riboflavin), Walstra (fat globule sizes)";
 constexpr std::string_view kNarasimhan =
     "S. G. Narasimhan, M. Gupta, C. Donner, R. Ramamoorthi, S. K. Nayar and H. W. Jensen, 'Acquiring scattering "
-    "properties of participating media by dilution', ACM Trans. Graph. 25(3), 1003-1012 (SIGGRAPH 2006), "
+    "properties of participating media by dilution', ACM Trans. Graph. 25(3) (SIGGRAPH 2006), "
     "doi:10.1145/1141911.1141986, Table 1 (as transcribed by pbrt-v2 and CudaTracerLib; see "
     "data/scattering/narasimhan2006.csv)";
 
@@ -40,10 +40,10 @@ ScatteringLibraryEntry milk_entry(std::string name, std::string description, con
   e.measured = fmt::format(
       "computed, not measured: Lorenz-Mie theory (media/mie.h) for log-normal fat globules (r_vs {:.3f} um) and "
       "casein micelles (r_vs 43 nm) in water with riboflavin, 360-830 nm in 10 nm steps (inputs tabulated "
-      "375-775 nm, held beyond); g is the mean of the sigma_s-weighted mean cosine over 360-830 nm",
+      "375-775 nm, held beyond); the phase function's g is the sigma_s-weighted mean of g(lambda) over 360-830 nm; the index is the host's (water)",
       fat_globule_size(milk).r_vs_um);
   e.citation = std::string(kFrisvad);
-  e.ior = 1.35;  // milk at the d line (water 1.333 raised by its solids)
+  e.ior = milk_host_index(589.29);  // the model's: its host's index, at the sodium d line
   e.sigma_s_per_m = s.sigma_s_per_m;
   e.sigma_a_per_m = s.sigma_a_per_m;
   // The phase function holds one g for all wavelengths: the σ_s-weighted mean over the table.
