@@ -9,6 +9,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/io/output_set.h"
 #include "bouguer/media/library.h"
+#include "bouguer/media/scattering_library.h"
 #include "bouguer/plot/material_plot.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/material_file.h"
@@ -57,6 +58,49 @@ int list_library() {
     fmt::print("{:<24} {:<6} n {:<6.4g} {}{}\n", m->name, m->molar ? "molar" : "", m->default_ior, m->description,
                m->extended() ? " [extended]" : "");
   }
+  fmt::print("\nscattering media (for a medium's \"scattering\": {{\"library\": NAME}}):\n");
+  for (const ScatteringLibraryEntry& e : scattering_media())
+    fmt::print("{:<32} {:<4} n {:<6.4g} g {:<6.3f} {}\n", e.name, e.rgb_measured ? "RGB" : "", e.ior,
+               mean_cosine(e.phase), e.description);
+  return 0;
+}
+
+// A scattering medium: what was measured and its coefficients. No slab colour: once light
+// scatters, the colour depends on the geometry and the lighting (render it); the single-scattering
+// albedo says how much of the light a collision keeps.
+int show_scattering(const ScatteringLibraryEntry& e, bool json) {
+  const std::vector<double> nm = {400, 450, 500, 550, 600, 650, 700};
+  if (json) {
+    nlohmann::json j;
+    j["name"] = e.name;
+    j["description"] = e.description;
+    j["measured"] = e.measured;
+    j["citation"] = e.citation;
+    j["rgb_measured"] = e.rgb_measured;
+    j["ior"] = e.ior;
+    j["g"] = mean_cosine(e.phase);
+    for (const double l : nm) {
+      const double s = eval(e.sigma_s_per_m, l), a = eval(e.sigma_a_per_m, l);
+      j["per_wavelength"].push_back({{"wavelength_nm", l}, {"sigma_s_per_m", s}, {"sigma_a_per_m", a},
+                                     {"albedo", s + a > 0.0 ? s / (s + a) : 0.0}});
+    }
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  fmt::print("name:        {}\n", e.name);
+  fmt::print("description: {}\n", e.description);
+  fmt::print("measured:    {}\n", e.measured);
+  fmt::print("source:      {}\n", e.citation);
+  if (e.rgb_measured) fmt::print("RGB ONLY:    three channels were measured; the spectra are lifted from them\n");
+  fmt::print("default n:   {}\nphase:       Henyey-Greenstein, g = {:.3f}\n\n", e.ior, mean_cosine(e.phase));
+  fmt::print("{:>6}  {:>12}  {:>12}  {:>9}  {:>12}\n", "nm", "σ_s per m", "σ_a per m", "albedo", "1/σ_t (mm)");
+  for (const double l : nm) {
+    const double s = eval(e.sigma_s_per_m, l), a = eval(e.sigma_a_per_m, l);
+    fmt::print("{:>6g}  {:>12.5g}  {:>12.5g}  {:>9.6f}  {:>12.5g}\n", l, s, a, s + a > 0.0 ? s / (s + a) : 0.0,
+               s + a > 0.0 ? 1e3 / (s + a) : INFINITY);
+  }
+  fmt::print("natural log, per metre; albedo = σ_s/(σ_s + σ_a), what one collision keeps; no slab colour is shown:\n"
+             "with scattering it depends on the shape and the light (render it with --integrator path)\n");
   return 0;
 }
 
@@ -97,6 +141,11 @@ int run_material(const MaterialOptions& o) {
   OutputSet plot_output;  // checked before any work
   if (!o.plot.empty()) plot_output.add("--plot", o.plot, kPlotExtensions);
   if (o.what == "list") return list_library();
+  if (const ScatteringLibraryEntry* e = find_scattering_medium(o.what); e && !find_library_material(o.what)) {
+    if (!o.plot.empty() || !o.thickness.empty() || o.concentration)
+      fail("{} scatters: --plot, --thickness and --concentration are for absorbing materials (slab colours)", o.what);
+    return show_scattering(*e, o.json);
+  }
   ResolvedMaterial r = resolve_material(o.what, o.concentration);
   if (o.ior) r.ior = *o.ior;
   if (o.info) {

@@ -142,6 +142,62 @@ TEST(HostileScene, BadConcentrationFieldsNameTheirKey) {
                   "media.g.absorption: needs 1 to 8 absorbers (got 0)"));
 }
 
+// Scattering media (#12): bad σ_s, phase functions and densities name their key.
+TEST(HostileScene, BadScatteringNamesItsKey) {
+  auto with = [](const std::string& scattering) {
+    return R"({"media": {"m": {"ior": 1.33, "scattering": )" + scattering + R"(}}, "objects": []})";
+  };
+  const struct {
+    std::string scattering, message;
+  } cases[] = {
+      {R"({"unit": "attenuation_per_m", "wavelength_nm": [400, 700], "value": [1, -2]})",
+       "s.json: media.m.scattering.value: values must not be negative (got -2)"},
+      {R"({"unit": "attenuation_per_m", "rgb": [1, -1, 0]})", "media.m.scattering.rgb[1]: σ_s must not be negative"},
+      {R"({"unit": "absorbance_per_cm", "wavelength_nm": [400, 700], "value": [1, 2]})",
+       "media.m.scattering.unit: unknown unit 'absorbance_per_cm'"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": -1}})", "media.m.scattering.rayleigh.value_per_m: σ_s must not be negative (got -1)"},
+      {R"({"rayleigh": {"at_nm": 5, "value_per_m": 1}})", "media.m.scattering.rayleigh.at_nm: must lie between 200 and 2000 nm (got 5)"},
+      {R"({"rayleigh": {"value_per_m": 1}, "phase": {"type": "henyey_greenstein", "g": 1.0}})",
+       "media.m.scattering.rayleigh: needs 'at_nm' and 'value_per_m'"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "phase": {"type": "henyey_greenstein", "g": 1.0}})",
+       "media.m.scattering.phase.g: must lie strictly between −1 and 1 (got 1)"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "phase": {"type": "henyey_greenstein", "g": -1.5}})",
+       "media.m.scattering.phase.g: must lie strictly between −1 and 1 (got -1.5)"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "phase": {"type": "rayleigh"}})",
+       "media.m.scattering.phase.type: unknown phase function 'rayleigh'"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "density": -2})", "media.m.scattering.density: must not be negative (got -2)"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "density": {"field": "linear", "axis": [0, 0, 0], "value": 1, "slope_per_m": 1}})",
+       "media.m.scattering.density.axis: must be a direction of finite, non-zero length"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1e9}, "density": {"field": "diffusion", "value": 1e4, "width": "1 mm"}})",
+       "media.m.scattering.density: σ at the density's largest value (10000) exceeds 1e+12 per metre"},
+      {R"({"library": "whole_milc"})", "media.m.scattering.library: unknown scattering medium 'whole_milc' (did you mean 'whole_milk'?)"},
+      {R"({"library": "whole_milk", "concentration": 0.1, "density": 2})", "give either 'concentration' (of the library medium) or 'density', not both"},
+      {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "albedo": 0.5})", "media.m.scattering.albedo: unknown key"},
+  };
+  for (const auto& c : cases) EXPECT_TRUE(has(scene_error(with(c.scattering)), c.message)) << scene_error(with(c.scattering));
+  // A density scales the absorption, which must then have numbers for concentrations.
+  EXPECT_TRUE(has(scene_error(R"({"media": {"m": {"ior": 1.33, "absorption": {"library": "red-glass", "concentration":
+      {"field": "linear", "value": 1, "slope_per_m": 1}}, "scattering": {"rayleigh": {"at_nm": 550, "value_per_m": 1},
+      "density": 2}}}, "objects": []})"),
+                  "media.m.absorption: with a scattering 'density', the absorption's concentration must be a number"));
+  // The world medium cannot scatter; Whitted cannot render a scattering medium.
+  EXPECT_TRUE(has(scene_error(R"({"world_medium": "m", "media": {"m": {"ior": 1.0, "scattering": {"rayleigh": {"at_nm": 550,
+      "value_per_m": 1}}}}, "objects": []})"),
+                  "s.json: world_medium: 'm' scatters; the world medium cannot"));
+  const std::string whitted = R"({"render": {"integrator": "whitted"},
+    "media": {"m": {"ior": 1.33, "scattering": {"rayleigh": {"at_nm": 550, "value_per_m": 1}}}},
+    "objects": [{"name": "ball", "shape": {"type": "sphere", "radius": "10 mm"}, "inside": "m"}]})";
+  std::string message;
+  try {
+    RenderStats stats;
+    (void)render(compile(parse_scene(whitted, "s.json")), parse_scene(whitted, "s.json").render, {}, stats, false);
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_TRUE(has(message, "s.json: object 'ball': medium 'm' scatters; the whitted integrator renders absorption only"))
+      << message;
+}
+
 // Grid fields (#12): every bad .vdb ends in one line naming the scene key and the file.
 TEST(HostileScene, BadGridFilesNameTheKeyAndTheFile) {
   const fs::path dir = test::scratch_dir("hostile_grid_files");

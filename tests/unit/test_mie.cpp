@@ -127,15 +127,16 @@ Vec3 rgb_of(const Spectrum& s) {
   return xyz_to_linear_rgb(kRec709, spectrum_to_xyz(lit));
 }
 
+// The table's values are in 10⁻² per mm: 10 per metre.
 void expect_rgb_per_mm(const Spectrum& s, const Vec3& published_per_mm) {
-  const Vec3 got = rgb_of(s) / 1000.0;
+  const Vec3 got = rgb_of(s) / 10.0;
   const double tol = 0.01 * std::max({published_per_mm.x, published_per_mm.y, published_per_mm.z});
   EXPECT_NEAR(got.x, published_per_mm.x, tol);
   EXPECT_NEAR(got.y, published_per_mm.y, tol);
   EXPECT_NEAR(got.z, published_per_mm.z, tol);
 }
 
-// Two published rows of Narasimhan et al. (2006) Table 1 (per mm): Regular Milk σ_t (1.1874,
+// Two published rows of Narasimhan et al. (2006) Table 1 (in 10⁻² per mm): Regular Milk σ_t (1.1874,
 // 1.3296, 1.4602), σ_s (1.1873, 1.3293, 1.4589), g (0.750, 0.714, 0.681); Espresso σ_t (0.4376,
 // 0.5115, 0.6048), σ_s (0.2707, 0.2828, 0.2970), g (0.907, 0.896, 0.880). The lifted spectra
 // lifted spectra give back those RGB values (σ_a = σ_t − σ_s) within 1 % of the largest channel.

@@ -120,10 +120,18 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
 
 // The MIS weight (power heuristic) of a strategy with density pdf_a and ratios r_a against one
 // with pdf_b and r_b: the densities of the two one-sample mixtures over the carried wavelengths.
+// In a scene without scattering media the ratios are all 1 (not read).
 template <std::size_t N>
-double spectral_power_heuristic(double pdf_a, const SampledSpectrum<N>& r_a, double pdf_b,
+double spectral_power_heuristic(const RenderScene& scene, double pdf_a, const SampledSpectrum<N>& r_a, double pdf_b,
                                 const SampledSpectrum<N>& r_b) {
+  if (!scene.scatters) return power_heuristic(pdf_a, pdf_b);
   return power_heuristic(pdf_a * r_a.average(), pdf_b * r_b.average());
+}
+
+// The mean of a path's ratios, which its contributions are divided by (1 without scattering media).
+template <std::size_t N>
+float mean_ratio(const RenderScene& scene, const SampledSpectrum<N>& r) {
+  return scene.scatters ? r.average() : 1.0f;
 }
 
 // At the first dispersive interface a path meets, keep carried wavelength j = ⌊u·N⌋ with weight

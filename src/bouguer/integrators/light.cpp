@@ -69,7 +69,7 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
         splat_medium_to_camera(v, x, ray.direction, sm->phase, medium, beta, w, mis.r_u, rng, film, rays);
         const double p1 = rng.next_double(), p2 = rng.next_double();
         const PhaseSample ps = sample_phase(sm->phase, ray.direction, p1, p2);
-        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mis.r_u.average())) return;
+        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mean_ratio(scene, mis.r_u))) return;
         start = x;
         ray = {x, ps.out};
         --depth;
@@ -93,7 +93,7 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
     const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
     if (!is_specular(e.bsdf)) splat_surface_to_camera(v, *hit, e, wo, beta, w, mis.r_u, rng, film, rays);
     if (!continue_path(scene, *hit, e, wo, TransportMode::importance, depth + scatterings, beta, medium, ray, rng,
-                       mis.r_u.average()))
+                       mean_ratio(scene, mis.r_u)))
       return;
     start = hit->point;
   }

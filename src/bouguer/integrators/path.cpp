@@ -38,8 +38,8 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
     if (!hit) {  // an environment map is also reached by next-event estimation: weighted against it
       const double weight = prev_pdf == 0.0 || !scene.environment
                                 ? 1.0
-                                : spectral_power_heuristic(prev_pdf, mis.r_u, environment_pdf(scene, ray.direction), mis.r_l);
-      l += beta * escaped(v, medium, ray.direction, w) * static_cast<float>(weight / mis.r_u.average());
+                                : spectral_power_heuristic(scene, prev_pdf, mis.r_u, environment_pdf(scene, ray.direction), mis.r_l);
+      l += beta * escaped(v, medium, ray.direction, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
       break;
     }
     const Surface& surface = scene.surfaces[hit->geometry];
@@ -56,7 +56,7 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
         l += beta * direct_light_in_medium(v, x, ray.direction, sm->phase, medium, w, mis.r_u, rng, rays);
         const double u1 = rng.next_double(), u2 = rng.next_double();
         const PhaseSample ps = sample_phase(sm->phase, ray.direction, u1, u2);
-        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mis.r_u.average())) break;
+        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mean_ratio(scene, mis.r_u))) break;
         mis.r_l = mis.r_u;
         prev_pdf = ps.pdf;
         vertex = start = x;
@@ -72,8 +72,8 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
       const double weight =
           prev_pdf == 0.0
               ? 1.0
-              : spectral_power_heuristic(prev_pdf, mis.r_u, area_light_pdf(scene, *hit, vertex, ray.direction), mis.r_l);
-      l += beta * emitted(v, *hit, wo, w) * static_cast<float>(weight / mis.r_u.average());
+              : spectral_power_heuristic(scene, prev_pdf, mis.r_u, area_light_pdf(scene, *hit, vertex, ray.direction), mis.r_l);
+      l += beta * emitted(v, *hit, wo, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
       break;
     }
     if (surface.index_matched) {
@@ -91,10 +91,10 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
     const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
     if (!is_specular(e.bsdf)) l += beta * direct_light(v, *hit, e, wo, w, mis.r_u, rng, rays, true, true);
     const auto pdf = continue_path(scene, *hit, e, wo, TransportMode::radiance, depth + scatterings, beta, medium, ray,
-                                   rng, mis.r_u.average());
+                                   rng, mean_ratio(scene, mis.r_u));
     if (!pdf) break;
     prev_pdf = *pdf;
-    mis.r_l = mis.r_u;
+    if (scene.scatters) mis.r_l = mis.r_u;  // (all ones otherwise)
     vertex = start = hit->point;
   }
   return l;

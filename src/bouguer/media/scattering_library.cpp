@@ -132,13 +132,14 @@ ScatteringLibraryEntry narasimhan_entry(const NarasimhanRow& r) {
                               "dilution, not for the neat medium)", r.name);
   e.measured = fmt::format(
       "RGB ONLY: sigma_t and sigma_s per colour channel of the authors' camera, fitted to one HDR photograph in the "
-      "single-scattering regime, printed per mm; sigma_a = sigma_t - sigma_s; spectra lifted from RGB as the scene "
+      "single-scattering regime, printed in 1e-2 per mm; sigma_a = sigma_t - sigma_s; spectra lifted from RGB as the scene "
       "loader lifts RGB coefficients; g = the mean of the {} channels' Henyey-Greenstein g",
       g_count == 3 ? "three" : (g_count == 2 ? "two scattering" : "one scattering"));
   e.citation = std::string(kNarasimhan);
   e.ior = 1.333;  // diluted in water
-  e.sigma_s_per_m = lift_rgb(sigma_s * 1000.0);
-  e.sigma_a_per_m = lift_rgb((sigma_t - sigma_s) * 1000.0);
+  // The table's unit is 10⁻² per mm (data/scattering/narasimhan2006.csv): 10 per metre.
+  e.sigma_s_per_m = lift_rgb(sigma_s * 10.0);
+  e.sigma_a_per_m = lift_rgb((sigma_t - sigma_s) * 10.0);
   e.phase = HenyeyGreensteinPhase{g_count > 0 ? g_sum / g_count : 0.0};
   e.rgb_measured = true;
   return e;

@@ -91,6 +91,8 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
     if (const auto problem = beyond_limit(m.scattering->sigma_s_per_m, kMaxCoefficientPerM, "the scattering coefficient σ_s (per metre)"))
       fail_at(at, *problem);
     if (min_value(m.scattering->sigma_s_per_m) < 0.0) fail_at(at, "σ_s must not be negative");
+    if (m.scattering->sigma_a_per_m && min_value(*m.scattering->sigma_a_per_m) < 0.0)
+      fail_at(at, "the scatterers' σ_a must not be negative");
     if (const auto* hg = std::get_if<HenyeyGreensteinPhase>(&m.scattering->phase); hg && !(std::abs(hg->g) < 1.0))
       fail_at(at + ".phase.g", fmt::format("must lie strictly between −1 and 1 (got {})", hg->g));
     if (m.scattering->density) {
@@ -99,9 +101,10 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
       if (std::isfinite(peak) && !(peak * sigma <= kMaxCoefficientPerM))
         fail_at(at + ".density", fmt::format("σ at the density's largest value ({:g}) exceeds {:g} per metre", peak,
                                              kMaxCoefficientPerM));
-      for (const FieldAbsorberDesc& a : m.field_absorbers)
-        if (!std::holds_alternative<ConstantField>(a.field))
-          fail_at(where + ".absorption", "with a scattering density, the absorption's concentration must be a number");
+      if (m.scattering->density_scales_absorption)
+        for (const FieldAbsorberDesc& a : m.field_absorbers)
+          if (!std::holds_alternative<ConstantField>(a.field))
+            fail_at(where + ".absorption", "with a scattering density, the absorption's concentration must be a number");
     }
   }
   const std::string name = m.name;

@@ -185,14 +185,22 @@ RenderScene compile(const SceneDesc& desc) {
       auto absorber = [&](const Spectrum& epsilon, double concentration) {
         sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), scaled(density, concentration)});
       };
+      const bool scale = m.scattering->density && m.scattering->density_scales_absorption;
+      auto unscaled = [&](const Spectrum& epsilon, const ConcentrationField& field) {
+        sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), field});
+      };
       if (m.field_absorbers.empty()) {
-        if (m.absorbing) absorber(m.sigma_a_per_m, 1.0);
+        if (m.absorbing) scale ? absorber(m.sigma_a_per_m, 1.0) : unscaled(m.sigma_a_per_m, ConstantField{1.0});
       } else {
         for (const FieldAbsorberDesc& a : m.field_absorbers) {
-          if (!m.scattering->density) sc.absorbers.push_back({add_spectrum(s, a.epsilon_per_m, SpectrumRole::absorption), a.field});
+          if (!scale) unscaled(a.epsilon_per_m, a.field);
           else absorber(a.epsilon_per_m, std::get<ConstantField>(a.field).value);
         }
       }
+      if (m.scattering->sigma_a_per_m) absorber(*m.scattering->sigma_a_per_m, 1.0);
+      if (sc.absorbers.size() > kMaxAbsorbersPerMedium)
+        fail("{}: media.{}: at most {} absorbers in a medium, its scatterers' own included", desc.file.string(),
+             name, kMaxAbsorbersPerMedium);
       sc.sigma_s = add_spectrum(s, m.scattering->sigma_s_per_m, SpectrumRole::coefficient);
       sc.density = density;
       sc.phase = m.scattering->phase;

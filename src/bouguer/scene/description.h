@@ -56,6 +56,11 @@ struct ScatteringDesc {
   Spectrum sigma_s_per_m = ConstantSpectrum{0.0};  // natural log, 1/m, at density 1
   PhaseFunction phase = IsotropicPhase{};
   std::optional<ConcentrationField> density;
+  // The scatterers' own absorption (a library medium's σ_a), scaled by the density like σ_s.
+  std::optional<Spectrum> sigma_a_per_m;
+  // false for a library medium's `concentration` (its particles in another liquid): the density
+  // then scales only the scatterers, not the medium's `absorption`.
+  bool density_scales_absorption = true;
 };
 
 struct MediumDesc {

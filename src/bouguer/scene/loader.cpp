@@ -519,25 +519,42 @@ PhaseFunction phase_function(const json& j, const Where& w) {
   (w / "type").fail("unknown phase function '{}'{}", type, suggestion(type, {"isotropic", "henyey_greenstein"}));
 }
 
+// A density or concentration: a number, or a field.
+ConcentrationField density_field(const json& j, const Where& w) {
+  if (j.is_object()) return concentration_field(j, w);
+  const double c = number(j, w);
+  if (c < 0.0) w.fail("must not be negative (got {})", c);
+  return ConstantField{c};
+}
+
 // `library` is set to the entry when the medium comes from the scattering library (its
 // absorption and index are the medium's defaults).
 ScatteringDesc scattering(const json& j, const Where& w, const ScatteringLibraryEntry*& library) {
   if (!j.is_object()) w.fail("expected an object with 'unit' and σ_s values, 'rayleigh' or 'library'");
   ScatteringDesc d;
   if (j.contains("library")) {
-    expect_keys(j, w, {"library", "density"});
+    expect_keys(j, w, {"library", "concentration", "density"});
     const std::string name = text(j["library"], w / "library");
     const ScatteringLibraryEntry* e = find_scattering_medium(name);
     if (!e) (w / "library").fail("unknown scattering medium '{}'{}", name, suggestion(name, scattering_medium_names()));
     d.sigma_s_per_m = e->sigma_s_per_m;
     d.phase = e->phase;
+    if (max_value(e->sigma_a_per_m) > 0.0) d.sigma_a_per_m = e->sigma_a_per_m;
     library = e;
+    if (j.contains("concentration")) {
+      // The library medium as a fraction of another liquid (a little milk in water): its σ_s and
+      // σ_a scale, the host's `absorption` does not.
+      if (j.contains("density")) w.fail("give either 'concentration' (of the library medium) or 'density', not both");
+      d.density = density_field(j["concentration"], w / "concentration");
+      d.density_scales_absorption = false;
+      return d;
+    }
   } else {
     expect_keys(j, w, {"unit", "wavelength_nm", "value", "csv", "rgb", "rayleigh", "phase", "density"});
     d.sigma_s_per_m = scattering_coefficient(j, w);
     if (j.contains("phase")) d.phase = phase_function(j["phase"], w / "phase");
   }
-  if (j.contains("density")) d.density = concentration_field(j["density"], w / "density");
+  if (j.contains("density")) d.density = density_field(j["density"], w / "density");
   return d;
 }
 
@@ -572,12 +589,8 @@ MediumDesc medium(const std::string& name, const json& j, const Where& w) {
   if (j.contains("scattering")) {
     const ScatteringLibraryEntry* library = nullptr;
     m.scattering = scattering(j["scattering"], w / "scattering", library);
-    if (library && !j.contains("absorption")) {
-      m.sigma_a_per_m = library->sigma_a_per_m;
-      m.absorbing = max_value(m.sigma_a_per_m) > 0.0;
-    }
     if (library && !library_ior) library_ior = library->ior;
-    if (m.scattering->density)
+    if (m.scattering->density && m.scattering->density_scales_absorption)
       for (std::size_t i = 0; i < m.field_absorbers.size(); ++i)
         if (!std::holds_alternative<ConstantField>(m.field_absorbers[i].field))
           (m.field_absorbers.size() > 1 ? (w / "absorption")[i] : w / "absorption")
