@@ -11,6 +11,10 @@ mkdir -p out/convergence
 machine="$(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'))"
 resolution=96x72
 reference_spp=32768
+# Slow scenes (scattering media) may be measured smaller: CONVERGENCE_SMALL="a b" renders those at
+# 48x36 against a 4096-spp reference; their rows say so.
+small_resolution=48x36
+small_reference_spp=4096
 
 seconds_of() { tr -d '\n ' < "$1" | sed -E 's/.*"seconds":([0-9.e+-]+),.*/\1\n/'; }
 mean_of() { echo "$1" | sed -E 's/.*"mean":([^,}]*).*/\1/'; }
@@ -18,7 +22,7 @@ mean_of() { echo "$1" | sed -E 's/.*"mean":([^,}]*).*/\1/'; }
 table=$(
   echo "Measured on $(date -u +%Y-%m-%d), $machine, Release build; $resolution, \`--integrator path\`;"
   echo "reference: full, $reference_spp spp, seed 1000. A mode's row: the first power-of-two spp whose"
-  echo "render (seed 1) has mean ΔE00 < 1 against the reference."
+  echo "render (seed 1) has mean ΔE00 < 1 against the reference.${CONVERGENCE_SCENES:+ Only $CONVERGENCE_SCENES were measured on this date; the other rows are kept from earlier runs.}"
   echo
   echo "| scene | reference seconds | mode | spp to ΔE00 < 1 | seconds | mean ΔE00 there |"
   echo "|---|---|---|---|---|---|"
@@ -26,28 +30,32 @@ table=$(
     name=$(basename "$scene" .json)
     row=out/convergence/$name.rows
     # CONVERGENCE_SCENES="a b" measures only those scenes and keeps the other rows from earlier runs.
-    if [ -n "${CONVERGENCE_SCENES:-}" ] && [[ " $CONVERGENCE_SCENES " != *" $name "* ]] && [ -f "$row" ]; then
-      cat "$row"
+    if [ -n "${CONVERGENCE_SCENES:-}" ] && [[ " $CONVERGENCE_SCENES " != *" $name "* ]]; then
+      if [ -f "$row" ]; then cat "$row"; else grep -E "^\| $name( |\|)" "$doc" || true; fi
       continue
+    fi
+    res=$resolution ref_spp=$reference_spp label=$name
+    if [[ " ${CONVERGENCE_SMALL:-} " == *" $name "* ]]; then
+      res=$small_resolution ref_spp=$small_reference_spp label="$name ($small_resolution, reference $small_reference_spp spp)"
     fi
     : > "$row.tmp"
     ref=out/convergence/$name-reference.exr
-    "$build/bouguer" render "$scene" --integrator path --spectral full --spp $reference_spp --seed 1000 \
-      --resolution $resolution -o "$ref" --stats-json out/convergence/$name-reference.json --quiet
+    "$build/bouguer" render "$scene" --integrator path --spectral full --spp $ref_spp --seed 1000 \
+      --resolution $res -o "$ref" --stats-json out/convergence/$name-reference.json --quiet
     ref_seconds=$(seconds_of out/convergence/$name-reference.json)
     for mode in full hero; do
       found="> 8192 | - | -"
       for spp in 4 8 16 32 64 128 256 512 1024 2048 4096 8192; do
         img=out/convergence/$name-$mode-$spp.exr
         "$build/bouguer" render "$scene" --integrator path --spectral $mode --spp $spp --seed 1 \
-          --resolution $resolution -o "$img" --stats-json out/convergence/$name-$mode-$spp.json --quiet
+          --resolution $res -o "$img" --stats-json out/convergence/$name-$mode-$spp.json --quiet
         mean=$(mean_of "$("$build/bouguer" compare "$img" "$ref" --json)")
         if awk -v m="$mean" 'BEGIN { exit !(m < 1.0) }'; then
           found=$(printf '%s | %.2f | %.3f' "$spp" "$(seconds_of out/convergence/$name-$mode-$spp.json)" "$mean")
           break
         fi
       done
-      printf '| %s | %.1f | %s | %s |\n' "$name" "$ref_seconds" "$mode" "$found" | tee -a "$row.tmp"
+      printf '| %s | %.1f | %s | %s |\n' "$label" "$ref_seconds" "$mode" "$found" | tee -a "$row.tmp"
     done
     mv "$row.tmp" "$row"
   done

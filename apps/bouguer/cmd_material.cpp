@@ -143,7 +143,7 @@ int run_material(const MaterialOptions& o) {
   if (o.what == "list") return list_library();
   if (const ScatteringLibraryEntry* e = find_scattering_medium(o.what); e && !find_library_material(o.what)) {
     if (!o.plot.empty() || !o.thickness.empty() || o.concentration)
-      fail("{} scatters: --plot, --thickness and --concentration are for absorbing materials (slab colours)", o.what);
+      fail_usage("{} scatters: --plot, --thickness and --concentration are for absorbing materials (slab colours)", o.what);
     return show_scattering(*e, o.json);
   }
   ResolvedMaterial r = resolve_material(o.what, o.concentration);

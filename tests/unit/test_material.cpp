@@ -8,6 +8,7 @@
 
 #include "bouguer/analysis/slab_colour.h"
 #include "bouguer/media/library.h"
+#include "bouguer/media/scattering_library.h"
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
@@ -98,8 +99,34 @@ TEST(Material, FittedRgbIsExactAtItsReferenceOnly) {
 TEST(MaterialCli, ListsTheLibraryOneLineEach) {
   const auto r = test::run_bouguer({"material", "list"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(test::line_count(r.out), static_cast<int>(library_material_names().size()));
+  // The absorbers, a blank line and a heading, then the scattering media.
+  EXPECT_EQ(test::line_count(r.out),
+            static_cast<int>(library_material_names().size() + 2 + scattering_medium_names().size()));
   EXPECT_NE(r.out.find("potassium-permanganate"), std::string::npos);
+  EXPECT_NE(r.out.find("whole_milk"), std::string::npos);
+}
+
+// A scattering medium shows σ_s, σ_a, the albedo and g with its provenance, never a slab colour
+// (meaningless once light scatters); the slab options are refused.
+TEST(MaterialCli, ScatteringMediaShowTheirCoefficientsNotASlabColour) {
+  const auto table = test::run_bouguer({"material", "skimmed_milk"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("albedo"), std::string::npos);
+  EXPECT_NE(table.out.find("Frisvad"), std::string::npos);
+  EXPECT_EQ(table.out.find("ΔE00"), std::string::npos);
+  const auto rgb = test::run_bouguer({"material", "espresso"});
+  EXPECT_NE(rgb.out.find("RGB ONLY"), std::string::npos);
+  const auto json = test::run_bouguer({"material", "whole_milk", "--json"});
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto j = nlohmann::json::parse(json.out);
+  const auto& at550 = j["per_wavelength"][3];
+  EXPECT_EQ(at550["wavelength_nm"].get<double>(), 550.0);
+  const double s = at550["sigma_s_per_m"].get<double>(), a = at550["sigma_a_per_m"].get<double>();
+  EXPECT_GT(s, 1e4);  // whole milk: tens of thousands per metre
+  EXPECT_NEAR(at550["albedo"].get<double>(), s / (s + a), 1e-12);
+  const auto bad = test::run_bouguer({"material", "whole_milk", "--thickness", "1mm"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("whole_milk scatters"), std::string::npos) << bad.err;
 }
 
 TEST(MaterialCli, TableJsonInfoAndPlots) {

@@ -205,6 +205,49 @@ std::optional<double> continue_path(const RenderScene& scene, const Hit& hit, co
 
 
 
+// The segment a path travelled from `start` to the surface it hit, through `medium`: beta times
+// the exact transmittance, or in a scattering medium, delta tracking (media/scattering.h). The
+// point of a real scattering event if there was one.
+template <std::size_t N>
+std::optional<Vec3> through_medium(const SceneView<N>& v, int medium, const Vec3& start, const Vec3& direction,
+                                   const Hit& hit, const SampledWavelengths<N>& w, Rng& rng, SampledSpectrum<N>& beta,
+                                   SpectralMis<N>& mis) {
+  const ScatteringMedium* sm = scattering_medium(v.scene, medium);
+  if (!sm) {
+    beta *= travel_to(v, medium, start, direction, hit.point, w);
+    return std::nullopt;
+  }
+  const MediumEvent e = sample_scattering(*sm, v.tables, Ray{start, direction}, length(hit.point - start), w, rng, beta, mis);
+  if (!e.scattered) return std::nullopt;
+  return start + direction * e.t;
+}
+
+// A path's next step from a scattering event at x: a direction drawn from the phase function
+// (weight 1), Russian roulette (`events`: the path's surface and scattering events so far). The
+// phase pdf, or nullopt when the path ends.
+template <std::size_t N>
+std::optional<double> continue_from_medium(const RenderScene& scene, const ScatteringMedium& sm, const Vec3& x,
+                                           int events, int medium, SampledSpectrum<N>& beta,
+                                           const SpectralMis<N>& mis, Ray& ray, Rng& rng) {
+  const double u1 = rng.next_double(), u2 = rng.next_double();
+  const PhaseSample ps = sample_phase(sm.phase, ray.direction, u1, u2);
+  if (!survives_roulette(scene, events, medium, beta, rng, mean_ratio(scene, mis.r_u))) return std::nullopt;
+  ray = {x, ps.out};
+  return ps.pdf;
+}
+
+// A path at an index-matched interface (Surface::index_matched) crosses it unchanged: the medium
+// beyond, a new segment from the hit point, the ray from its offset origin. It is no vertex
+// (connections cross it too). False once a path has crossed kMaxCrossings.
+inline bool cross_index_matched(const Surface& surface, const Hit& hit, int& crossings, int& medium, Vec3& start,
+                                Ray& ray) {
+  if (++crossings > kMaxCrossings) return false;
+  medium = dot(ray.direction, hit.normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+  start = hit.point;
+  ray.origin = offset_ray_origin(hit, ray.direction);
+  return true;
+}
+
 // ---- small events, inline: they run at every vertex -----------------------------------------
 
 inline const AreaLight& area_light_at(const RenderScene& scene, const Hit& hit) {

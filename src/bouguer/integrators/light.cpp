@@ -59,31 +59,19 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
     if (!hit) return;
     const Surface& surface = scene.surfaces[hit->geometry];
     medium = medium_arrived_through(surface, ray, *hit, medium);
-    if (const ScatteringMedium* sm = scattering_medium(scene, medium)) {
-      const MediumEvent event =
-          sample_scattering(*sm, v.tables, Ray{start, ray.direction}, length(hit->point - start), w, rng, beta, mis);
-      if (beta.is_zero()) return;
-      if (event.scattered) {
-        if (++scatterings > kMaxScatterings) return;
-        const Vec3 x = start + ray.direction * event.t;
-        splat_medium_to_camera(v, x, ray.direction, sm->phase, medium, beta, w, mis.r_u, rng, film, rays);
-        const double p1 = rng.next_double(), p2 = rng.next_double();
-        const PhaseSample ps = sample_phase(sm->phase, ray.direction, p1, p2);
-        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mean_ratio(scene, mis.r_u))) return;
-        start = x;
-        ray = {x, ps.out};
-        --depth;
-        continue;
-      }
-    } else {
-      beta *= travel_to(v, medium, start, ray.direction, hit->point, w);
+    if (const auto x = through_medium(v, medium, start, ray.direction, *hit, w, rng, beta, mis)) {
+      if (beta.is_zero() || ++scatterings > kMaxScatterings) return;
+      const ScatteringMedium& sm = *scattering_medium(scene, medium);
+      splat_medium_to_camera(v, *x, ray.direction, sm.phase, medium, beta, w, mis.r_u, rng, film, rays);
+      if (!continue_from_medium(scene, sm, *x, depth + scatterings, medium, beta, mis, ray, rng)) return;
+      start = *x;
+      --depth;
+      continue;
     }
+    if (beta.is_zero()) return;
     if (surface.kind == SurfaceKind::emitter) return;  // lamps absorb what reaches them
     if (surface.index_matched) {  // crossed unchanged, as camera paths and connections do
-      if (++crossings > kMaxCrossings) return;
-      medium = interface_medium_towards(surface, *hit, ray.direction);
-      start = hit->point;
-      ray.origin = offset_ray_origin(*hit, ray.direction);
+      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) return;
       --depth;
       continue;
     }

@@ -44,29 +44,21 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
     }
     const Surface& surface = scene.surfaces[hit->geometry];
     medium = medium_arrived_through(surface, ray, *hit, medium);
-    if (const ScatteringMedium* sm = scattering_medium(scene, medium)) {
-      const MediumEvent event =
-          sample_scattering(*sm, v.tables, Ray{start, ray.direction}, length(hit->point - start), w, rng, beta, mis);
-      if (beta.is_zero()) break;
-      if (event.scattered) {
-        // A vertex in the medium: direct light through the phase function, then a new direction
-        // drawn from it (weight 1). Scattering events do not count against max_depth.
-        if (++scatterings > kMaxScatterings) break;
-        const Vec3 x = start + ray.direction * event.t;
-        l += beta * direct_light_in_medium(v, x, ray.direction, sm->phase, medium, w, mis.r_u, rng, rays);
-        const double u1 = rng.next_double(), u2 = rng.next_double();
-        const PhaseSample ps = sample_phase(sm->phase, ray.direction, u1, u2);
-        if (!survives_roulette(scene, depth + scatterings, medium, beta, rng, mean_ratio(scene, mis.r_u))) break;
-        mis.r_l = mis.r_u;
-        prev_pdf = ps.pdf;
-        vertex = start = x;
-        ray = {x, ps.out};
-        --depth;
-        continue;
-      }
-    } else {
-      beta *= travel_to(v, medium, start, ray.direction, hit->point, w);
+    if (const auto x = through_medium(v, medium, start, ray.direction, *hit, w, rng, beta, mis)) {
+      // A vertex in the medium: direct light through the phase function, then a new direction
+      // drawn from it. Scattering events do not count against max_depth.
+      if (beta.is_zero() || ++scatterings > kMaxScatterings) break;
+      const ScatteringMedium& sm = *scattering_medium(scene, medium);
+      l += beta * direct_light_in_medium(v, *x, ray.direction, sm.phase, medium, w, mis.r_u, rng, rays);
+      const auto pdf = continue_from_medium(scene, sm, *x, depth + scatterings, medium, beta, mis, ray, rng);
+      if (!pdf) break;
+      mis.r_l = mis.r_u;
+      prev_pdf = *pdf;
+      vertex = start = *x;
+      --depth;
+      continue;
     }
+    if (beta.is_zero()) break;
     const Vec3 wo = -ray.direction;
     if (surface.kind == SurfaceKind::emitter) {
       const double weight =
@@ -77,12 +69,7 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
       break;
     }
     if (surface.index_matched) {
-      // A boundary between media of one index: the path crosses it unchanged; it is no vertex
-      // (next-event estimation crosses it too).
-      if (++crossings > kMaxCrossings) break;
-      medium = interface_medium_towards(surface, *hit, ray.direction);
-      start = hit->point;
-      ray.origin = offset_ray_origin(*hit, ray.direction);
+      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) break;
       --depth;
       continue;
     }
