@@ -102,7 +102,9 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
     const auto li = sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
-    if (li && !absorbs(s, medium_towards(li->wi))) {
+    // Through a medium that only absorbs, an infinite path gets nothing: skip the shadow ray.
+    const int m = li ? medium_towards(li->wi) : -1;
+    if (li && !(absorbs(s, m) && !scattering_medium(s, m))) {
       double vertex_pdf = 0.0;
       const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
       if (!f.is_zero())
