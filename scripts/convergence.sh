@@ -31,7 +31,11 @@ table=$(
     row=out/convergence/$name.rows
     # CONVERGENCE_SCENES="a b" measures only those scenes and keeps the other rows from earlier runs.
     if [ -n "${CONVERGENCE_SCENES:-}" ] && [[ " $CONVERGENCE_SCENES " != *" $name "* ]]; then
-      if [ -f "$row" ]; then cat "$row"; else grep -E "^\| $name( |\|)" "$doc" || true; fi
+      # Its rows from an earlier run: the cached file, else the table in the document.
+      if [ -f "$row" ]; then cat "$row"; else
+        awk '/<!-- BENCH:convergence:begin -->/ { on = 1 } /<!-- BENCH:convergence:end -->/ { on = 0 } on' "$doc" |
+          grep -E "^\| $name( |\|)" || true
+      fi
       continue
     fi
     res=$resolution ref_spp=$reference_spp label=$name

@@ -175,6 +175,13 @@ TEST(HostileScene, BadScatteringNamesItsKey) {
       {R"({"rayleigh": {"at_nm": 550, "value_per_m": 1}, "albedo": 0.5})", "media.m.scattering.albedo: unknown key"},
   };
   for (const auto& c : cases) EXPECT_TRUE(has(scene_error(with(c.scattering)), c.message)) << scene_error(with(c.scattering));
+  // Absorption in RGB only: negative components refused; a valid one is lifted and accepted.
+  EXPECT_TRUE(has(scene_error(R"({"media": {"m": {"ior": 1.33, "absorption": {"unit": "attenuation_per_m", "rgb": [1, -2, 0]}}},
+      "objects": []})"),
+                  "media.m.absorption.rgb[1]: must not be negative"));
+  EXPECT_EQ(scene_error(R"({"media": {"m": {"ior": 1.33, "absorption": {"unit": "absorbance_per_cm", "rgb": [0.1, 0.3, 0.9]}}},
+      "objects": []})"),
+            "accepted");
   // A density scales the absorption, which must then have numbers for concentrations.
   EXPECT_TRUE(has(scene_error(R"({"media": {"m": {"ior": 1.33, "absorption": {"library": "red-glass", "concentration":
       {"field": "linear", "value": 1, "slope_per_m": 1}}, "scattering": {"rayleigh": {"at_nm": 550, "value_per_m": 1},

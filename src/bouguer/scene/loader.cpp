@@ -407,6 +407,19 @@ struct Absorption {
 
 Absorption absorption_at(const json& j, const Where& w, double concentration);
 
+// {"unit": ..., "rgb": [r, g, b]}: an absorption known in RGB only, lifted as pbrt-v4 lifts
+// unbounded RGB (a sigmoid spectrum around 1/2, scaled by 2·max) and tabulated at 1 nm.
+TabulatedSpectrum rgb_absorption_table(const json& j, const Where& w) {
+  expect_keys(j, w, {"unit", "rgb", "concentration", "thickness"});
+  const Vec3 rgb = vec3(j["rgb"], w / "rgb");
+  for (int i = 0; i < 3; ++i)
+    if (!(std::array{rgb.x, rgb.y, rgb.z}[i] >= 0.0)) (w / "rgb")[i].fail("must not be negative");
+  const double peak = std::max({rgb.x, rgb.y, rgb.z});
+  if (peak == 0.0) return tabulate_visible([](double) { return 0.0; });
+  const SigmoidPolynomial lifted = rgb_to_reflectance(rgb / (2.0 * peak));
+  return tabulate_visible([&](double nm) { return 2.0 * peak * lifted(nm); });
+}
+
 Absorption absorption(const json& j, const Where& w) {
   if (!j.is_object()) w.fail("expected an object with 'library' or 'unit'");
   if (j.contains("concentration") && j["concentration"].is_object()) {
@@ -443,7 +456,9 @@ Absorption absorption_at(const json& j, const Where& w, double concentration) {
       w.fail("{} is in molar_absorptivity: give 'concentration' in mol/L", path.string());
     return {to_sigma_a_per_m(f.values, f.unit, concentration, f.thickness_m, w.path), f.ior, std::nullopt};
   }
-  const TabulatedSpectrum values = table(j, w, {"unit", "concentration", "thickness"});
+  // RGB where only RGB data exist: the three values lifted to a smooth spectrum (as scattering
+  // RGB is, docs/scene-format.md), then converted from their unit like a table.
+  const TabulatedSpectrum values = j.contains("rgb") ? rgb_absorption_table(j, w) : table(j, w, {"unit", "concentration", "thickness"});
   if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, absorbance_per_cm, internal_transmittance, "
                                   "molar_absorptivity, extinction_coefficient) or 'library'");
   const std::string unit_name = text(j["unit"], w / "unit");
