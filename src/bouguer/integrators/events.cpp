@@ -64,13 +64,10 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                    bool environment) {
   const RenderScene& s = v.scene;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
-  // of its ratios: the path's so far times the connection's own. Without scattering media every
-  // ratio is 1, and the means are skipped (they cost 96 products in full mode at every vertex).
-  auto mean_ratio = [&](const SampledSpectrum<N>& connection) {
-    return s.scatters ? (path_r_u * connection).average() : 1.0f;
-  };
+  // of its ratios: the path's so far times the connection's own (1 without scattering media).
+  auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
   auto mis_weight = [&](double light_pdf, double vertex_pdf, const Transmission<N>& t) {
-    return power_heuristic(light_pdf * mean_ratio(t.ratios.r_l), vertex_pdf * mean_ratio(t.ratios.r_u));
+    return power_heuristic(light_pdf * light_ratio(t), vertex_pdf * mean_ratio(s, path_r_u, t.ratios.r_u));
   };
   SampledSpectrum<N> sum;
   const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
@@ -83,7 +80,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
         if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
           const double light_pdf = p_choice * li->pdf;
           const double weight = (mis ? mis_weight(light_pdf, vertex_pdf, *t) : 1.0) * li->factor /
-                                (light_pdf * mean_ratio(t->ratios.r_l));
+                                (light_pdf * light_ratio(*t));
           sum += f * v.tables.at(li->spectrum, w) * t->tr * static_cast<float>(weight);
         }
     }
@@ -97,7 +94,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
     const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
     if (f.is_zero()) continue;
     if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays))
-      sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / mean_ratio(t->ratios.r_l));
+      sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
   }
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
@@ -110,7 +107,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
       if (!f.is_zero())
         if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
           const double weight =
-              (mis ? mis_weight(li->pdf, vertex_pdf, *t) : 1.0) / (li->pdf * mean_ratio(t->ratios.r_l));
+              (mis ? mis_weight(li->pdf, vertex_pdf, *t) : 1.0) / (li->pdf * light_ratio(*t));
           sum += f * v.tables.environment(*s.environment, li->texel, w) * t->tr * static_cast<float>(weight);
         }
     }
@@ -177,8 +174,8 @@ void splat_towards(const SceneView<N>& v, const PathVertex& at, const CameraConn
   if (value.is_zero()) return;
   const auto t = transmission(v, at, c.wi, c.distance_m, medium, w, rng, rays);
   if (!t) return;
-  const float mean_ratio = v.scene.scatters ? (path_r_u * t->ratios.r_l).average() : 1.0f;
-  const SampledSpectrum<N> l = value * t->tr * static_cast<float>(c.factor / mean_ratio);
+  const SampledSpectrum<N> l =
+      value * t->tr * static_cast<float>(c.factor / mean_ratio(v.scene, path_r_u, t->ratios.r_l));
   if (film.has_spectra()) {
     film.add_splat(c.film_x, c.film_y, v.tables.to_linear_rgb(l, w), std::span<const float>(l.v.data(), N));
   } else {

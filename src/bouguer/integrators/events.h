@@ -118,20 +118,23 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
                                           const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays);
 
-// The MIS weight (power heuristic) of a strategy with density pdf_a and ratios r_a against one
-// with pdf_b and r_b: the densities of the two one-sample mixtures over the carried wavelengths.
-// In a scene without scattering media the ratios are all 1 (not read).
-template <std::size_t N>
-double spectral_power_heuristic(const RenderScene& scene, double pdf_a, const SampledSpectrum<N>& r_a, double pdf_b,
-                                const SampledSpectrum<N>& r_b) {
-  if (!scene.scatters) return power_heuristic(pdf_a, pdf_b);
-  return power_heuristic(pdf_a * r_a.average(), pdf_b * r_b.average());
-}
-
-// The mean of a path's ratios, which its contributions are divided by (1 without scattering media).
+// The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
+// where the ratios are not read); with `connection`, of the path's ratios times a connection's.
 template <std::size_t N>
 float mean_ratio(const RenderScene& scene, const SampledSpectrum<N>& r) {
   return scene.scatters ? r.average() : 1.0f;
+}
+template <std::size_t N>
+float mean_ratio(const RenderScene& scene, const SampledSpectrum<N>& r, const SampledSpectrum<N>& connection) {
+  return scene.scatters ? (r * connection).average() : 1.0f;
+}
+
+// The MIS weight (power heuristic) of a strategy with density pdf_a and ratios r_a against one
+// with pdf_b and r_b: the densities of the two one-sample mixtures over the carried wavelengths.
+template <std::size_t N>
+double spectral_power_heuristic(const RenderScene& scene, double pdf_a, const SampledSpectrum<N>& r_a, double pdf_b,
+                                const SampledSpectrum<N>& r_b) {
+  return power_heuristic(pdf_a * mean_ratio(scene, r_a), pdf_b * mean_ratio(scene, r_b));
 }
 
 // At the first dispersive interface a path meets, keep carried wavelength j = ⌊u·N⌋ with weight
@@ -296,10 +299,6 @@ inline SmoothDielectric interface_indices(const SceneView<N>& v, const Surface& 
   return {eta_of(surface.medium_front), eta_of(surface.medium_behind)};
 }
 
-// The medium a direction leaving an interface travels in (SurfaceEvent::medium_towards).
-inline int interface_medium_towards(const Surface& surface, const Hit& hit, const Vec3& wi) {
-  return dot(wi, hit.normal) > 0.0 ? surface.medium_front : surface.medium_behind;
-}
 
 // The scattering medium `medium` is, or null.
 inline const ScatteringMedium* scattering_medium(const RenderScene& scene, int medium) {
