@@ -13,15 +13,16 @@
 #include "bouguer/render/spectral_sampling.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_scenes.h"
 #include "support/test_support.h"
 
 namespace bouguer {
 namespace {
 namespace fs = std::filesystem;
+using test::channel_estimate;
+using test::Estimate;
+using test::kChromaticSigmaS;
 
-// A strongly chromatic σ_s (per metre): blue scatters five times as much as red.
-constexpr const char* kChromaticSigmaS =
-    R"("unit": "attenuation_per_m", "wavelength_nm": [400, 550, 700], "value": [300, 120, 60])";
 
 Film render(SceneDesc desc, SpectralMode mode, int spp, std::uint64_t seed = 1) {
   desc.render.spectral = mode;
@@ -30,43 +31,7 @@ Film render(SceneDesc desc, SpectralMode mode, int spp, std::uint64_t seed = 1) 
   return test::render_desc(desc);
 }
 
-// Mean and standard error of one channel over pixels (the pixels are independent estimates).
-// The tests require the tolerance to be at least 3 standard errors, so each can fail.
-struct Estimate {
-  double mean = 0.0, standard_error = 0.0;
-};
-Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, int y1) {
-  double sum = 0.0, sum2 = 0.0;
-  int n = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      const double v = f.rgb_at(x, y)[channel];
-      sum += v;
-      sum2 += v * v;
-      ++n;
-    }
-  const double mean = sum / n;
-  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1))};
-}
 
-// White furnace: a medium that scatters without absorbing (albedo 1, chromatic σ_s, HG g = 0.7)
-// inside a lossless dielectric sphere (n = 1.33) under a uniform white background. Light is only
-// redistributed, so every pixel, the sphere's included, has the background's radiance: D65 at
-// Y = 1 is linear sRGB (1, 1, 1). The camera sees only the middle of the sphere (optical radius
-// 1.8 in blue, 0.36 in red). The spectral MIS weights spread a path's contribution over the
-// channels (about ±90 % a sample), so 8 × 8 pixels × 8192 samples are needed for 3 standard errors
-// to fit in the 0.5 % tolerance.
-std::string furnace_scene(const std::string& density) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, 0, 0.048], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [8, 8]}},
-    "render": {{"integrator": "path", "max_depth": 1000}},
-    "world_medium": "vacuum",
-    "media": {{"milky": {{"ior": 1.33, "scattering": {{{}, "phase": {{"type": "henyey_greenstein", "g": 0.7}}{}}}}}}},
-    "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "6 mm", "segments": 64}}, "inside": "milky"}}],
-    "background": {{"spectrum": "D65", "scale": 1}}
-  }})",
-                     kChromaticSigmaS, density);
-}
 
 void expect_white_furnace(const std::string& json, const std::string& what) {
   const SceneDesc desc = parse_scene(json, "furnace.json");
@@ -82,11 +47,12 @@ void expect_white_furnace(const std::string& json, const std::string& what) {
   }
 }
 
-TEST(Scattering, WhiteFurnaceHomogeneous) { expect_white_furnace(furnace_scene(""), "homogeneous"); }
+TEST(Scattering, WhiteFurnaceHomogeneous) { expect_white_furnace(test::furnace_scene("", "path"), "homogeneous"); }
 
 TEST(Scattering, WhiteFurnaceWithADensityField) {
   expect_white_furnace(
-      furnace_scene(R"(, "density": {"field": "exponential", "axis": [0, 1, 0], "value": 1, "scale_length": "10 mm"})"),
+      test::furnace_scene(R"(, "density": {"field": "exponential", "axis": [0, 1, 0], "value": 1, "scale_length": "10 mm"})",
+                          "path"),
       "exponential density");
 }
 
@@ -99,7 +65,7 @@ TEST(Scattering, WhiteFurnaceUnderAnEnvironmentMapWithNextEventEstimation) {
   Film white(16, 8);
   std::fill(white.rgb.begin(), white.rgb.end(), 1.0f);
   write_pfm(dir / "white.pfm", white);
-  std::string json = furnace_scene("");
+  std::string json = test::furnace_scene("", "path");
   auto replace = [&](const std::string& from, const std::string& to) {
     ASSERT_NE(json.find(from), std::string::npos) << from;
     json.replace(json.find(from), from.size(), to);

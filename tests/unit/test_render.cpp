@@ -265,9 +265,10 @@ TEST(Render, ThreadCountDoesNotChangeTheImage) {
 // the mean is below 0.1 %; the test allows 0.5 %, the issue's tolerance, which is > 5 σ.
 TEST(PathTracer, BacklitSlabMatchesTheClosedForm) {
   const Spectrum red = find_library_material("red-glass")->sigma_a_per_m;
+  for (const char* integrator : {"path", "bdpt"})
   for (const double mm : {2.0, 8.0}) {
     for (const char* mode : {"full", "rgb3"}) {
-      const Film film = render_text(slab_scene(mm, R"({"library": "red-glass"})", mode, "path", 16, 64), 2);
+      const Film film = render_text(slab_scene(mm, R"({"library": "red-glass"})", mode, integrator, 16, 64), 2);
       Vec3 mean;
       for (int y = 0; y < film.height; ++y)
         for (int x = 0; x < film.width; ++x) {
@@ -277,7 +278,7 @@ TEST(PathTracer, BacklitSlabMatchesTheClosedForm) {
       const Vec3 expected = std::string(mode) == "full" ? slab_closed_form(make_full_basis(), red, mm * 1e-3)
                                                         : slab_closed_form(make_rgb3_basis(), red, mm * 1e-3);
       expect_within_half_percent({float(mean.x), float(mean.y), float(mean.z)}, expected,
-                                 fmt::format("path {} {} mm", mode, mm));
+                                 fmt::format("{} {} {} mm", integrator, mode, mm));
     }
   }
 }
@@ -287,17 +288,17 @@ TEST(PathTracer, BacklitSlabMatchesTheClosedForm) {
 // 0.5 %: exactly for a smooth interface, and for rough ones because the interface's energy
 // compensation (DielectricAlbedo) returns the light the single-scattering microfacet model loses
 // (about 3 % at alpha 0.1 without it).
-double furnace_ratio(double roughness) {
+double furnace_ratio(double roughness, const char* integrator = "path") {
   const std::string scene = fmt::format(R"({{
     "camera": {{"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [24, 24]}},
-    "render": {{"integrator": "path", "spp": 256, "max_depth": 200}},
+    "render": {{"integrator": "{}", "spp": 256, "max_depth": 200}},
     "world_medium": "vacuum",
     "media": {{"glass": {{"ior": 1.5}}}},
     "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "20 mm"}}, "inside": "glass",
                   "roughness": {}}}],
     "background": {{"spectrum": "E", "scale": 1.0}}
   }})",
-                                        roughness);
+                                        integrator, roughness);
   const Film film = render_text(scene, 2);
   double sum = 0.0;
   for (int y = 0; y < film.height; ++y)
@@ -314,6 +315,16 @@ TEST(PathTracer, WhiteFurnaceRoughDielectric) {
   for (const double alpha : {0.1, 0.5}) {
     const double ratio = furnace_ratio(alpha);
     std::printf("rough (alpha %.1f) furnace: %.4f of the background\n", alpha, ratio);
+    EXPECT_NEAR(ratio, 1.0, 0.005) << "alpha " << alpha;
+  }
+}
+
+// The same furnaces for the bidirectional estimator: the background is also a light that light
+// subpaths start from and next-event estimation samples, weighted against the camera's escapes.
+TEST(Bidirectional, WhiteFurnaces) {
+  for (const double alpha : {0.0, 0.1, 0.5}) {
+    const double ratio = furnace_ratio(alpha, "bdpt");
+    std::printf("bdpt furnace (alpha %.1f): %.4f of the background\n", alpha, ratio);
     EXPECT_NEAR(ratio, 1.0, 0.005) << "alpha " << alpha;
   }
 }
@@ -396,8 +407,10 @@ TEST(PathTracer, ColouredShadowBehindRedGlass) {
 }
 
 TEST(PathTracer, ThreadCountDoesNotChangeTheImage) {
-  const std::string scene = slab_scene(4.0, R"({"library": "light-blue-glass"})", "full", "path", 8, 16);
-  EXPECT_EQ(render_text(scene, 1).rgb, render_text(scene, 2).rgb);
+  for (const char* integrator : {"path", "bdpt"}) {
+    const std::string scene = slab_scene(4.0, R"({"library": "light-blue-glass"})", "full", integrator, 8, 16);
+    EXPECT_EQ(render_text(scene, 1).rgb, render_text(scene, 2).rgb) << integrator;
+  }
 }
 
 // A Lambertian floor (R = 0.5) under delta lights, seen straight down: L = (R/π)·I·cos θ / d² below

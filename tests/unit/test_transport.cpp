@@ -16,37 +16,17 @@
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_scenes.h"
 #include "support/test_support.h"
 
 namespace bouguer {
 namespace {
+using test::busy_scene;
+using test::caustic_scene;
+using test::room_scene;
 
 constexpr double kPi = std::numbers::pi;
 
-// A floor, a dispersive glass sphere (dense flint), a red glass block and a small lamp: every
-// event of every estimator (refraction with dispersion, absorption, diffuse, NEE, splats).
-std::string busy_scene(const char* integrator, const char* spectral, int spp) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, 0.35, 0.6], "look_at": [0, 0.05, 0], "fov_deg": 40, "resolution": [20, 14]}},
-    "render": {{"integrator": "{}", "spectral": "{}", "spp": {}, "max_depth": 16, "seed": 3}},
-    "media": {{"flint": {{"ior": {{"library": "N-SF11"}}}},
-               "red": {{"absorption": {{"library": "red-glass", "concentration": 0.2}}}}}},
-    "objects": [
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
-        "material": {{"type": "diffuse", "reflectance": {{"rgb": [0.8, 0.7, 0.6]}}}}}},
-      {{"name": "ball", "shape": {{"type": "sphere", "radius": "50 mm", "segments": 24}},
-        "transform": [{{"translate": [-0.06, 0.05, 0]}}], "inside": "flint"}},
-      {{"name": "block", "shape": {{"type": "box", "size": ["60 mm", "60 mm", "60 mm"]}},
-        "transform": [{{"translate": [0.08, 0.03, -0.05]}}], "inside": "red"}},
-      {{"name": "lamp", "shape": {{"type": "disk", "radius": "40 mm", "segments": 16}},
-        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 0.5, 0]}}],
-        "emission": {{"spectrum": "D65", "scale": 40}}}}
-    ],
-    "lights": [{{"type": "point", "position": [0.3, 0.4, 0.3], "spectrum": "A", "scale": 0.05}}],
-    "background": {{"spectrum": "D65", "scale": 0.2}}
-  }})",
-                     integrator, spectral, spp);
-}
 
 bool bit_identical(const Film& a, const Film& b) {
   return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
@@ -54,7 +34,7 @@ bool bit_identical(const Film& a, const Film& b) {
 }
 
 TEST(Splits, SampleRangesAndPixelRegionsGiveTheWholeRenderBitForBit) {
-  for (const char* integrator : {"whitted", "path", "light"})
+  for (const char* integrator : {"whitted", "path", "light", "bdpt"})
     for (const char* spectral : {"full", "hero", "rgb3"}) {
       const SceneDesc desc = parse_scene(busy_scene(integrator, spectral, 8), "busy.json");
       const RenderScene scene = compile(desc);
@@ -81,34 +61,6 @@ TEST(Splits, SampleRangesAndPixelRegionsGiveTheWholeRenderBitForBit) {
     }
 }
 
-// A closed room of diffuse walls (two coloured) with a box and a ceiling lamp.
-std::string room_scene(const char* integrator, int spp, std::uint64_t seed) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, 1, 2.6], "look_at": [0, 1, 0], "fov_deg": 50, "resolution": [12, 12]}},
-    "render": {{"integrator": "{}", "spectral": "full", "spp": {}, "max_depth": 64, "seed": {}}},
-    "objects": [
-      {{"name": "floor", "shape": {{"type": "quad", "size": [2, 2]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.7}}}},
-      {{"name": "ceiling", "shape": {{"type": "quad", "size": [2, 2]}},
-        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 2, 0]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.7}}}},
-      {{"name": "back", "shape": {{"type": "quad", "size": [2, 2]}}, "transform": [{{"translate": [0, 1, -1]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.7}}}},
-      {{"name": "left", "shape": {{"type": "quad", "size": [2, 2]}},
-        "transform": [{{"rotate_deg": [90, [0, 1, 0]]}}, {{"translate": [-1, 1, 0]}}],
-        "material": {{"type": "diffuse", "reflectance": {{"rgb": [0.7, 0.1, 0.1]}}}}}},
-      {{"name": "right", "shape": {{"type": "quad", "size": [2, 2]}},
-        "transform": [{{"rotate_deg": [-90, [0, 1, 0]]}}, {{"translate": [1, 1, 0]}}],
-        "material": {{"type": "diffuse", "reflectance": {{"rgb": [0.1, 0.7, 0.1]}}}}}},
-      {{"name": "box", "shape": {{"type": "box", "size": [0.5, 0.6, 0.5]}}, "transform": [{{"translate": [0.2, 0.3, -0.2]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.5}}}},
-      {{"name": "lamp", "shape": {{"type": "quad", "size": [0.5, 0.5]}},
-        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 1.99, 0]}}],
-        "emission": {{"spectrum": "D65", "scale": 10}}}}
-    ]
-  }})",
-                     integrator, spp, seed);
-}
 
 TEST(LightTracer, ConvergesToThePathTracerInADiffuseRoom) {
   const Film path = test::render_text(room_scene("path", 4096, 1));
@@ -118,26 +70,6 @@ TEST(LightTracer, ConvergesToThePathTracerInADiffuseRoom) {
   EXPECT_LT(d.mean, 0.5);
 }
 
-// A sphere of red glass over a white floor under a small lamp: the caustic. Only pixels whose
-// whole footprint sees the floor directly are compared (the light tracer cannot see the floor
-// through the glass).
-std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, 0.5, 0.35], "look_at": [0, 0, 0], "fov_deg": 45, "resolution": [16, 16]}},
-    "render": {{"integrator": "{}", "spectral": "full", "spp": {}, "max_depth": 32, "seed": {}}},
-    "media": {{"red": {{"absorption": {{"library": "red-glass", "concentration": 0.3}}}}}},
-    "objects": [
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.8}}}},
-      {{"name": "ball", "shape": {{"type": "sphere", "radius": "40 mm", "segments": 48}},
-        "transform": [{{"translate": [0, 0.06, 0]}}], "inside": "red"}},
-      {{"name": "lamp", "shape": {{"type": "disk", "radius": "60 mm", "segments": 32}},
-        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0.05, 0.4, -0.05]}}],
-        "emission": {{"spectrum": "D65", "scale": 20}}}}
-    ]
-  }})",
-                     integrator, spp, seed);
-}
 
 TEST(LightTracer, ConvergesToThePathTracerOnACausticFloor) {
   const SceneDesc desc = parse_scene(caustic_scene("path", 1, 0), "caustic.json");
@@ -204,27 +136,30 @@ TEST(Bsdf, ImportanceModeIsTheAdjoint) {
     }
   EXPECT_GT(compared, 8000);
   EXPECT_GT(refractions, 1000);
-  // The radiance mode itself is not symmetric across a refraction (basic radiance, no η²): the
-  // test above would fail if the importance mode forgot the factor.
+  // The radiance mode itself is not symmetric across a refraction (radiance is n² larger in glass):
+  // the test above would fail if either mode put the η² factor on the wrong side.
   const Bsdf<N> glass = RoughDielectric{{{0.3}, 1.0, 1.5, nullptr}};
   const Vec3 wo = normalize(Vec3{0.2, 0.1, 1.0}), wi = normalize(Vec3{-0.1, 0.05, -1.0});
   const double ratio = (eval(glass, wo, wi, TransportMode::radiance)[0] / std::abs(wi.z)) /
                        (eval(glass, wi, wo, TransportMode::radiance)[0] / std::abs(wo.z));
-  EXPECT_NEAR(ratio, 1.5 * 1.5, 1e-6);
+  EXPECT_NEAR(ratio, 1.0 / (1.5 * 1.5), 1e-6);
 
-  // Delta lobes: a smooth interface refracts wo to wi and wi back to wo; the importance weight
-  // is the radiance weight (1) times (η_o/η_i)².
+  // Delta lobes: a smooth interface refracts wo to wi and wi back to wo; radiance entering glass
+  // from air is scaled by (1/1.5)² and leaving it by 1.5², importance (flux) by 1 both ways.
   const Bsdf<N> smooth = SmoothDielectric{1.0, 1.5};
   const Vec3 outside = normalize(Vec3{0.3, -0.2, 0.8});
   const auto in_rad = sample(smooth, outside, 0.999, 0.0, 0.0, TransportMode::radiance);
   const auto in_imp = sample(smooth, outside, 0.999, 0.0, 0.0, TransportMode::importance);
   ASSERT_TRUE(in_rad && in_imp && in_rad->transmitted && in_imp->transmitted);
-  EXPECT_FLOAT_EQ(in_rad->weight[0], 1.0f);
-  EXPECT_NEAR(in_imp->weight[0], 1.0 / (1.5 * 1.5), 1e-6);
-  const auto back = sample(smooth, in_rad->wi, 0.999, 0.0, 0.0, TransportMode::importance);
+  EXPECT_NEAR(in_rad->weight[0], 1.0 / (1.5 * 1.5), 1e-6);
+  EXPECT_FLOAT_EQ(in_imp->weight[0], 1.0f);
+  const auto back = sample(smooth, in_rad->wi, 0.999, 0.0, 0.0, TransportMode::radiance);
   ASSERT_TRUE(back && back->transmitted);
   EXPECT_NEAR(length(back->wi - outside), 0.0, 1e-9);
   EXPECT_NEAR(back->weight[0], 1.5 * 1.5, 1e-5);
+  const auto back_imp = sample(smooth, in_rad->wi, 0.999, 0.0, 0.0, TransportMode::importance);
+  ASSERT_TRUE(back_imp && back_imp->transmitted);
+  EXPECT_FLOAT_EQ(back_imp->weight[0], 1.0f);
 }
 
 // A large dim panel and a small bright one (each giving the floor about half its light), over a
@@ -351,7 +286,7 @@ TEST(IntegratorTable, TheLoaderTheCommandLineAndTheDocsUseIt) {
   }
   EXPECT_NE(rendering.find("[--integrator " + integrators + "]"), std::string::npos) << integrators;
   EXPECT_NE(rendering.find("[--spectral " + modes + "]"), std::string::npos) << modes;
-  EXPECT_EQ(integrator_names(), "whitted, path or light");
+  EXPECT_EQ(integrator_names(), "whitted, path, light or bdpt");
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ double environment_pdf(const RenderScene& scene, const Vec3& d) {
 template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
-                                            std::uint64_t& rays) {
+                                            std::uint64_t& rays, std::span<const double> sigma_mean) {
   const RenderScene& s = v.scene;
   Transmission<N> out;
   Vec3 start = from.point, origin = from.origin_towards(wi);
@@ -37,9 +37,11 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
     const double t_max = std::isinf(remaining) ? remaining : remaining * (1.0 - 1e-4);
     const auto hit = s.rays.intersect({origin, wi, t_max});
     const double length_m = hit ? length(hit->point - start) : remaining;
-    if (const ScatteringMedium* sm = scattering_medium(s, medium))
+    if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
       ratio_track(*sm, v.tables, Ray{start, wi}, length_m, w, rng, out.tr, out.ratios);
-    else
+      if (!sigma_mean.empty() && std::isfinite(length_m))
+        out.tau += sigma_mean[static_cast<std::size_t>(medium)] * column_density(sm->density, start, wi, 0.0, length_m);
+    } else
       out.tr *= travel(v, medium, Ray{start, wi}, length_m, w);
     if (out.tr.is_zero()) return std::nullopt;
     if (!hit) return out;
@@ -147,6 +149,13 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
 }
 
 template <std::size_t N>
+int keep_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, double u, Rng& rng) {
+  const int j = std::min(static_cast<int>(u * N), static_cast<int>(N) - 1);
+  w.terminate_secondary(j, v.tables.kept_wavelength_nm(w, j, rng.next_double()));
+  return j;
+}
+
+template <std::size_t N>
 bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
                          SampledSpectrum<N>& beta, double u, Rng& rng) {
   if (N == 1 || surface.kind != SurfaceKind::interface || w.secondary_terminated()) return false;
@@ -154,8 +163,7 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
   if (!media[static_cast<std::size_t>(surface.medium_front)].dispersive &&
       !media[static_cast<std::size_t>(surface.medium_behind)].dispersive)
     return false;
-  const int j = std::min(static_cast<int>(u * N), static_cast<int>(N) - 1);
-  w.terminate_secondary(j, v.tables.kept_wavelength_nm(w, j, rng.next_double()));
+  const int j = keep_wavelength(v, w, u, rng);
   const float kept = beta[static_cast<std::size_t>(j)] * static_cast<float>(N);
   beta = SampledSpectrum<N>{};
   beta[static_cast<std::size_t>(j)] = kept;
@@ -219,13 +227,15 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
 
 #define BOUGUER_EVENTS_INSTANTIATE(N)                                                                                 \
   template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double,   \
-                                                       int, const SampledWavelengths<N>&, Rng&, std::uint64_t&);      \
+                                                       int, const SampledWavelengths<N>&, Rng&, std::uint64_t&,       \
+                                                       std::span<const double>);                                      \
   template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,      \
                                            const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&,             \
                                            std::uint64_t&, bool, bool);                                               \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&,                   \
                                                      const PhaseFunction&, int, const SampledWavelengths<N>&,         \
                                                      const SampledSpectrum<N>&, Rng&, std::uint64_t&);                \
+  template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
   template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
                                     double, Rng&);                                                                    \
   template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,         \

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <span>
 
 #include "bouguer/core/frame.h"
 #include "bouguer/materials/surface_bsdf.h"
@@ -88,6 +89,7 @@ template <std::size_t N>
 struct Transmission {
   SampledSpectrum<N> tr = SampledSpectrum<N>::constant(1.0f);
   SpectralMis<N> ratios;
+  double tau = 0.0;  // with sigma_mean given: Σ σ̄_s·∫ρ over the scattering media crossed (integrators/walk.h)
 };
 
 // The connection from `from` along wi to a point distance_m away (infinite: a distant light or
@@ -95,10 +97,12 @@ struct Transmission {
 // index-matched interfaces (Surface::index_matched: medium boundaries that neither reflect nor
 // refract) into the medium beyond and stops at any other surface, glass included; so a medium
 // inside glass or behind a water surface gets no direct light (docs/rendering.md).
+// With `sigma_mean` (σ̄_s by medium), it also sums the segment's mean scattering optical depth for
+// the MIS weights of the bidirectional estimators (Tungsten's generalised shadow ray with pdfs).
 template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
-                                            std::uint64_t& rays);
+                                            std::uint64_t& rays, std::span<const double> sigma_mean = {});
 
 // Direct light at a non-specular surface event, towards wo: one area light drawn by power, every
 // delta light and (with `environment`) one direction of the environment map; MIS-weighted
@@ -143,6 +147,12 @@ double spectral_power_heuristic(const RenderScene& scene, double pdf_a, const Sa
 template <std::size_t N>
 bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
                          SampledSpectrum<N>& beta, double u, Rng& rng);
+
+// Terminates all carried wavelengths but j = ⌊u·N⌋ (its value within its bin drawn in full mode)
+// and returns j; the caller weighs what it carries by N.
+template <std::size_t N>
+int keep_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, double u, Rng& rng);
+
 
 // A light-path vertex at a non-specular surface, arrived at along wo (towards the light): the
 // light it sends to the camera, through the medium on the camera's side, splatted at its film

@@ -2,7 +2,8 @@
 // The estimators: each renders a pixel region and a sample range into a film (render/integrator.h).
 //   whitted: the paper's ray tracer (integrators/whitted.cpp),
 //   path:    unidirectional spectral path tracing with next-event estimation (path.cpp),
-//   light:   light tracing, paths from the emitters connected to the camera (light.cpp).
+//   light:   light tracing, paths from the emitters connected to the camera (light.cpp),
+//   bdpt:    bidirectional path tracing over one random walk (bdpt.cpp, walk.h).
 #include "bouguer/integrators/events.h"
 #include "bouguer/render/integrator.h"
 #include "bouguer/render/sampling.h"
@@ -15,6 +16,8 @@ void render_path(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRe
                  const RenderControl&, RenderStats&);
 void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                   const RenderControl&, RenderStats&);
+void render_bdpt(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
+                 const RenderControl&, RenderStats&);
 
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
 // stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's

@@ -64,7 +64,11 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     if (f < 1.0f && w_refracted >= kMinPathWeight)
       if (const auto t = d.refracted()) {
         const int other = d.from_front ? surface.medium_behind : surface.medium_front;
-        l += (1.0f - f) * radiance(hit->point, {offset_ray_origin(*hit, !d.from_front), *t}, other, depth + 1, w_refracted);
+        // Radiance across the boundary: (η_o/η_t)² (materials/surface_bsdf.h). The branch weight
+        // leaves it out: it judges what the branch adds once back in the camera's medium.
+        const auto eta2 = static_cast<float>((d.eta_o * d.eta_o) / (d.eta_t * d.eta_t));
+        l += (1.0f - f) * eta2 *
+             radiance(hit->point, {offset_ray_origin(*hit, !d.from_front), *t}, other, depth + 1, w_refracted);
       }
     return tr * l;
   }

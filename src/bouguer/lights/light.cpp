@@ -177,6 +177,22 @@ std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bo
   return s;
 }
 
+LightLePdf pdf_le(const Light& light, const SceneBounds& bounds, const Vec3& direction) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    const double c = dot(direction, a->normal);
+    if (!a->two_sided && c <= 0.0) return {1.0 / a->area_m2, 0.0};
+    return {1.0 / a->area_m2, std::abs(c) / kPi * (a->two_sided ? 0.5 : 1.0)};
+  }
+  if (std::holds_alternative<PointLight>(light)) return {1.0, 1.0 / (4.0 * kPi)};
+  if (const auto* sp = std::get_if<SpotLight>(&light)) {
+    const double c = cos_cone(sp->profile);
+    return {1.0, dot(direction, sp->profile.axis) > c ? 1.0 / (2.0 * kPi * (1.0 - c)) : 0.0};
+  }
+  if (std::holds_alternative<DistantLight>(light)) return {disk_pdf(bounds), 1.0};
+  if (std::holds_alternative<BackgroundLight>(light)) return {disk_pdf(bounds), 1.0 / (4.0 * kPi)};
+  return {disk_pdf(bounds), std::get<EnvironmentLight>(light).map->pdf(-direction)};
+}
+
 double environment_power(const EnvironmentMap& map) {
   double sum = 0.0;
   for (int j = 0; j < map.height; ++j) {

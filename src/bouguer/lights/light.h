@@ -97,6 +97,15 @@ std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double
 double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q);
 std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
                                        double u3, double u4);
+// The densities with which sample_le draws a ray leaving `light` from `origin` in `direction`
+// (area lights: `origin` on the triangle; lights at infinity: `direction` the one light travels,
+// the origin any point of the disk): of the origin (per m², 1 for a delta) and of the direction
+// (per sr, 1 for a delta). The bidirectional estimators weigh their strategies with these.
+struct LightLePdf {
+  double pos = 0.0, dir = 0.0;
+};
+LightLePdf pdf_le(const Light& light, const SceneBounds& bounds, const Vec3& direction);
+
 // `luminance` gives the luminance of a spectrum id (the scene's tables know them).
 template <typename Luminance>
 double power(const Light& light, const SceneBounds& bounds, Luminance luminance);

@@ -44,8 +44,9 @@ struct ConductorBsdf {
 struct DielectricAlbedo;
 
 // Rough dielectric interface (GGX, Walter et al. 2007): reflection and transmission between the
-// outside (z > 0, index eta_outside) and the inside (index eta_inside). Radiance is not scaled by
-// η² at transmission (see docs/rendering.md), so eval is reciprocal up to that factor.
+// outside (z > 0, index eta_outside) and the inside (index eta_inside). eval is the lobe without the
+// η² factor of radiance at a refraction, which the spectral Bsdf set adds in radiance mode
+// (materials/surface_bsdf.h); without that factor it is reciprocal.
 //
 // The single-scattering model loses the light that would bounce between microfacets (3 % in a
 // furnace at alpha 0.1, more when rougher). With `compensation` set, eval and the sample weight

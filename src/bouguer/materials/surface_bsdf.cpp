@@ -17,17 +17,29 @@ Spec<N> constant(double v) {
   return Spec<N>::constant(static_cast<float>(v));
 }
 
-// The rough interface's adjoint: the uncompensated lobe, the η² factor of a refraction and the
-// compensation of the direction the light arrives from (see the header).
+// The factor radiance picks up across a refraction, (η_o/η_i)² with the indices on wo's and
+// wi's sides: radiance is carried as the physical quantity, so it is n² larger inside a medium of
+// index n than the flux it stands for (pbrt-v4's convention). Importance (flux) carries none.
+double radiance_refraction_factor(double eta_o, double eta_i) { return (eta_o * eta_o) / (eta_i * eta_i); }
+
+double rough_refraction_factor(const RoughDielectric& r, const Vec3& wo, const Vec3& wi) {
+  if (wo.z * wi.z >= 0.0) return 1.0;
+  const double eta_o = wo.z > 0.0 ? r.lobe.eta_outside : r.lobe.eta_inside;
+  const double eta_i = wi.z > 0.0 ? r.lobe.eta_outside : r.lobe.eta_inside;
+  return radiance_refraction_factor(eta_o, eta_i);
+}
+
+// The rough interface in radiance mode: the compensated lobe times the η² factor of a refraction.
+// Its adjoint (importance mode): the uncompensated lobe divided by the compensation of the
+// direction the light arrives from, E(wi) instead of E(wo), and no η² factor (see the header).
+double rough_radiance_eval(const RoughDielectric& r, const Vec3& wo, const Vec3& wi) {
+  return r.lobe.eval(wo, wi) * rough_refraction_factor(r, wo, wi);
+}
+
 double rough_importance_eval(const RoughDielectric& r, const Vec3& wo, const Vec3& wi) {
   RoughDielectricBsdf plain = r.lobe;
   plain.compensation = nullptr;
   double f = plain.eval(wo, wi);
-  if (wo.z * wi.z < 0.0) {
-    const double eta_o = wo.z > 0.0 ? r.lobe.eta_outside : r.lobe.eta_inside;
-    const double eta_i = wi.z > 0.0 ? r.lobe.eta_outside : r.lobe.eta_inside;
-    f *= (eta_o * eta_o) / (eta_i * eta_i);
-  }
   if (r.lobe.compensation) f /= r.lobe.compensation->at(wi.z > 0.0, std::abs(wi.z));
   return f;
 }
@@ -53,7 +65,7 @@ Spec<N> eval(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi, TransportMode mod
     return conductor_fresnel(std::min(1.0, dot(wi, normalize(wi + wo))), c->eta, c->n, c->k) * static_cast<float>(g);
   }
   if (const auto* r = std::get_if<RoughDielectric>(&b))
-    return constant<N>(mode == TransportMode::radiance ? r->lobe.eval(wo, wi) : rough_importance_eval(*r, wo, wi));
+    return constant<N>(mode == TransportMode::radiance ? rough_radiance_eval(*r, wo, wi) : rough_importance_eval(*r, wo, wi));
   return {};  // smooth dielectric: delta lobes only
 }
 
@@ -88,7 +100,8 @@ std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc
   if (const auto* r = std::get_if<RoughDielectric>(&b)) {
     const auto s = r->lobe.sample(wo, uc, u1, u2);
     if (!s) return std::nullopt;
-    const double weight = mode == TransportMode::radiance ? s->weight : rough_importance_eval(*r, wo, s->wi) / s->pdf;
+    const double weight = mode == TransportMode::radiance ? s->weight * rough_refraction_factor(*r, wo, s->wi)
+                                                           : rough_importance_eval(*r, wo, s->wi) / s->pdf;
     return BsdfSampleN<N>{s->wi, constant<N>(weight), s->pdf, s->transmitted};
   }
   if (wo.z == 0.0) return std::nullopt;
@@ -96,7 +109,7 @@ std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc
   if (uc < d.reflectance) return BsdfSampleN<N>{d.reflected(), constant<N>(1.0), 0.0, false};
   const auto refracted = d.refracted();
   if (!refracted) return std::nullopt;  // cannot happen: F = 1 under total internal reflection
-  const double weight = mode == TransportMode::radiance ? 1.0 : (d.eta_o * d.eta_o) / (d.eta_t * d.eta_t);
+  const double weight = mode == TransportMode::radiance ? radiance_refraction_factor(d.eta_o, d.eta_t) : 1.0;
   return BsdfSampleN<N>{*refracted, constant<N>(weight), 0.0, true};
 }
 

@@ -7,10 +7,13 @@
 // Transport mode. A path from the camera carries radiance: wo looks back at the camera and wi is
 // drawn towards the light. A path from a light carries importance: wo looks back at the light
 // and wi is drawn towards the camera. In importance mode every verb gives the adjoint BSDF,
-// f*(wo, wi) = f(wi, wo), so both estimators sum the same path integral. Bouguer carries radiance
-// without the η² factor at refraction (basic radiance; docs/rendering.md); the adjoint of a
-// refraction is then scaled by (η_o/η_i)², the indices on wo's and wi's sides, and the adjoint of
-// the rough interface's energy compensation divides by E(wi) instead of E(wo).
+// f*(wo, wi) = f(wi, wo), so every estimator sums the same path integral. Radiance is the physical
+// quantity, n² larger inside a medium of index n for the same flux (pbrt-v4's convention,
+// docs/rendering.md): in radiance mode a refraction scales it by (η_o/η_i)², the indices on wo's
+// and wi's sides; in importance mode, which carries flux, a refraction has no such factor. So an
+// emitter's radiance and a light's intensity are given in the medium they sit in, and a lamp
+// inside glass sends out the flux it emits. The adjoint of the rough interface's energy
+// compensation divides by E(wi) instead of E(wo).
 //
 // Contracts (as in Mitsuba): eval is f(wo, wi)·|cos θi| and 0 for a delta lobe; pdf is the
 // solid-angle density with which sample draws wi, 0 for a delta lobe; sample returns wi, its pdf

@@ -26,6 +26,9 @@ constexpr IntegratorInfo kIntegrators[] = {
     {IntegratorType::light, "light",
      "light tracing: paths from the lamps connected to the camera (caustics on diffuse surfaces)", render_light, true,
      true, true},
+    {IntegratorType::bdpt, "bdpt",
+     "bidirectional path tracing: every connection of a camera and a light subpath, MIS (light through glass)",
+     render_bdpt, true, true, true},
 };
 
 constexpr SpectralModeInfo kSpectralModes[] = {

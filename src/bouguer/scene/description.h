@@ -23,7 +23,7 @@
 namespace bouguer {
 
 enum class CameraType { pinhole, orthographic };
-enum class IntegratorType { whitted, path, light };  // names: render/integrator.h
+enum class IntegratorType { whitted, path, light, bdpt };  // names: render/integrator.h
 
 struct CameraDesc {
   CameraType type = CameraType::pinhole;

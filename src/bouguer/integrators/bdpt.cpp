@@ -1,0 +1,389 @@
+// Bidirectional path tracing (Veach 1997; pbrt-v4's BDPT): per camera sample one camera subpath
+// and one light subpath, both built by the one random walk (integrators/walk.h), and every
+// connection strategy (s light vertices, t camera vertices): the camera path meeting a lamp or
+// escaping to a light at infinity (s = 0), next-event estimation (s = 1), light tracing to the
+// camera (t = 1, splatted), and vertex connections, surface and medium vertices alike. The
+// strategies are combined by the power heuristic over the densities of the vertex records; a
+// lamp seen directly is left to s = 0 (the light tracer's lamp splat is not made), as in pbrt.
+//
+// Spectral. Both subpaths carry the sample's wavelengths (all 96 bins in full mode, the four of
+// hero mode); in scattering media distances follow the sample's hero wavelength and every
+// contribution is divided by the mean over the wavelengths of the product of its parts' spectral-MIS
+// ratios (camera subpath, light subpath, connection), the one-sample balance over the hero choice.
+// A scene with dispersive media keeps one wavelength from the start of each sample (weight N):
+// a connection joins two subpaths, and only a path whose parts follow one wavelength's geometry
+// can be joined anywhere. Bouguer–Lambert along every segment and connection is the medium's
+// exact transmittance.
+//
+// Depth: s + t − 2 ≤ max_depth, where medium vertices count like surface vertices (unlike the
+// path tracer, whose scattering events are free): a dense medium needs a larger max_depth here.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/walk.h"
+
+namespace bouguer {
+namespace {
+
+int emission_medium(const RenderScene& scene, const Light& light) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) return scene.surfaces[a->geometry].medium_front;
+  return scene.world_medium;
+}
+
+bool is_delta_light(const Light& light) {
+  return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
+         std::holds_alternative<DistantLight>(light);
+}
+
+template <std::size_t N>
+class Bdpt {
+ public:
+  Bdpt(const SceneView<N>& v, const WalkMedia& media, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
+      : v_(v), s_(v.scene), media_(media), w_(w), rng_(rng), rays_(rays) {}
+
+  void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path);
+  void light_subpath(std::vector<Vertex<N>>& path);
+  // The strategy (s, t) over the two subpaths: its contribution, weighted; t = 1 splats it.
+  SampledSpectrum<N> connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
+                             FilmBuffer& film, const SampledSpectrum<N>& keep);
+
+ private:
+  double pdf_light_origin(const Vertex<N>& y) const;
+  double pdf_light(const Vertex<N>& y, const Vertex<N>& next, double tau) const;
+  double pdf_camera(const Vertex<N>& next, double tau) const;
+  double pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<N>& next, double tau) const;
+  SampledSpectrum<N> f(const Vertex<N>& x, const Vec3& wi, TransportMode mode) const;
+  int medium_towards(const Vertex<N>& x, const Vec3& wi) const {
+    return x.kind == VertexKind::surface ? x.event.medium_towards(wi) : x.medium;
+  }
+  PathVertex path_vertex(const Vertex<N>& x) const {
+    return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit};
+  }
+  double mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled, int s,
+                    int t, double tau) const;
+
+  const SceneView<N>& v_;
+  const RenderScene& s_;
+  const WalkMedia& media_;
+  const SampledWavelengths<N>& w_;
+  Rng& rng_;
+  std::uint64_t& rays_;
+};
+
+template <std::size_t N>
+void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path) {
+  path.clear();
+  Vertex<N> c;
+  c.kind = VertexKind::camera;
+  c.point = ray.origin;
+  c.beta = SampledSpectrum<N>::constant(1.0f);
+  c.pdf_fwd = 1.0;
+  path.push_back(c);
+  WalkState<N> state;
+  state.ray = ray;
+  state.start = ray.origin;
+  state.medium = s_.world_medium;
+  const auto pdf = v_.camera.pdf_we(ray);
+  state.parallel = v_.camera.desc.type == CameraType::orthographic;
+  state.pdf_dir = state.parallel ? pdf[0] : pdf[1];
+  random_walk(v_, media_, TransportMode::radiance, state, static_cast<std::size_t>(v_.max_depth) + 2, w_, rng_,
+              rays_, path);
+}
+
+template <std::size_t N>
+void Bdpt<N>::light_subpath(std::vector<Vertex<N>>& path) {
+  path.clear();
+  const double u_light = rng_.next_double(), u1 = rng_.next_double(), u2 = rng_.next_double(),
+               u3 = rng_.next_double(), u4 = rng_.next_double();
+  const auto chosen = s_.emitters.sample(u_light);
+  if (!chosen) return;
+  const Light& light = s_.lights[static_cast<std::size_t>(chosen->first)];
+  const auto le = sample_le(light, s_.bounds, u1, u2, u3, u4);
+  if (!le) return;
+  const SampledSpectrum<N> radiance =
+      le->texel >= 0 ? v_.tables.environment(*s_.environment, le->texel, w_) : v_.tables.at(le->spectrum, w_);
+  const double pmf = chosen->second;
+  Vertex<N> y;
+  y.kind = VertexKind::light;
+  y.light = chosen->first;
+  y.infinite = le->delta_direction || std::holds_alternative<BackgroundLight>(light) ||
+               std::holds_alternative<EnvironmentLight>(light);
+  y.point = le->ray.origin;
+  y.normal = le->normal;
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    y.hit.point = le->ray.origin;
+    y.hit.normal = a->normal;
+    y.hit.geometry = a->geometry;
+    y.hit.primitive = a->primitive;
+  }
+  y.light_dir = -le->ray.direction;
+  y.beta = radiance * static_cast<float>(1.0 / (pmf * le->pdf_pos));
+  y.pdf_fwd = y.infinite ? pmf * (le->delta_direction ? 1.0 : le->pdf_dir) : pmf * le->pdf_pos;
+  path.push_back(y);
+  WalkState<N> state;
+  state.ray = le->ray;
+  if (y.on_surface()) state.ray.origin = offset_ray_origin(y.hit, le->ray.direction);
+  state.start = le->ray.origin;
+  state.medium = emission_medium(s_, light);
+  const double cos_light = le->normal == Vec3{} ? 1.0 : std::abs(dot(le->normal, le->ray.direction));
+  state.beta = radiance * static_cast<float>(le->factor * cos_light / (pmf * le->pdf_pos * le->pdf_dir));
+  state.parallel = y.infinite;
+  state.pdf_dir = y.infinite ? le->pdf_pos : le->pdf_dir;
+  random_walk(v_, media_, TransportMode::importance, state, static_cast<std::size_t>(v_.max_depth) + 1, w_, rng_,
+              rays_, path);
+}
+
+// The density with which a light subpath starts at light vertex y: the light's pmf times its
+// origin density (lights at infinity: times the direction's).
+template <std::size_t N>
+double Bdpt<N>::pdf_light_origin(const Vertex<N>& y) const {
+  const Light& light = s_.lights[static_cast<std::size_t>(y.light)];
+  const double pmf = s_.emitters.pmf[static_cast<std::size_t>(y.light)];
+  if (y.infinite) return pmf * pdf_le(light, s_.bounds, -y.light_dir).dir;
+  return pmf * pdf_le(light, s_.bounds, Vec3{0.0, 0.0, 1.0}).pos;
+}
+
+// The density with which a light subpath from y reaches `next` (per unit area there).
+template <std::size_t N>
+double Bdpt<N>::pdf_light(const Vertex<N>& y, const Vertex<N>& next, double tau) const {
+  const Light& light = s_.lights[static_cast<std::size_t>(y.light)];
+  if (y.infinite) return to_area_density(pdf_le(light, s_.bounds, -y.light_dir).pos, next.point - y.light_dir, next, tau, true);
+  return to_area_density(pdf_le(light, s_.bounds, normalize(next.point - y.point)).dir, y.point, next, tau);
+}
+
+// The density with which the camera's rays reach `next`.
+template <std::size_t N>
+double Bdpt<N>::pdf_camera(const Vertex<N>& next, double tau) const {
+  const Camera& camera = v_.camera;
+  if (camera.desc.type == CameraType::orthographic) {
+    const Ray ray{next.point - camera.forward, camera.forward};
+    return to_area_density(camera.pdf_we(ray)[0], ray.origin, next, tau, true);
+  }
+  const Ray ray{camera.desc.position_m, normalize(next.point - camera.desc.position_m)};
+  return to_area_density(camera.pdf_we(ray)[1], ray.origin, next, tau);
+}
+
+// The density with which vertex `at`, reached from `prev`, samples `next` (per unit area there).
+template <std::size_t N>
+double Bdpt<N>::pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<N>& next, double tau) const {
+  if (at.kind == VertexKind::camera) return pdf_camera(next, tau);
+  if (at.kind == VertexKind::light) return pdf_light(at, next, tau);
+  auto towards = [&](const Vertex<N>& x) { return x.infinite ? x.light_dir : normalize(x.point - at.point); };
+  const Vec3 wo = prev ? towards(*prev) : at.wo, wi = towards(next);
+  double pdf_dir = 0.0;
+  if (at.kind == VertexKind::medium)
+    pdf_dir = phase_value(scattering_medium(s_, at.medium)->phase, -wo, wi);
+  else
+    pdf_dir = pdf(at.event.bsdf, at.event.frame.to_local(wo), at.event.frame.to_local(wi));
+  return to_area_density(pdf_dir, at.point, next, tau);
+}
+
+// f·|cos θ| (the phase function in a medium) at x towards wi, x reached along x.wo.
+template <std::size_t N>
+SampledSpectrum<N> Bdpt<N>::f(const Vertex<N>& x, const Vec3& wi, TransportMode mode) const {
+  if (x.kind == VertexKind::medium)
+    return SampledSpectrum<N>::constant(
+        static_cast<float>(phase_value(scattering_medium(s_, x.medium)->phase, -x.wo, wi)));
+  return eval(x.event.bsdf, x.event.frame.to_local(x.wo), x.event.frame.to_local(wi), mode);
+}
+
+// The power heuristic over every strategy that could have made the same path (pbrt-v4's
+// MISWeight): the densities of the vertices next to the connection are set to what the other
+// strategies would have used, and the ratios of densities walked outwards on both sides.
+// `sampled` replaces light[0] (s = 1) or camera[0] (t = 1); `tau` is the connection's.
+template <std::size_t N>
+double Bdpt<N>::mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled,
+                           int s, int t, double tau) const {
+  if (s + t == 2) return 1.0;
+  Vertex<N>* slot = sampled ? (s == 1 ? &light[0] : &camera[0]) : nullptr;
+  Vertex<N> saved;
+  if (slot) saved = std::exchange(*slot, *sampled);
+  Vertex<N>* qs = s > 0 ? &light[static_cast<std::size_t>(s - 1)] : nullptr;
+  Vertex<N>* pt = &camera[static_cast<std::size_t>(t - 1)];
+  Vertex<N>* qs_minus = s > 1 ? &light[static_cast<std::size_t>(s - 2)] : nullptr;
+  Vertex<N>* pt_minus = t > 1 ? &camera[static_cast<std::size_t>(t - 2)] : nullptr;
+  // What the other strategies would have used next to the connection (computed before any edit).
+  const double pt_rev = s > 0 ? pdf_at(*qs, qs_minus, *pt, tau) : pdf_light_origin(*pt);
+  const double pt_minus_rev =
+      pt_minus ? (s > 0 ? pdf_at(*pt, qs, *pt_minus, pt->tau_in) : pdf_light(*pt, *pt_minus, pt->tau_in)) : 0.0;
+  const double qs_rev = qs ? pdf_at(*pt, pt_minus, *qs, tau) : 0.0;
+  const double qs_minus_rev = qs_minus ? pdf_at(*qs, pt, *qs_minus, qs->tau_in) : 0.0;
+  const double old_pt_rev = pt->pdf_rev, old_pt_minus_rev = pt_minus ? pt_minus->pdf_rev : 0.0,
+               old_qs_rev = qs ? qs->pdf_rev : 0.0, old_qs_minus_rev = qs_minus ? qs_minus->pdf_rev : 0.0;
+  const bool old_pt_delta = pt->delta, old_qs_delta = qs ? qs->delta : false;
+  pt->pdf_rev = pt_rev;
+  pt->delta = false;
+  if (pt_minus) pt_minus->pdf_rev = pt_minus_rev;
+  if (qs) qs->pdf_rev = qs_rev, qs->delta = false;
+  if (qs_minus) qs_minus->pdf_rev = qs_minus_rev;
+
+  auto remap0 = [](double p) { return p != 0.0 ? p : 1.0; };
+  double sum = 0.0, ri = 1.0;
+  for (int i = t - 1; i > 0; --i) {
+    const Vertex<N>& x = camera[static_cast<std::size_t>(i)];
+    ri *= remap0(x.pdf_rev) / remap0(x.pdf_fwd);
+    if (!x.delta && !camera[static_cast<std::size_t>(i - 1)].delta) sum += ri * ri;
+  }
+  ri = 1.0;
+  for (int i = s - 1; i >= 0; --i) {
+    const Vertex<N>& x = light[static_cast<std::size_t>(i)];
+    ri *= remap0(x.pdf_rev) / remap0(x.pdf_fwd);
+    const bool delta_before = i > 0 ? light[static_cast<std::size_t>(i - 1)].delta
+                                    : is_delta_light(s_.lights[static_cast<std::size_t>(light[0].light)]);
+    if (!x.delta && !delta_before) sum += ri * ri;
+  }
+
+  if (qs_minus) qs_minus->pdf_rev = old_qs_minus_rev;
+  if (qs) qs->pdf_rev = old_qs_rev, qs->delta = old_qs_delta;
+  if (pt_minus) pt_minus->pdf_rev = old_pt_minus_rev;
+  pt->pdf_rev = old_pt_rev;
+  pt->delta = old_pt_delta;
+  if (slot) *slot = saved;
+  return 1.0 / (1.0 + sum);
+}
+
+// A light path's contribution at film position (x, y) (t = 1).
+template <std::size_t N>
+void splat(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavelengths<N>& w, double x, double y,
+           const SampledSpectrum<N>& l) {
+  if (film.has_spectra())
+    film.add_splat(x, y, tables.to_linear_rgb(l, w), std::span<const float>(l.v.data(), N));
+  else
+    film.add_splat(x, y, tables.to_linear_rgb(l, w));
+}
+
+template <std::size_t N>
+SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
+                                    FilmBuffer& film, const SampledSpectrum<N>& keep) {
+  const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
+  if (s == 0) {  // the camera path met a lamp or escaped to a light at infinity
+    if (pt.kind != VertexKind::light) return {};
+    const SampledSpectrum<N> le = pt.infinite ? escaped(v_, -1, pt.light_dir, w_) : emitted(v_, pt.hit, pt.wo, w_);
+    const SampledSpectrum<N> l = pt.beta * le * keep;
+    if (l.is_zero()) return {};
+    return l * static_cast<float>(mis_weight(light, camera, nullptr, 0, t, 0.0) / mean_ratio(s_, pt.r_u));
+  }
+  if (pt.kind == VertexKind::light || !pt.connectible()) return {};
+  if (t == 1) {  // a light subpath vertex seen by the camera
+    const Vertex<N>& qs = light[static_cast<std::size_t>(s - 1)];
+    if (!qs.connectible() || qs.kind == VertexKind::light) return {};
+    const auto c = v_.camera.connect(qs.point);
+    if (!c) return {};
+    const SampledSpectrum<N> fq = f(qs, c->wi, TransportMode::importance);
+    if (fq.is_zero()) return {};
+    const auto tr = transmission(v_, path_vertex(qs), c->wi, c->distance_m, medium_towards(qs, c->wi), w_, rng_,
+                                 rays_, media_.sigma_mean);
+    if (!tr) return {};
+    SampledSpectrum<N> l = qs.beta * fq * tr->tr * static_cast<float>(c->factor) * keep;
+    if (l.is_zero()) return {};
+    Vertex<N> lens;
+    lens.kind = VertexKind::camera;
+    lens.point = qs.point + c->wi * c->distance_m;
+    lens.pdf_fwd = 1.0;
+    l *= static_cast<float>(mis_weight(light, camera, &lens, s, 1, tr->tau) / mean_ratio(s_, qs.r_u, tr->ratios.r_l));
+    splat(film, v_.tables, w_, c->film_x, c->film_y, l);
+    return {};
+  }
+  if (s == 1) {  // next-event estimation: a light drawn by power, as light subpaths start
+    const double u = rng_.next_double(), u1 = rng_.next_double(), u2 = rng_.next_double();
+    const auto chosen = s_.emitters.sample(u);
+    if (!chosen) return {};
+    const Light& lamp = s_.lights[static_cast<std::size_t>(chosen->first)];
+    const auto li = sample_li(lamp, pt.point, u1, u2);
+    if (!li || li->factor == 0.0) return {};
+    const SampledSpectrum<N> fp = f(pt, li->wi, TransportMode::radiance);
+    if (fp.is_zero()) return {};
+    const auto tr = transmission(v_, path_vertex(pt), li->wi, li->distance_m, medium_towards(pt, li->wi), w_, rng_,
+                                 rays_, media_.sigma_mean);
+    if (!tr) return {};
+    const SampledSpectrum<N> le =
+        li->texel >= 0 ? v_.tables.environment(*s_.environment, li->texel, w_) : v_.tables.at(li->spectrum, w_);
+    SampledSpectrum<N> l = pt.beta * fp * le * tr->tr * static_cast<float>(li->factor / (chosen->second * li->pdf)) * keep;
+    if (l.is_zero()) return {};
+    Vertex<N> y;
+    y.kind = VertexKind::light;
+    y.light = chosen->first;
+    y.infinite = std::isinf(li->distance_m);
+    y.light_dir = li->wi;
+    if (!y.infinite) y.point = pt.point + li->wi * li->distance_m;
+    if (const auto* a = std::get_if<AreaLight>(&lamp)) y.normal = a->normal;
+    y.pdf_fwd = pdf_light_origin(y);
+    return l * static_cast<float>(mis_weight(light, camera, &y, 1, t, tr->tau) / mean_ratio(s_, pt.r_u, tr->ratios.r_l));
+  }
+  const Vertex<N>& qs = light[static_cast<std::size_t>(s - 1)];
+  if (!qs.connectible()) return {};
+  const Vec3 d = qs.point - pt.point;
+  const double d2 = dot(d, d);
+  if (!(d2 > 0.0)) return {};
+  const double distance = std::sqrt(d2);
+  const Vec3 wi = d / distance;
+  const SampledSpectrum<N> fp = f(pt, wi, TransportMode::radiance);
+  if (fp.is_zero()) return {};
+  const SampledSpectrum<N> fq = f(qs, -wi, TransportMode::importance);
+  if (fq.is_zero()) return {};
+  const auto tr = transmission(v_, path_vertex(pt), wi, distance, medium_towards(pt, wi), w_, rng_, rays_,
+                               media_.sigma_mean);
+  if (!tr) return {};
+  SampledSpectrum<N> l = pt.beta * fp * fq * qs.beta * tr->tr * static_cast<float>(1.0 / d2) * keep;
+  if (l.is_zero()) return {};
+  return l * static_cast<float>(mis_weight(light, camera, nullptr, s, t, tr->tau) /
+                                mean_ratio(s_, pt.r_u * qs.r_u, tr->ratios.r_l));
+}
+
+template <std::size_t N>
+void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
+            SampleRange range, const RenderControl& control, RenderStats& stats) {
+  const SpectralTables<N> tables(scene.spectra, settings.spectral);
+  const Camera camera(scene.camera);
+  const SceneView<N> view{scene, tables, camera, settings.max_depth};
+  for_each_pixel_sample<N>(
+      scene, tables, settings, film.width(), region, range, control, stats, 2,
+      [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u, std::uint64_t& rays) {
+        thread_local std::vector<Vertex<N>> camera_path, light_path;
+        thread_local std::vector<double> sigma_mean;
+        draw_hero(scene, w, rng);
+        sigma_mean.assign(scene.media.size(), 0.0);
+        if (scene.scatters)
+          for (std::size_t m = 0; m < scene.media.size(); ++m)
+            if (const ScatteringMedium* sm = scattering_medium(scene, static_cast<int>(m)))
+              sigma_mean[m] = tables.at(sm->sigma_s, w).average();
+        SampledSpectrum<N> keep = SampledSpectrum<N>::constant(1.0f);
+        if (scene.dispersive && N > 1) {
+          const int j = keep_wavelength(view, w, dispersion_u, rng);
+          keep = {};
+          keep[static_cast<std::size_t>(j)] = static_cast<float>(N);
+        }
+        const WalkMedia media{sigma_mean};
+        Bdpt<N> bdpt(view, media, w, rng, rays);
+        const auto [u, v] = subpixel(s, settings.spp, rng);
+        bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
+        bdpt.light_subpath(light_path);
+        const int nc = static_cast<int>(camera_path.size()), nl = static_cast<int>(light_path.size());
+        if (light_path.empty()) light_path.emplace_back();  // the slot of s = 1's own light sample
+        SampledSpectrum<N> l;
+        for (int t = 1; t <= nc; ++t)
+          for (int k = 0; k <= std::max(nl, 1); ++k) {
+            const int depth = k + t - 2;
+            if ((k == 1 && t == 1) || depth < 0 || depth > settings.max_depth) continue;
+            l += bdpt.connect(light_path, camera_path, k, t, film, keep);
+          }
+        const Vec3 rgb = tables.to_linear_rgb(l, w);
+        if (film.has_spectra())
+          film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N));
+        else
+          film.add_sample(x, y, rgb, 1.0);
+      });
+}
+
+}  // namespace
+
+void render_bdpt(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
+                 SampleRange range, const RenderControl& control, RenderStats& stats) {
+  with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+    render<N>(scene, settings, film, region, range, control, stats);
+  });
+}
+
+}  // namespace bouguer

@@ -1,0 +1,40 @@
+#pragma once
+// Scenes shared by several tests (as scene-file text), and estimates over pixels.
+#include <cstdint>
+#include <string>
+
+#include "bouguer/render/film.h"
+
+namespace bouguer::test {
+
+// A floor, a dispersive glass sphere (dense flint), a red glass block and a small lamp: every
+// event of every estimator (refraction with dispersion, absorption, diffuse, NEE, splats).
+std::string busy_scene(const char* integrator, const char* spectral, int spp);
+
+// A closed room of diffuse walls (two coloured) with a box and a ceiling lamp.
+std::string room_scene(const char* integrator, int spp, std::uint64_t seed);
+
+// A sphere of red glass over a white floor under a small lamp: the caustic. Only pixels whose
+// whole footprint sees the floor directly are compared (the light tracer cannot see the floor
+// through the glass).
+std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed);
+
+extern const char* const kChromaticSigmaS;  // a strongly chromatic σ_s: blue scatters 5× as much as red
+
+// White furnace: a medium that scatters without absorbing (albedo 1, chromatic σ_s, HG g = 0.7)
+// inside a lossless dielectric sphere (n = 1.33) under a uniform white background. Light is only
+// redistributed, so every pixel, the sphere's included, has the background's radiance: D65 at
+// Y = 1 is linear sRGB (1, 1, 1). The camera sees only the middle of the sphere (optical radius
+// 1.8 in blue, 0.36 in red). The spectral MIS weights spread a path's contribution over the
+// channels (about ±90 % a sample), so 8 × 8 pixels × 8192 samples are needed for 3 standard errors
+// to fit in the 0.5 % tolerance.
+std::string furnace_scene(const std::string& density, const char* integrator);
+
+struct Estimate {
+  double mean = 0.0, standard_error = 0.0;
+};
+// Mean and standard error of one channel over pixels (the pixels are independent estimates).
+// The tests require the tolerance to be at least 3 standard errors, so each can fail.
+Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, int y1);
+
+}  // namespace bouguer::test
