@@ -49,7 +49,8 @@ class Bdpt {
   SampledSpectrum<N> connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
                              FilmBuffer& film, const SampledSpectrum<N>& keep);
 
- private:
+  // The densities of the vertex records and the MIS weight (public for the check in
+  // bdpt_mis_check below).
   double pdf_light_origin(const Vertex<N>& y) const;
   double pdf_light(const Vertex<N>& y, const Vertex<N>& next, double tau) const;
   double pdf_camera(const Vertex<N>& next, double tau) const;
@@ -64,6 +65,7 @@ class Bdpt {
   double mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled, int s,
                     int t, double tau) const;
 
+ private:
   const SceneView<N>& v_;
   const RenderScene& s_;
   const WalkMedia& media_;
@@ -332,6 +334,139 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
                                 mean_ratio(s_, pt.r_u * qs.r_u, tr->ratios.r_l));
 }
 
+// The σ̄_s of every medium over the sample's wavelengths (walk.h), and the dispersion mask.
+template <std::size_t N>
+SampledSpectrum<N> begin_sample(const SceneView<N>& view, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
+                                std::vector<double>& sigma_mean) {
+  const RenderScene& scene = view.scene;
+  draw_hero(scene, w, rng);
+  sigma_mean.assign(scene.media.size(), 0.0);
+  if (scene.scatters)
+    for (std::size_t m = 0; m < scene.media.size(); ++m)
+      if (const ScatteringMedium* sm = scattering_medium(scene, static_cast<int>(m)))
+        sigma_mean[m] = view.tables.at(sm->sigma_s, w).average();
+  SampledSpectrum<N> keep = SampledSpectrum<N>::constant(1.0f);
+  if (scene.dispersive && N > 1) {
+    const int j = keep_wavelength(view, w, dispersion_u, rng);
+    keep = {};
+    keep[static_cast<std::size_t>(j)] = static_cast<float>(N);
+  }
+  return keep;
+}
+
+// Every strategy that could have made the full path light[0, s) + camera[t, 0): its subpaths cut
+// at each place, the densities of every vertex recomputed from the geometry in both directions,
+// and the MIS weights summed. Also the largest difference between the weight the renderer gives
+// the original split (from the walk's own records) and the recomputed one.
+template <std::size_t N>
+void check_path(const Bdpt<N>& bdpt, const RenderScene& scene, const std::vector<Vertex<N>>& light,
+                const std::vector<Vertex<N>>& camera, int s, int t, double tau_connection, double renderer_weight,
+                BdptMisCheck& out) {
+  std::vector<Vertex<N>> full(light.begin(), light.begin() + s);
+  for (int j = t - 1; j >= 0; --j) full.push_back(camera[static_cast<std::size_t>(j)]);
+  const int n = s + t;
+  // tau[i]: the segment between full[i] and full[i + 1].
+  std::vector<double> tau(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i + 1 < n; ++i)
+    tau[static_cast<std::size_t>(i)] = i + 1 < s ? full[static_cast<std::size_t>(i + 1)].tau_in
+                                       : i + 1 == s ? tau_connection
+                                                    : full[static_cast<std::size_t>(i)].tau_in;
+  auto at = [&](int i) -> const Vertex<N>& { return full[static_cast<std::size_t>(i)]; };
+  std::vector<double> p_light(static_cast<std::size_t>(n)), p_camera(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    p_light[k] = i == 0 ? bdpt.pdf_light_origin(at(0))
+                        : bdpt.pdf_at(at(i - 1), i >= 2 ? &at(i - 2) : nullptr, at(i), tau[k - 1]);
+    p_camera[k] = i == n - 1 ? 1.0
+                             : bdpt.pdf_at(at(i + 1), i + 2 < n ? &at(i + 2) : nullptr, at(i), tau[k]);
+  }
+  double sum = 0.0;
+  for (int s2 = 0; s2 < n; ++s2) {
+    const int t2 = n - s2;
+    if (s2 == 0 && (t2 < 2 || is_delta_light(scene.lights[static_cast<std::size_t>(at(0).light)]))) continue;
+    if (s2 >= 1 && !at(s2 - 1).connectible()) continue;
+    if (!at(s2).connectible() || (s2 == 1 && t2 == 1)) continue;
+    std::vector<Vertex<N>> l2, c2;
+    for (int i = 0; i < s2; ++i) {
+      Vertex<N> x = at(i);
+      x.pdf_fwd = p_light[static_cast<std::size_t>(i)];
+      x.pdf_rev = p_camera[static_cast<std::size_t>(i)];
+      x.tau_in = i > 0 ? tau[static_cast<std::size_t>(i - 1)] : 0.0;
+      l2.push_back(x);
+    }
+    for (int i = n - 1; i >= s2; --i) {
+      Vertex<N> x = at(i);
+      x.pdf_fwd = p_camera[static_cast<std::size_t>(i)];
+      x.pdf_rev = p_light[static_cast<std::size_t>(i)];
+      x.tau_in = i < n - 1 ? tau[static_cast<std::size_t>(i)] : 0.0;
+      c2.push_back(x);
+    }
+    if (l2.empty()) l2.emplace_back();
+    const double w = bdpt.mis_weight(l2, c2, nullptr, s2, t2, s2 > 0 ? tau[static_cast<std::size_t>(s2 - 1)] : 0.0);
+    sum += w;
+    if (s2 == s) out.max_weight_difference = std::max(out.max_weight_difference, std::abs(w - renderer_weight));
+  }
+  out.sums.push_back(sum);
+}
+
+template <std::size_t N>
+void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample, BdptMisCheck& out) {
+  const SpectralTables<N> tables(scene.spectra, settings.spectral);
+  const Camera camera(scene.camera);
+  const SceneView<N> view{scene, tables, camera, settings.max_depth};
+  const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(scene.camera.width_px) +
+                     static_cast<std::uint64_t>(x);
+  Rng rng = sample_rng(settings.seed, pixel, sample, 2);
+  SampledWavelengths<N> w = tables.wavelengths(0.0);
+  tables.restart(w, 0.0);
+  std::vector<double> sigma_mean;
+  begin_sample(view, w, rng.next_double(), rng, sigma_mean);
+  const WalkMedia media{sigma_mean};
+  std::uint64_t rays = 0;
+  Bdpt<N> bdpt(view, media, w, rng, rays);
+  std::vector<Vertex<N>> camera_path, light_path;
+  const auto [u, v] = subpixel(sample, settings.spp, rng);
+  bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
+  bdpt.light_subpath(light_path);
+  const int nc = static_cast<int>(camera_path.size()), nl = static_cast<int>(light_path.size());
+  for (int t = 1; t <= nc; ++t)
+    for (int s = 0; s <= nl; ++s) {
+      if (s == 1 || s + t < 3) continue;  // s = 1 draws its own light; (0, 2) and (1, 1) are alone
+      const Vertex<N>& pt = camera_path[static_cast<std::size_t>(t - 1)];
+      if (s == 0 && pt.kind != VertexKind::light) continue;
+      if (s > 0 && (pt.kind == VertexKind::light || !pt.connectible() ||
+                    !light_path[static_cast<std::size_t>(s - 1)].connectible()))
+        continue;
+      if (t == 1 && !camera.connect(light_path[static_cast<std::size_t>(s - 1)].point)) continue;
+      const Vertex<N>* qs = s > 0 ? &light_path[static_cast<std::size_t>(s - 1)] : nullptr;
+      double tau = 0.0;
+      if (qs && scene.scatters) {  // the connection's scattering depth, through the same medium as render
+        const Vec3 from = t == 1 ? camera.desc.position_m : pt.point;
+        const Vec3 d = qs->point - from;
+        const double length_m = std::sqrt(dot(d, d));
+        if (t > 1) {
+          const Vec3 wi = d / length_m;
+          const int m = pt.kind == VertexKind::surface ? pt.event.medium_towards(wi) : pt.medium;
+          if (m >= 0 && sigma_mean[static_cast<std::size_t>(m)] > 0.0)
+            tau = sigma_mean[static_cast<std::size_t>(m)] *
+                  column_density(scattering_medium(scene, m)->density, pt.point, wi, 0.0, length_m);
+        }
+        if (t == 1) continue;  // through media the lens connection's depth needs the crossings: skip
+      }
+      Vertex<N> lens;
+      const Vertex<N>* sampled = nullptr;
+      if (t == 1) {
+        const auto c = camera.connect(qs->point);
+        lens.kind = VertexKind::camera;
+        lens.point = qs->point + c->wi * c->distance_m;
+        lens.pdf_fwd = 1.0;
+        sampled = &lens;
+      }
+      const double w_render = bdpt.mis_weight(light_path, camera_path, sampled, s, t, tau);
+      check_path(bdpt, scene, light_path, camera_path, s, t, tau, w_render, out);
+    }
+}
+
 template <std::size_t N>
 void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
             SampleRange range, const RenderControl& control, RenderStats& stats) {
@@ -343,18 +478,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
       [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u, std::uint64_t& rays) {
         thread_local std::vector<Vertex<N>> camera_path, light_path;
         thread_local std::vector<double> sigma_mean;
-        draw_hero(scene, w, rng);
-        sigma_mean.assign(scene.media.size(), 0.0);
-        if (scene.scatters)
-          for (std::size_t m = 0; m < scene.media.size(); ++m)
-            if (const ScatteringMedium* sm = scattering_medium(scene, static_cast<int>(m)))
-              sigma_mean[m] = tables.at(sm->sigma_s, w).average();
-        SampledSpectrum<N> keep = SampledSpectrum<N>::constant(1.0f);
-        if (scene.dispersive && N > 1) {
-          const int j = keep_wavelength(view, w, dispersion_u, rng);
-          keep = {};
-          keep[static_cast<std::size_t>(j)] = static_cast<float>(N);
-        }
+        const SampledSpectrum<N> keep = begin_sample(view, w, dispersion_u, rng, sigma_mean);
         const WalkMedia media{sigma_mean};
         Bdpt<N> bdpt(view, media, w, rng, rays);
         const auto [u, v] = subpixel(s, settings.spp, rng);
@@ -378,6 +502,14 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
 }
 
 }  // namespace
+
+BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample) {
+  BdptMisCheck out;
+  with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+    mis_check<N>(scene, settings, x, y, sample, out);
+  });
+  return out;
+}
 
 void render_bdpt(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                  SampleRange range, const RenderControl& control, RenderStats& stats) {

@@ -4,6 +4,8 @@
 //   path:    unidirectional spectral path tracing with next-event estimation (path.cpp),
 //   light:   light tracing, paths from the emitters connected to the camera (light.cpp),
 //   bdpt:    bidirectional path tracing over one random walk (bdpt.cpp, walk.h).
+#include <vector>
+
 #include "bouguer/integrators/events.h"
 #include "bouguer/render/integrator.h"
 #include "bouguer/render/sampling.h"
@@ -18,6 +20,16 @@ void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelR
                   const RenderControl&, RenderStats&);
 void render_bdpt(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                  const RenderControl&, RenderStats&);
+
+// The bidirectional estimator's MIS, checked on the subpaths of one camera sample: for every full
+// path a connection makes, the weights of all strategies that could have made it, recomputed from
+// the geometry, summed (each must be 1), and the largest difference between the weight the
+// renderer gave the connection and the recomputed one.
+struct BdptMisCheck {
+  std::vector<double> sums;
+  double max_weight_difference = 0.0;
+};
+BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
 
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
 // stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's
