@@ -178,7 +178,7 @@ TEST(Scattering, LightTracerAgreesWithThePathTracerInAMedium) {
   desc.render.integrator = IntegratorType::path;
   const Film path = render(desc, SpectralMode::hero, 1024);
   desc.render.integrator = IntegratorType::light;
-  const Film light = render(desc, SpectralMode::hero, 1024);
+  const Film light = render(desc, SpectralMode::hero, 2048);
   for (int c = 0; c < 3; ++c) {
     const Estimate p = channel_estimate(path, c, 2, 2, 10, 10), l = channel_estimate(light, c, 2, 2, 10, 10);
     const double se = std::hypot(p.standard_error, l.standard_error);

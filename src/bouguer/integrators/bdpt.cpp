@@ -27,11 +27,6 @@
 namespace bouguer {
 namespace {
 
-int emission_medium(const RenderScene& scene, const Light& light) {
-  if (const auto* a = std::get_if<AreaLight>(&light)) return scene.surfaces[a->geometry].medium_front;
-  return scene.world_medium;
-}
-
 bool is_delta_light(const Light& light) {
   return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
          std::holds_alternative<DistantLight>(light);
@@ -40,7 +35,7 @@ bool is_delta_light(const Light& light) {
 template <std::size_t N>
 class Bdpt {
  public:
-  Bdpt(const SceneView<N>& v, const WalkMedia& media, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
+  Bdpt(const SceneView<N>& v, const WalkMedia& media, SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
       : v_(v), s_(v.scene), media_(media), w_(w), rng_(rng), rays_(rays) {}
 
   void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path);
@@ -69,7 +64,7 @@ class Bdpt {
   const SceneView<N>& v_;
   const RenderScene& s_;
   const WalkMedia& media_;
-  const SampledWavelengths<N>& w_;
+  SampledWavelengths<N>& w_;
   Rng& rng_;
   std::uint64_t& rays_;
 };
@@ -90,51 +85,20 @@ void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path) {
   const auto pdf = v_.camera.pdf_we(ray);
   state.parallel = v_.camera.desc.type == CameraType::orthographic;
   state.pdf_dir = state.parallel ? pdf[0] : pdf[1];
-  random_walk(v_, media_, TransportMode::radiance, state, static_cast<std::size_t>(v_.max_depth) + 2, w_, rng_,
-              rays_, path);
+  state.from = ray.origin;
+  KeepVertices<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 2};
+  random_walk(v_, media_, TransportMode::radiance, state, w_, rng_, rays_, keep);
 }
 
 template <std::size_t N>
 void Bdpt<N>::light_subpath(std::vector<Vertex<N>>& path) {
   path.clear();
-  const double u_light = rng_.next_double(), u1 = rng_.next_double(), u2 = rng_.next_double(),
-               u3 = rng_.next_double(), u4 = rng_.next_double();
-  const auto chosen = s_.emitters.sample(u_light);
-  if (!chosen) return;
-  const Light& light = s_.lights[static_cast<std::size_t>(chosen->first)];
-  const auto le = sample_le(light, s_.bounds, u1, u2, u3, u4);
-  if (!le) return;
-  const SampledSpectrum<N> radiance =
-      le->texel >= 0 ? v_.tables.environment(*s_.environment, le->texel, w_) : v_.tables.at(le->spectrum, w_);
-  const double pmf = chosen->second;
   Vertex<N> y;
-  y.kind = VertexKind::light;
-  y.light = chosen->first;
-  y.infinite = le->delta_direction || std::holds_alternative<BackgroundLight>(light) ||
-               std::holds_alternative<EnvironmentLight>(light);
-  y.point = le->ray.origin;
-  y.normal = le->normal;
-  if (const auto* a = std::get_if<AreaLight>(&light)) {
-    y.hit.point = le->ray.origin;
-    y.hit.normal = a->normal;
-    y.hit.geometry = a->geometry;
-    y.hit.primitive = a->primitive;
-  }
-  y.light_dir = -le->ray.direction;
-  y.beta = radiance * static_cast<float>(1.0 / (pmf * le->pdf_pos));
-  y.pdf_fwd = y.infinite ? pmf * (le->delta_direction ? 1.0 : le->pdf_dir) : pmf * le->pdf_pos;
-  path.push_back(y);
   WalkState<N> state;
-  state.ray = le->ray;
-  if (y.on_surface()) state.ray.origin = offset_ray_origin(y.hit, le->ray.direction);
-  state.start = le->ray.origin;
-  state.medium = emission_medium(s_, light);
-  const double cos_light = le->normal == Vec3{} ? 1.0 : std::abs(dot(le->normal, le->ray.direction));
-  state.beta = radiance * static_cast<float>(le->factor * cos_light / (pmf * le->pdf_pos * le->pdf_dir));
-  state.parallel = y.infinite;
-  state.pdf_dir = y.infinite ? le->pdf_pos : le->pdf_dir;
-  random_walk(v_, media_, TransportMode::importance, state, static_cast<std::size_t>(v_.max_depth) + 1, w_, rng_,
-              rays_, path);
+  if (!start_light_subpath(v_, w_, rng_, y, state)) return;
+  path.push_back(y);
+  KeepVertices<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 1};
+  random_walk(v_, media_, TransportMode::importance, state, w_, rng_, rays_, keep);
 }
 
 // The density with which a light subpath starts at light vertex y: the light's pmf times its

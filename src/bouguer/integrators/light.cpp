@@ -8,83 +8,54 @@
 // non-specular surface or a lamp. The same Russian roulette and depth limit as the path tracer.
 // In scattering media: the same delta tracking as the path tracer, and every medium vertex is
 // connected to the camera through the phase function.
+// The walk is the one random walk of integrators/walk.h; this file is only its visitor.
 // Light path i of pixel slot p is seeded by (seed, p, i): region and sample-range splits give the
 // same splats, whose fixed-point sums (render/film.h) do not depend on the order of arrival.
 #include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/walk.h"
 
 namespace bouguer {
 namespace {
 
-// The medium a light emits into: the one in front of an emitter surface, the world's otherwise.
-int emission_medium(const RenderScene& scene, const Light& light) {
-  if (const auto* a = std::get_if<AreaLight>(&light)) return scene.surfaces[a->geometry].medium_front;
-  return scene.world_medium;
-}
+// The light tracer's visitor of a light subpath: every vertex on a non-specular surface and every
+// medium vertex connected to the camera; at most max_depth surface vertices and kMaxScatterings
+// medium vertices.
+template <std::size_t N>
+struct SplatToCamera {
+  const SceneView<N>& v;
+  const SampledWavelengths<N>& w;
+  Rng& rng;
+  FilmBuffer& film;
+  std::uint64_t& rays;
+  int surfaces = 0, scatterings = 0;
+
+  bool vertex(const Vertex<N>& x) {
+    if (x.kind == VertexKind::medium) {
+      if (++scatterings > kMaxScatterings) return false;
+      const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
+      splat_medium_to_camera(v, x.point, -x.wo, phase, x.medium, x.beta, w, x.r_u, rng, film, rays);
+      return true;
+    }
+    if (++surfaces > v.max_depth) return false;
+    if (!x.delta) splat_surface_to_camera(v, x.hit, x.event, x.wo, x.beta, w, x.r_u, rng, film, rays);
+    return true;
+  }
+  void reverse(double) {}
+};
 
 template <std::size_t N>
 void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                       FilmBuffer& film, std::uint64_t& rays) {
   const RenderScene& scene = v.scene;
-  const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double(), u3 = rng.next_double(),
-               u4 = rng.next_double();
-  const auto chosen = scene.emitters.sample(u_light);
-  if (!chosen) return;
-  const Light& light = scene.lights[static_cast<std::size_t>(chosen->first)];
-  const auto le = sample_le(light, scene.bounds, u1, u2, u3, u4);
-  if (!le) return;
   draw_hero(scene, w, rng);
-  const SampledSpectrum<N> radiance =
-      le->texel >= 0 ? v.tables.environment(*scene.environment, le->texel, w) : v.tables.at(le->spectrum, w);
-  int medium = emission_medium(scene, light);
-  Ray ray = le->ray;
-  const double cos_light = le->normal == Vec3{} ? 1.0 : std::abs(dot(le->normal, ray.direction));
-  if (const auto* area = std::get_if<AreaLight>(&light)) {
-    Hit at;
-    at.point = ray.origin;
-    at.normal = le->normal;
-    at.geometry = area->geometry;
-    at.primitive = area->primitive;
-    splat_light_to_camera(v, at, *area, medium, radiance * static_cast<float>(1.0 / (chosen->second * le->pdf_pos)), w,
-                          rng, film, rays);
-    ray.origin = offset_ray_origin(at, ray.direction);
-  }
-  SampledSpectrum<N> beta =
-      radiance * static_cast<float>(le->factor * cos_light / (chosen->second * le->pdf_pos * le->pdf_dir));
-  SpectralMis<N> mis;        // only r_u: a light path's splats have no competing strategy
-  Vec3 start = le->ray.origin;  // where the current segment started
-  int scatterings = 0, crossings = 0;
-  for (int depth = 0;; ++depth) {
-    ++rays;
-    const auto hit = scene.rays.intersect(ray);
-    if (!hit) return;
-    const Surface& surface = scene.surfaces[hit->geometry];
-    medium = medium_arrived_through(surface, ray, *hit, medium);
-    if (const auto x = through_medium(v, medium, start, ray.direction, *hit, w, rng, beta, mis)) {
-      if (beta.is_zero() || ++scatterings > kMaxScatterings) return;
-      const ScatteringMedium& sm = *scattering_medium(scene, medium);
-      splat_medium_to_camera(v, *x, ray.direction, sm.phase, medium, beta, w, mis.r_u, rng, film, rays);
-      if (!continue_from_medium(scene, sm, *x, depth + scatterings, medium, beta, mis, ray, rng)) return;
-      start = *x;
-      --depth;
-      continue;
-    }
-    if (beta.is_zero()) return;
-    if (surface.kind == SurfaceKind::emitter) return;  // lamps absorb what reaches them
-    if (surface.index_matched) {  // crossed unchanged, as camera paths and connections do
-      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) return;
-      --depth;
-      continue;
-    }
-    if (depth >= v.max_depth) return;
-    keep_one_wavelength(v, surface, w, beta, dispersion_u, rng);
-    const Vec3 wo = -ray.direction;
-    const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
-    if (!is_specular(e.bsdf)) splat_surface_to_camera(v, *hit, e, wo, beta, w, mis.r_u, rng, film, rays);
-    if (!continue_path(scene, *hit, e, wo, TransportMode::importance, depth + scatterings, beta, medium, ray, rng,
-                       mean_ratio(scene, mis.r_u)))
-      return;
-    start = hit->point;
-  }
+  Vertex<N> y;
+  WalkState<N> state;
+  if (!start_light_subpath(v, w, rng, y, state)) return;
+  state.dispersion_u = dispersion_u;
+  if (const auto* area = std::get_if<AreaLight>(&scene.lights[static_cast<std::size_t>(y.light)]))
+    splat_light_to_camera(v, y.hit, *area, state.medium, y.beta, w, rng, film, rays);
+  SplatToCamera<N> splat{v, w, rng, film, rays};
+  random_walk(v, WalkMedia{}, TransportMode::importance, state, w, rng, rays, splat);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 // when the sample began (not the hero's), so the weights do not depend on which wavelength drew
 // the distances, and the spectral MIS over wavelengths (media/scattering.h) stays unbiased
 // beneath them. The throughput beta and the ratios r_u are the estimator's own.
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -50,8 +51,19 @@ struct Vertex {
 // scatter) over the wavelengths the sample began with, which the MIS densities use.
 struct WalkMedia {
   std::span<const double> sigma_mean;
-  double sigma(int medium) const { return medium < 0 ? 0.0 : sigma_mean[static_cast<std::size_t>(medium)]; }
+  double sigma(int medium) const {
+    return medium < 0 || sigma_mean.empty() ? 0.0 : sigma_mean[static_cast<std::size_t>(medium)];
+  }
 };
+
+// σ̄_s·∫ρ dt over [0, t] from `start` along d in `medium` (0 where it does not scatter).
+template <std::size_t N>
+double scattering_depth(const SceneView<N>& v, const WalkMedia& media, int medium, const Vec3& start, const Vec3& d,
+                        double t) {
+  const double sigma = media.sigma(medium);
+  if (!(sigma > 0.0)) return 0.0;
+  return sigma * column_density(scattering_medium(v.scene, medium)->density, start, d, 0.0, t);
+}
 
 // The state a walk continues from: the ray leaving the last vertex, where the current segment
 // began (a vertex or a medium boundary), the medium it travels in, the throughput and ratios,
@@ -63,7 +75,9 @@ struct WalkState {
   int medium = -1;
   SampledSpectrum<N> beta = SampledSpectrum<N>::constant(1.0f);
   SpectralMis<N> mis;
+  Vec3 from;  // the last vertex
   double pdf_dir = 0.0;
+  double dispersion_u = 0.0;  // chooses the wavelength kept at the first dispersive interface
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int crossings = 0;
@@ -88,13 +102,177 @@ double to_area_density(double pdf_dir, const Vec3& from, const Vertex<N>& to, do
   return pdf;
 }
 
-// Extends `path` from `state` by at most max_vertices − path.size() vertices, in the transport
-// mode of the subpath (radiance: from the camera, which then also records where it meets a lamp
-// or escapes to a light at infinity; importance: from a light). Each vertex's pdf_fwd is set, and
-// the previous vertex's pdf_rev. Russian roulette and the medium tracking as the path tracer.
-template <std::size_t N>
+// Walks on from `state` in the transport mode of the subpath (radiance: from the camera, which
+// then also meets lamps and escapes to a light at infinity; importance: from a light), and hands
+// each vertex to the visitor (Tungsten's TraceBase, pbrt-v4's RandomWalk):
+//   visit.vertex(x) -> bool: a new vertex, its pdf_fwd set; false ends the walk (the visitor
+//       holds the limits: the depth, the scattering events);
+//   visit.reverse(pdf_dir): once the walk has sampled on from the last vertex, the solid-angle
+//       density with which that vertex samples the direction back towards the one before it.
+// At the first dispersive interface it keeps one wavelength (state.dispersion_u). Russian
+// roulette and the medium tracking as the path tracer's; index-matched boundaries are crossed
+// without a vertex.
+template <std::size_t N, typename Visitor>
 void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mode, WalkState<N>& state,
-                 std::size_t max_vertices, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                 std::vector<Vertex<N>>& path);
+                 SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays, Visitor& visit) {
+  const RenderScene& scene = v.scene;
+  double tau = 0.0;  // along the segment from the last vertex, across index-matched boundaries
+  int events = 0;    // vertices so far (Russian roulette)
+  auto make = [&](VertexKind kind, const Vec3& point) {
+    Vertex<N> x;
+    x.kind = kind;
+    x.point = point;
+    x.wo = -state.ray.direction;
+    x.tau_in = tau;
+    x.beta = state.beta;
+    x.r_u = state.mis.r_u;
+    return x;
+  };
+  auto record = [&](Vertex<N>& x) {
+    x.pdf_fwd = to_area_density(state.pdf_dir, state.from, x, tau, state.parallel);
+    return visit.vertex(x);
+  };
+  auto moved_on = [&](const Vec3& point) {
+    state.parallel = false;
+    state.from = state.start = point;
+    tau = 0.0;
+    ++events;
+  };
+  for (;;) {
+    ++rays;
+    const auto hit = scene.rays.intersect(state.ray);
+    if (!hit) {  // a camera subpath may end on a light at infinity
+      const int light = scene.environment_light >= 0 ? scene.environment_light : scene.background_light;
+      if (mode == TransportMode::radiance && light >= 0 && !absorbs(scene, state.medium) &&
+          !scattering_medium(scene, state.medium)) {
+        Vertex<N> x = make(VertexKind::light, Vec3{});
+        x.infinite = true;
+        x.light = light;
+        x.light_dir = state.ray.direction;
+        x.pdf_fwd = state.pdf_dir * std::exp(-tau);
+        visit.vertex(x);
+      }
+      return;
+    }
+    const Surface& surface = scene.surfaces[hit->geometry];
+    state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
+    const Vec3 d = state.ray.direction;
+    if (const auto x = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis)) {
+      tau += scattering_depth(v, media, state.medium, state.start, d, length(*x - state.start));
+      if (state.beta.is_zero()) return;
+      const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
+      Vertex<N> vx = make(VertexKind::medium, *x);
+      vx.medium = state.medium;
+      vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, *x);
+      if (!record(vx)) return;
+      const auto phase_pdf =
+          continue_from_medium(scene, sm, *x, events, state.medium, state.beta, state.mis, state.ray, rng);
+      if (!phase_pdf) return;
+      visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
+      state.pdf_dir = *phase_pdf;
+      moved_on(*x);
+      continue;
+    }
+    tau += scattering_depth(v, media, state.medium, state.start, d, length(hit->point - state.start));
+    if (state.beta.is_zero()) return;
+    if (surface.kind == SurfaceKind::emitter) {  // lamps absorb what reaches them
+      if (mode == TransportMode::radiance) {
+        Vertex<N> x = make(VertexKind::light, hit->point);
+        x.normal = hit->normal;
+        x.hit = *hit;
+        x.light = surface.first_light + static_cast<int>(hit->primitive);
+        record(x);
+      }
+      return;
+    }
+    if (surface.index_matched) {
+      if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
+      continue;
+    }
+    keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);
+    const Vec3 wo = -d;
+    Vertex<N> vx = make(VertexKind::surface, hit->point);
+    vx.normal = hit->normal;
+    vx.hit = *hit;
+    vx.event = surface_event(v, *hit, surface, wo, state.medium, w);
+    vx.delta = is_specular(vx.event.bsdf);
+    if (!record(vx)) return;
+    const SurfaceEvent<N>& e = vx.event;
+    const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
+                                        mean_ratio(scene, state.mis.r_u));
+    if (!bsdf_pdf) return;
+    visit.reverse(vx.delta ? 0.0 : pdf(e.bsdf, e.frame.to_local(state.ray.direction), e.frame.to_local(wo)));
+    state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;
+    moved_on(hit->point);
+  }
+}
+
+// The medium a light emits into: the one in front of an emitter surface, the world's otherwise (a
+// lamp inside an object: the first boundary the walk meets from inside sets it right).
+inline int emission_medium(const RenderScene& scene, const Light& light) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) return scene.surfaces[a->geometry].medium_front;
+  return scene.world_medium;
+}
+
+// The start of a light subpath: a light drawn by power, a ray from its own emission sampling. Its
+// first vertex `y` (beta: the emitted radiance over the densities of the light and the point) and
+// the walk's state on the ray leaving it. False when nothing leaves.
+template <std::size_t N>
+bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, Rng& rng, Vertex<N>& y,
+                         WalkState<N>& state) {
+  const RenderScene& scene = v.scene;
+  const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double(), u3 = rng.next_double(),
+               u4 = rng.next_double();
+  const auto chosen = scene.emitters.sample(u_light);
+  if (!chosen) return false;
+  const Light& light = scene.lights[static_cast<std::size_t>(chosen->first)];
+  const auto le = sample_le(light, scene.bounds, u1, u2, u3, u4);
+  if (!le) return false;
+  const SampledSpectrum<N> radiance =
+      le->texel >= 0 ? v.tables.environment(*scene.environment, le->texel, w) : v.tables.at(le->spectrum, w);
+  const double pmf = chosen->second;
+  y = Vertex<N>{};
+  y.kind = VertexKind::light;
+  y.light = chosen->first;
+  y.infinite = le->delta_direction || std::holds_alternative<BackgroundLight>(light) ||
+               std::holds_alternative<EnvironmentLight>(light);
+  y.point = le->ray.origin;
+  y.normal = le->normal;
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    y.hit.point = le->ray.origin;
+    y.hit.normal = a->normal;
+    y.hit.geometry = a->geometry;
+    y.hit.primitive = a->primitive;
+  }
+  y.light_dir = -le->ray.direction;
+  y.beta = radiance * static_cast<float>(1.0 / (pmf * le->pdf_pos));
+  y.pdf_fwd = y.infinite ? pmf * (le->delta_direction ? 1.0 : le->pdf_dir) : pmf * le->pdf_pos;
+  state.ray = le->ray;
+  if (y.on_surface()) state.ray.origin = offset_ray_origin(y.hit, le->ray.direction);
+  state.from = state.start = le->ray.origin;
+  state.medium = emission_medium(scene, light);
+  const double cos_light = le->normal == Vec3{} ? 1.0 : std::abs(dot(le->normal, le->ray.direction));
+  state.beta = radiance * static_cast<float>(le->factor * cos_light / (pmf * le->pdf_pos * le->pdf_dir));
+  state.parallel = y.infinite;
+  state.pdf_dir = y.infinite ? le->pdf_pos : le->pdf_dir;
+  return true;
+}
+
+// A visitor that keeps the vertices, at most `max_vertices` in all (the bidirectional estimator:
+// its depth counts medium vertices too), each previous vertex's pdf_rev set as the walk goes on.
+template <std::size_t N>
+struct KeepVertices {
+  std::vector<Vertex<N>>& path;
+  std::size_t max_vertices;
+  bool vertex(const Vertex<N>& x) {
+    path.push_back(x);
+    return path.size() < max_vertices;
+  }
+  void reverse(double pdf_dir) {
+    const Vertex<N>& at = path.back();
+    Vertex<N>& prev = path[path.size() - 2];
+    prev.pdf_rev = to_area_density(pdf_dir, at.point, prev, at.tau_in);
+  }
+};
 
 }  // namespace bouguer
