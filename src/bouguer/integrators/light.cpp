@@ -22,6 +22,7 @@ namespace {
 // medium vertices.
 template <std::size_t N>
 struct SplatToCamera {
+  static constexpr bool kReverse = false;
   const SceneView<N>& v;
   const SampledWavelengths<N>& w;
   Rng& rng;

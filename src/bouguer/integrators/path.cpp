@@ -15,76 +15,80 @@
 // function; Russian roulette by throughput there too. Scattering events do not count against
 // max_depth; a path stops after kMaxScatterings of them (integrators/events.h). Index-matched
 // interfaces are crossed without a vertex.
+// The walk is the one random walk of integrators/walk.h; this file is its visitor.
 #include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/walk.h"
 
 namespace bouguer {
 namespace {
 
+// The path tracer's visitor: at each vertex of a camera walk, what it sees directly (an emitter or
+// the environment, weighted against next-event estimation) and next-event estimation; at most
+// max_depth surface vertices and kMaxScatterings medium vertices.
+template <std::size_t N>
+struct Radiance {
+  static constexpr bool kReverse = false;
+  const SceneView<N>& v;
+  const SampledWavelengths<N>& w;
+  const WalkState<N>& state;
+  SpectralMis<N>& mis;  // the walk's: r_u over the path, r_l since its last vertex (media/scattering.h)
+  Rng& rng;
+  std::uint64_t& rays;
+  Vec3 previous;  // the last vertex: where next-event estimation would have started
+  SampledSpectrum<N> l;
+  int surfaces = 0, scatterings = 0;
+
+  // A light met along a direction drawn with density state.pdf_dir (0: specular, or the camera).
+  void arrived_at_light(const Vertex<N>& x) {
+    const RenderScene& scene = v.scene;
+    const double arrived = state.pdf_dir;
+    const Vec3 d = -x.wo;
+    if (x.infinite) {  // an environment map is also reached by next-event estimation: weighted against it
+      const double weight = arrived == 0.0 || !scene.environment
+                                ? 1.0
+                                : spectral_power_heuristic(scene, arrived, mis.r_u, environment_pdf(scene, d), mis.r_l);
+      l += x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
+      return;
+    }
+    const double weight =
+        arrived == 0.0 ? 1.0
+                       : spectral_power_heuristic(scene, arrived, mis.r_u, area_light_pdf(scene, x.hit, previous, d),
+                                                  mis.r_l);
+    l += x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
+  }
+
+  bool vertex(const Vertex<N>& x) {
+    const RenderScene& scene = v.scene;
+    if (x.kind == VertexKind::light) {
+      arrived_at_light(x);
+      return false;
+    }
+    if (x.kind == VertexKind::medium) {
+      if (++scatterings > kMaxScatterings) return false;
+      const PhaseFunction& phase = scattering_medium(scene, x.medium)->phase;
+      l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, mis.r_u, rng, rays);
+    } else {
+      if (++surfaces > v.max_depth) return false;
+      if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, mis.r_u, rng, rays, true, true);
+    }
+    if (scene.scatters) mis.r_l = mis.r_u;  // (all ones otherwise)
+    previous = x.point;
+    return true;
+  }
+};
+
 template <std::size_t N>
 SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                         std::uint64_t& rays) {
-  const RenderScene& scene = v.scene;
-  draw_hero(scene, w, rng);
-  SampledSpectrum<N> l, beta = SampledSpectrum<N>::constant(1.0f);
-  SpectralMis<N> mis;     // r_u over the path; r_l since its last vertex (media/scattering.h)
-  double prev_pdf = 0.0;  // 0: the last vertex was specular (or the camera)
-  Vec3 vertex = ray.origin;  // the last vertex: where next-event estimation would have started
-  Vec3 start = ray.origin;   // where the current segment started (a vertex or a medium boundary)
-  int medium = scene.world_medium;
-  int scatterings = 0, crossings = 0;
-  for (int depth = 0;; ++depth) {
-    ++rays;
-    const auto hit = scene.rays.intersect(ray);
-    if (!hit) {  // an environment map is also reached by next-event estimation: weighted against it
-      const double weight = prev_pdf == 0.0 || !scene.environment
-                                ? 1.0
-                                : spectral_power_heuristic(scene, prev_pdf, mis.r_u, environment_pdf(scene, ray.direction), mis.r_l);
-      l += beta * escaped(v, medium, ray.direction, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
-      break;
-    }
-    const Surface& surface = scene.surfaces[hit->geometry];
-    medium = medium_arrived_through(surface, ray, *hit, medium);
-    if (const auto x = through_medium(v, medium, start, ray.direction, *hit, w, rng, beta, mis)) {
-      // A vertex in the medium: direct light through the phase function, then a new direction
-      // drawn from it. Scattering events do not count against max_depth.
-      if (beta.is_zero() || ++scatterings > kMaxScatterings) break;
-      const ScatteringMedium& sm = *scattering_medium(scene, medium);
-      l += beta * direct_light_in_medium(v, *x, ray.direction, sm.phase, medium, w, mis.r_u, rng, rays);
-      const auto pdf = continue_from_medium(scene, sm, *x, depth + scatterings, medium, beta, mis, ray, rng);
-      if (!pdf) break;
-      mis.r_l = mis.r_u;
-      prev_pdf = *pdf;
-      vertex = start = *x;
-      --depth;
-      continue;
-    }
-    if (beta.is_zero()) break;
-    const Vec3 wo = -ray.direction;
-    if (surface.kind == SurfaceKind::emitter) {
-      const double weight =
-          prev_pdf == 0.0
-              ? 1.0
-              : spectral_power_heuristic(scene, prev_pdf, mis.r_u, area_light_pdf(scene, *hit, vertex, ray.direction), mis.r_l);
-      l += beta * emitted(v, *hit, wo, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
-      break;
-    }
-    if (surface.index_matched) {
-      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) break;
-      --depth;
-      continue;
-    }
-    if (depth >= v.max_depth) break;
-    keep_one_wavelength(v, surface, w, beta, dispersion_u, rng);
-    const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
-    if (!is_specular(e.bsdf)) l += beta * direct_light(v, *hit, e, wo, w, mis.r_u, rng, rays, true, true);
-    const auto pdf = continue_path(scene, *hit, e, wo, TransportMode::radiance, depth + scatterings, beta, medium, ray,
-                                   rng, mean_ratio(scene, mis.r_u));
-    if (!pdf) break;
-    prev_pdf = *pdf;
-    if (scene.scatters) mis.r_l = mis.r_u;  // (all ones otherwise)
-    vertex = start = hit->point;
-  }
-  return l;
+  draw_hero(v.scene, w, rng);
+  WalkState<N> state;
+  state.ray = ray;
+  state.from = state.start = ray.origin;
+  state.medium = v.scene.world_medium;
+  state.dispersion_u = dispersion_u;
+  Radiance<N> li{v, w, state, state.mis, rng, rays, ray.origin, {}};
+  random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
+  return li.l;
 }
 
 }  // namespace

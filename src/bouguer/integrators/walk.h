@@ -108,7 +108,10 @@ double to_area_density(double pdf_dir, const Vec3& from, const Vertex<N>& to, do
 //   visit.vertex(x) -> bool: a new vertex, its pdf_fwd set; false ends the walk (the visitor
 //       holds the limits: the depth, the scattering events);
 //   visit.reverse(pdf_dir): once the walk has sampled on from the last vertex, the solid-angle
-//       density with which that vertex samples the direction back towards the one before it.
+//       density with which that vertex samples the direction back towards the one before it
+//       (asked only of a visitor whose kReverse is true).
+// The visitor may read and edit `state` in vertex() (the path tracer's MIS reads the density of
+// the direction that arrived, state.pdf_dir, and restarts the light-connection ratios).
 // At the first dispersive interface it keeps one wavelength (state.dispersion_u). Russian
 // roulette and the medium tracking as the path tracer's; index-matched boundaries are crossed
 // without a vertex.
@@ -165,10 +168,11 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       vx.medium = state.medium;
       vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, *x);
       if (!record(vx)) return;
+      // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
       const auto phase_pdf =
-          continue_from_medium(scene, sm, *x, events, state.medium, state.beta, state.mis, state.ray, rng);
+          continue_from_medium(scene, sm, *x, events + 1, state.medium, state.beta, state.mis, state.ray, rng);
       if (!phase_pdf) return;
-      visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
+      if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
       state.pdf_dir = *phase_pdf;
       moved_on(*x);
       continue;
@@ -201,7 +205,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
                                         mean_ratio(scene, state.mis.r_u));
     if (!bsdf_pdf) return;
-    visit.reverse(vx.delta ? 0.0 : pdf(e.bsdf, e.frame.to_local(state.ray.direction), e.frame.to_local(wo)));
+    if constexpr (Visitor::kReverse)
+      visit.reverse(vx.delta ? 0.0 : pdf(e.bsdf, e.frame.to_local(state.ray.direction), e.frame.to_local(wo)));
     state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;
     moved_on(hit->point);
   }
@@ -262,6 +267,7 @@ bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, 
 // its depth counts medium vertices too), each previous vertex's pdf_rev set as the walk goes on.
 template <std::size_t N>
 struct KeepVertices {
+  static constexpr bool kReverse = true;
   std::vector<Vertex<N>>& path;
   std::size_t max_vertices;
   bool vertex(const Vertex<N>& x) {
