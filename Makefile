@@ -6,7 +6,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 180
 FUZZ_TARGETS ?=
 
-.PHONY: all deps configure build demo test bench convergence fuzz clean
+.PHONY: all deps configure build demo test bench convergence estimators fuzz clean
 
 all: build
 
@@ -32,6 +32,10 @@ bench: build
 # Samples and seconds each spectral mode needs to reach mean ΔE00 < 1 (several minutes).
 convergence: build
 	@bash scripts/convergence.sh $(BUILD)
+
+# Seconds path and bdpt need to reach mean ΔE00 < 2 and < 1 on the caustic scenes (tens of minutes).
+estimators: build
+	@bash bench/estimators.sh $(BUILD)
 
 # The readers under libFuzzer, ASan and UBSan (clang; tests/fuzz): each harness for FUZZ_SECONDS on
 # its corpus, one after another; FUZZ_TARGETS picks some (e.g. FUZZ_TARGETS="ply_ascii exr").

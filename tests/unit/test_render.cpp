@@ -377,6 +377,30 @@ INSTANTIATE_TEST_SUITE_P(PathTracer, PathVersusWhitted,
                            return n;
                          });
 
+// The same for the bidirectional estimator (light subpaths start at the background and the lamps;
+// 2048 spp: its samples cost about three of the path tracer's).
+class BidirectionalVersusWhitted : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BidirectionalVersusWhitted, ConvergeToTheSameImage) {
+  SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (GetParam() + ".json"));
+  desc.camera.width_px = desc.camera.height_px = 24;
+  desc.render.spp = 2048;
+  const Film whitted = test::render_desc(desc);
+  desc.render.integrator = IntegratorType::bdpt;
+  const Film bdpt = test::render_desc(desc);
+  const ImageDifference d = compare_images(whitted, bdpt);
+  std::printf("%s: bdpt vs whitted, mean ΔE00 %.3f, p95 %.3f\n", GetParam().c_str(), d.mean, d.p95);
+  EXPECT_LT(d.mean, 0.3) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(Bidirectional, BidirectionalVersusWhitted,
+                         ::testing::Values("pyramid-red-glass", "pyramid-light-blue-glass", "truncated-cube-red-glass"),
+                         [](const ::testing::TestParamInfo<std::string>& p) {
+                           std::string n = p.param;
+                           std::replace(n.begin(), n.end(), '-', '_');
+                           return n;
+                         });
+
 // Light through glass reaches a diffuse floor only along BSDF-sampled paths: under a red glass
 // block the path tracer shows a red shadow, where the Whitted tracer's shadow rays are blocked.
 TEST(PathTracer, ColouredShadowBehindRedGlass) {
