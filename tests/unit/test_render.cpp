@@ -355,19 +355,23 @@ TEST(Scenes, EveryShippedSceneRenders) {
 // the Whitted tracer converge to the same image. One test per scene (ctest runs them side by
 // side), 24 × 24 pixels at 4096 spp: the mean ΔE00 is set by the path tracer's noise per pixel,
 // which the pixel count does not change.
+// `integrator` at `spp` against Whitted on a paper scene at 24 × 24 pixels.
+void expect_converges_to_whitted(const std::string& scene, IntegratorType integrator, int spp) {
+  SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (scene + ".json"));
+  desc.camera.width_px = desc.camera.height_px = 24;
+  desc.render.spp = spp;
+  const Film whitted = test::render_desc(desc);
+  desc.render.integrator = integrator;
+  const Film other = test::render_desc(desc);
+  const ImageDifference d = compare_images(whitted, other);
+  std::printf("%s: %s vs whitted, mean ΔE00 %.3f, p95 %.3f\n", scene.c_str(),
+              std::string(integrator_info(integrator).name).c_str(), d.mean, d.p95);
+  EXPECT_LT(d.mean, 0.3) << scene;
+}
+
 class PathVersusWhitted : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(PathVersusWhitted, ConvergeToTheSameImage) {
-  SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (GetParam() + ".json"));
-  desc.camera.width_px = desc.camera.height_px = 24;
-  desc.render.spp = 4096;
-  const Film whitted = test::render_desc(desc);
-  desc.render.integrator = IntegratorType::path;
-  const Film path = test::render_desc(desc);
-  const ImageDifference d = compare_images(whitted, path);
-  std::printf("%s: path vs whitted, mean ΔE00 %.3f, p95 %.3f\n", GetParam().c_str(), d.mean, d.p95);
-  EXPECT_LT(d.mean, 0.3) << GetParam();
-}
+TEST_P(PathVersusWhitted, ConvergeToTheSameImage) { expect_converges_to_whitted(GetParam(), IntegratorType::path, 4096); }
 
 INSTANTIATE_TEST_SUITE_P(PathTracer, PathVersusWhitted,
                          ::testing::Values("pyramid-red-glass", "pyramid-light-blue-glass", "truncated-cube-red-glass"),
@@ -382,15 +386,7 @@ INSTANTIATE_TEST_SUITE_P(PathTracer, PathVersusWhitted,
 class BidirectionalVersusWhitted : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BidirectionalVersusWhitted, ConvergeToTheSameImage) {
-  SceneDesc desc = load_scene(fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "paper" / (GetParam() + ".json"));
-  desc.camera.width_px = desc.camera.height_px = 24;
-  desc.render.spp = 2048;
-  const Film whitted = test::render_desc(desc);
-  desc.render.integrator = IntegratorType::bdpt;
-  const Film bdpt = test::render_desc(desc);
-  const ImageDifference d = compare_images(whitted, bdpt);
-  std::printf("%s: bdpt vs whitted, mean ΔE00 %.3f, p95 %.3f\n", GetParam().c_str(), d.mean, d.p95);
-  EXPECT_LT(d.mean, 0.3) << GetParam();
+  expect_converges_to_whitted(GetParam(), IntegratorType::bdpt, 2048);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bidirectional, BidirectionalVersusWhitted,
