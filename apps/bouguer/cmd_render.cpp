@@ -28,6 +28,7 @@ struct RenderCli {
   std::string scene, spectral_exr, stats_json, integrator, spectral, resolution;
   int spp = 0, threads = 0, max_depth = 0;
   long long seed = -1;
+  double time_s = 0.0;  // --time: a budget of seconds (0: none)
   bool quiet = false;
 };
 
@@ -100,24 +101,40 @@ struct InterruptGuard {
 // image early. Passes stay few (log2 spp + 1): each one walks the whole film again, which cost
 // rgb3 Whitted 5-15 % when passes were capped at a sixteenth of the samples. Returns the samples per pixel every pixel has, and in `partial` how many more the
 // interrupted pass added to the pixels it reached.
+// With a budget of seconds (--time), a pass that would not end within it is cut to the samples
+// that will, at the rate measured so far, and none is begun when not one more would: any split
+// into passes gives the same image, so the image is that of the samples done (which then depend
+// on the machine's speed).
 struct Passes {
   int complete = 0, partial = 0;
   double partial_fraction = 0.0;  // of the interrupted pass's tiles that finished
 };
 
 Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
-                     Progress& progress, RenderStats& stats) {
+                     Progress& progress, RenderStats& stats, double budget_s = 0.0) {
   const int spp = settings.spp;
+  const auto start = std::chrono::steady_clock::now();
   Passes p;
   for (int begin = 0; begin < spp;) {
-    const int end = std::min(spp, begin + std::max(begin, 1));
+    int end = std::min(spp, begin + std::max(begin, 1));
+    if (budget_s > 0.0 && begin > 0) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double affordable = (budget_s - elapsed) / (elapsed / begin);  // samples per pixel still in time
+      if (affordable < 1.0) return p;
+      end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
+    }
     double fraction = 0.0;
     RenderControl control;
     control.threads = threads;
     control.cancel = &g_interrupted;
     control.progress = [&](double f) {
       fraction = f;
-      progress.update((begin + f * (end - begin)) / spp);
+      if (budget_s > 0.0)  // the budget ends the render first unless the samples do
+        progress.update(std::min(1.0, std::max((begin + f * (end - begin)) / spp,
+                                               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+                                                   budget_s)));
+      else
+        progress.update((begin + f * (end - begin)) / spp);
     };
     render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, control, stats);
     if (g_interrupted) {
@@ -144,7 +161,10 @@ int run_render(const RenderCli& o) {
   const OutputSet outputs = checked_outputs(o);
   SceneDesc desc = load_scene(o.scene);
   apply_overrides(o, desc);
-  const RenderSettings settings = desc.render;
+  RenderSettings settings = desc.render;
+  // A budget of seconds without --spp: as many samples as the budget allows.
+  constexpr int kTimedSpp = 1 << 20;
+  if (o.time_s > 0.0 && o.spp == 0) settings.spp = kTimedSpp;
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
@@ -154,9 +174,9 @@ int run_render(const RenderCli& o) {
   Passes passes;
   {
     const InterruptGuard guard;
-    passes = render_passes(scene, settings, buffer, o.threads, progress, stats);
+    passes = render_passes(scene, settings, buffer, o.threads, progress, stats, o.time_s);
   }
-  const bool interrupted = passes.complete < settings.spp;
+  const bool interrupted = g_interrupted && passes.complete < settings.spp;
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
   const double splat_spp = passes.complete + passes.partial * passes.partial_fraction;
   const Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
@@ -198,7 +218,7 @@ int run_render(const RenderCli& o) {
   }
   if (!o.quiet)
     fmt::print("{}: {}x{}, {} spp, {}, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
-               settings.spp, integrator_info(settings.integrator).name, mode, stats.seconds, stats.rays,
+               passes.complete, integrator_info(settings.integrator).name, mode, stats.seconds, stats.rays,
                rays_per_second, fmt::join(o.outputs, ", "));
   return 0;
 }
@@ -239,6 +259,10 @@ Command add_render_command(CLI::App& parent) {
   app->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   app->add_option("--seed", o->seed, "Random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));
   app->add_option("--max-depth", o->max_depth, "Maximum ray depth (overrides the scene)")->check(CLI::Range(1, 1000));
+  app->add_option("--time", o->time_s,
+                  "Render whole passes for at most SECONDS, then write the image (with --spp: whichever ends first; "
+                  "the image then depends on the machine)")
+      ->check(CLI::PositiveNumber);
   app->add_option("--stats-json", o->stats_json, "Write seconds, rays, rays_per_second, spp, resolution as JSON");
   app->add_flag("--quiet", o->quiet, "No progress and no summary line");
   return {app, [o] { return run_render(*o); }};

@@ -77,6 +77,31 @@ TEST(CliRender, StatsJsonSpectralExrAndSummaryLine) {
   EXPECT_FALSE(fs::exists(dir / "t.png"));
 }
 
+// --time: whole passes within the budget, then the image; with --spp, whichever ends first.
+TEST(CliRender, TimeBudgetEndsTheRenderWithTheSamplesDone) {
+  const auto dir = test::scratch_dir("cli_time");
+  const TimedRun timed = timed_run({"render", kExample, "--resolution", "160x120", "--time", "1.5", "--threads", "1",
+                                    "-o", (dir / "t.pfm").string(), "--stats-json", (dir / "t.json").string(),
+                                    "--quiet"});
+  ASSERT_EQ(timed.result.exit_code, 0) << timed.result.err;
+  const auto j = nlohmann::json::parse(test::read_file(dir / "t.json"));
+  const int spp = j["spp"].get<int>();
+  std::printf("--time 1.5: %d spp in %.2f s (the whole command)\n", spp, timed.seconds);
+  EXPECT_GE(spp, 1);
+  EXPECT_LT(j["seconds"].get<double>(), 1.5 * 1.25);  // the last pass is cut to what fits
+  EXPECT_TRUE(fs::exists(dir / "t.pfm"));
+  // The samples end first: exactly --spp, and the image that --spp alone gives.
+  const auto a = test::run_bouguer({"render", kExample, "--resolution", "40x30", "--spp", "4", "--time", "100", "-o",
+                                    (dir / "a.pfm").string(), "--stats-json", (dir / "a.json").string(), "--quiet"});
+  const auto b = test::run_bouguer({"render", kExample, "--resolution", "40x30", "--spp", "4", "-o",
+                                    (dir / "b.pfm").string(), "--quiet"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_EQ(nlohmann::json::parse(test::read_file(dir / "a.json"))["spp"].get<int>(), 4);
+  EXPECT_EQ(test::read_file(dir / "a.pfm"), test::read_file(dir / "b.pfm"));
+  EXPECT_EQ(test::run_bouguer({"render", kExample, "--time", "0", "-o", (dir / "c.pfm").string()}).exit_code, 2);
+}
+
 // Each output is checked before the scene is read: one line naming the option and the path, exit 2,
 // in a fraction of a second, with no render begun.
 TEST(CliRender, OutputsThatCannotBeWrittenFailBeforeRendering) {
