@@ -95,6 +95,29 @@ TEST(Scattering, WhiteFurnaceWithADensityField) {
       "exponential density");
 }
 
+// The furnace with a sparse voxel grid as the density (media/majorant.h: the majorant of each
+// cell the ray crosses): three balls of densities 1 to 3 in a 24³ grid of 0.5 mm voxels that
+// fills the sphere, empty elsewhere, so paths cross empty cells, cell edges and dense cells.
+TEST(Scattering, WhiteFurnaceWithAGridDensity) {
+  const fs::path dir = test::scratch_dir("scattering_grid_furnace");
+  test::VdbTestGrid g;
+  g.voxel_m = {0.5e-3, 0.5e-3, 0.5e-3};
+  g.origin_m = {0.25e-3, 0.25e-3, 0.25e-3};  // voxel centres at ±0.25 mm, ±0.75 mm, ...
+  g.first = {-12, -12, -12};
+  g.count = {24, 24, 24};
+  g.value = [](const Vec3& x) {
+    const Vec3 centres[] = {{0.0015, 0.001, 0.0}, {-0.002, -0.0015, 0.001}, {0.0, 0.0025, -0.002}};
+    const double radii[] = {0.0015, 0.002, 0.001}, densities[] = {3.0, 2.0, 1.0};
+    for (int i = 0; i < 3; ++i)
+      if (length(x - centres[i]) <= radii[i]) return densities[i];
+    return 0.0;
+  };
+  test::write_vdb_file(dir / "balls.vdb", {g});
+  expect_white_furnace(
+      furnace_scene(fmt::format(R"(, "density": {{"field": "grid", "file": "{}"}})", (dir / "balls.vdb").string())),
+      "grid density");
+}
+
 // The same furnace lit by a uniform environment map instead of the background, around a ball of
 // the medium whose index is that of the vacuum outside (n = 1): next-event estimation from the
 // medium vertices reaches the map through the index-matched boundary and is weighted against
