@@ -54,22 +54,31 @@ struct MajorantWalk {
 };
 
 // Walks the majorant's pieces of [0, t_max] along `ray` (media/majorant.h); at each tentative
-// collision calls on_collision(t, ρ(x)/ρ̄), which returns false to stop the walk there. The
-// exponential is drawn afresh in each piece (it is memoryless); pieces with ρ̄ = 0 draw nothing.
+// collision calls on_collision(t, ρ(x)/ρ̄), which returns false to stop the walk there. Each
+// tentative collision is where the optical depth of the hero's majorant since the last one reaches
+// an exponential draw τ. Through a grid the τ left at a cell's end carries into the next cell (one
+// logarithm per collision, not per cell: the same distribution, since the process is memoryless);
+// the homogeneous and analytic walks draw τ afresh in each piece, as they did before the grid had
+// its own pieces, so that their images stay bit for bit. Pieces with ρ̄ = 0 draw nothing.
 template <typename Ray, typename OnCollision>
 MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const Ray& ray, double t_max, Rng& rng,
                            OnCollision on_collision) {
+  const bool carry = std::holds_alternative<GridField>(m.density);
+  auto draw = [&] { return -std::log1p(-rng.next_double()); };
   MajorantWalk walk;
   DensityMajorant majorant(m.density, ray.origin, ray.direction, t_max);
+  double tau = carry ? draw() : 0.0;
   for (MajorantSegment piece; majorant.next(piece);) {
     const double a = piece.t0, b = piece.t1, rho_bar = piece.density;
     if (!(rho_bar > 0.0)) continue;
     const double rate = sigma_hero * rho_bar;
+    if (!carry) tau = draw();
     double t = a;
     for (;;) {
-      const double dt = rate > 0.0 ? -std::log1p(-rng.next_double()) / rate : b - t;
+      const double dt = rate > 0.0 ? tau / rate : b - t;
       if (t + dt >= b) {
         walk.rho_length_m += rho_bar * (b - t);
+        tau = std::max(0.0, tau - rate * (b - t));
         break;
       }
       t += dt;
@@ -77,6 +86,7 @@ MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const R
       ++walk.collisions;
       const double real = concentration_at(m.density, ray.origin + ray.direction * t) / rho_bar;
       if (!on_collision(t, std::min(1.0, real))) return walk;
+      tau = draw();
     }
   }
   return walk;
