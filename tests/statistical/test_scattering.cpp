@@ -251,7 +251,6 @@ TEST(Scattering, LightTracerAgreesWithThePathTracerInAMedium) {
   }
 }
 
-
 // --- Tracking through a voxel grid density (media/majorant.h): the majorant of each cell ---
 
 // The spectral tables as the tracking sees them: σ_s per wavelength, no absorbers.
@@ -389,8 +388,9 @@ TEST(Scattering, DistancesThroughAGridDensityFollowTheAnalogDensity) {
     for (std::size_t k = 0; k < 4; ++k)
       for (std::size_t q = 0; q < 4; ++q) {
         const double sigma = tables.sigma_s[k];
-        const double expected = q < 3 ? -std::expm1(-sigma * scattering_column_density(m, ray, 0.0, quantiles[q] * kRayLengthM))
-                                      : std::exp(-sigma * column);
+        const double expected =
+            q < 3 ? -std::expm1(-sigma * scattering_column_density(m, ray, 0.0, quantiles[q] * kRayLengthM))
+                  : std::exp(-sigma * column);
         const double mean = sum[k][q] / kWalks;
         const double se = std::sqrt(std::max(0.0, sum2[k][q] / kWalks - mean * mean) / kWalks);
         EXPECT_NEAR(mean, expected, 0.02) << "λ " << k << (q < 3 ? " before quantile " : " through ") << q;
@@ -433,17 +433,19 @@ TEST(Scattering, AGridMajorantTakesFewNullCollisionsInASparseGrid) {
   for (const TestRay& ray : rays) {
     auto start = std::chrono::steady_clock::now();
     for (int r = 0; r < kRepeats; ++r) {
-      const detail::MajorantWalk walk = detail::walk_majorant(m, sigma, ray, kRayLengthM, rng, [&](double, double real) {
-        dda_real += real;
-        return true;
-      });
+      const detail::MajorantWalk walk =
+          detail::walk_majorant(m, sigma, ray, kRayLengthM, rng, [&](double, double real) {
+            dda_real += real;
+            return true;
+          });
       dda_tentative += walk.collisions;
       dda_expected += sigma * walk.rho_length_m;  // the walk's own ∫ρ̄: all of the segment here
     }
     auto end = std::chrono::steady_clock::now();
     dda_seconds += std::chrono::duration<double>(end - start).count();
     start = end;
-    for (int r = 0; r < kRepeats; ++r) eight_tentative += eight_piece_collisions(m, sigma, ray, kRayLengthM, rng, eight_real);
+    for (int r = 0; r < kRepeats; ++r)
+      eight_tentative += eight_piece_collisions(m, sigma, ray, kRayLengthM, rng, eight_real);
     eight_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   const double walks = double(rays.size()) * kRepeats;
@@ -458,11 +460,12 @@ TEST(Scattering, AGridMajorantTakesFewNullCollisionsInASparseGrid) {
     column += scattering_column_density(m, ray, 0.0, kRayLengthM);
   }
   const double expected = sigma * majorant_integral * kRepeats, expected_real = sigma * column * kRepeats;
-  std::printf("sparse grid, per walk: DDA %.3f tentative (%.3f real, %.3f null), 8 pieces %.3f tentative "
-              "(%.3f real, %.3f null), σ∫ρ %.3f; %.2f µs against %.2f µs a walk\n",
-              dda_tentative / walks, dda_real / walks, (dda_tentative - dda_real) / walks, eight_tentative / walks,
-              eight_real / walks, (eight_tentative - eight_real) / walks, expected_real / walks, 1e6 * dda_seconds / walks,
-              1e6 * eight_seconds / walks);
+  std::printf(
+      "sparse grid, per walk: DDA %.3f tentative (%.3f real, %.3f null), 8 pieces %.3f tentative "
+      "(%.3f real, %.3f null), σ∫ρ %.3f; %.2f µs against %.2f µs a walk\n",
+      dda_tentative / walks, dda_real / walks, (dda_tentative - dda_real) / walks, eight_tentative / walks,
+      eight_real / walks, (eight_tentative - eight_real) / walks, expected_real / walks, 1e6 * dda_seconds / walks,
+      1e6 * eight_seconds / walks);
   EXPECT_NEAR(dda_expected, expected, 1e-9 * expected);
   EXPECT_NEAR(dda_tentative, expected, 4.0 * std::sqrt(expected));
   EXPECT_NEAR(dda_real, expected_real, 4.0 * std::sqrt(expected_real));

@@ -38,9 +38,9 @@ class DensityMajorant {
   const ConcentrationField* field_;
   Vec3 origin_m_, direction_;
   double t_max_;
-  int piece_ = 0, pieces_ = 1;            // the constant and analytic fields
+  int piece_ = 0, pieces_ = 1;  // the constant and analytic fields
   const GridField* grid_ = nullptr;
-  std::optional<GridCellWalk> cells_;      // a grid
+  std::optional<GridCellWalk> cells_;  // a grid
 };
 
 }  // namespace bouguer
