@@ -16,6 +16,7 @@
 #include "bouguer/io/spectrum_csv.h"
 #include "bouguer/io/vdb.h"
 #include "bouguer/media/concentration_field.h"
+#include "bouguer/media/majorant.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/environment.h"
 #include "bouguer/scene/loader.h"
@@ -144,7 +145,8 @@ void scene(std::string_view bytes, const fs::path& dir) {
 }
 
 // A .vdb file: its first float grid ("density" when it has one) as a grid field, walked along a
-// few rays as the renderer does. Every value it gives is finite, >= 0 and within the maxima.
+// few rays as the renderer does. Every value it gives is finite, >= 0 and within the maxima, and
+// the tracking majorant's pieces bound the column density.
 void vdb(std::string_view bytes, const fs::path& dir) {
   const fs::path path = write(dir, "input.vdb", bytes);
   const std::vector<std::string> names = vdb_grid_names(path);
@@ -170,6 +172,16 @@ void vdb(std::string_view bytes, const fs::path& dir) {
     require(std::isfinite(column) && column >= 0.0, "column density {}", column);
     require(peak >= 0.0 && peak <= max_concentration(f), "peak {} of {}", peak, max_concentration(f));
     require(column <= peak * 2.0 * reach * (1.0 + 1e-9) + 1e-300, "column {} above peak {} × length", column, peak);
+    // The tracking majorant (a piece per cell): in order, inside the segment, bounded, above the column.
+    DensityMajorant majorant(f, o, d, 2.0 * reach);
+    double end = 0.0, integral = 0.0;
+    for (MajorantSegment s; majorant.next(s);) {
+      require(s.t0 >= end && s.t1 > s.t0 && s.t1 <= 2.0 * reach, "piece [{}, {}] after {}", s.t0, s.t1, end);
+      require(s.density >= 0.0 && s.density <= max_concentration(f), "piece bound {}", s.density);
+      integral += s.density * (s.t1 - s.t0);
+      end = s.t1;
+    }
+    require(integral >= column * (1.0 - 1e-9), "majorant integral {} below column {}", integral, column);
   }
 }
 

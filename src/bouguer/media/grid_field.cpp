@@ -8,7 +8,7 @@ namespace bouguer {
 namespace {
 
 using Corners = std::array<double, 8>;  // c000, c100, c010, c110, c001, c101, c011, c111
-using Cell = std::array<int, 3>;
+using Cell = GridCell;
 
 Corners corners(const GridValues& g, const Cell& c) {
   const std::size_t nx = static_cast<std::size_t>(g.nodes[0]), nxy = nx * static_cast<std::size_t>(g.nodes[1]);
@@ -43,40 +43,58 @@ bool clip_to_lattice(const GridValues& g, const Vec3& p0, const Vec3& e, double&
   return t0 < t1;
 }
 
-// Calls piece(cell, ta, tb) for every cell p0 + t·e crosses over [t0, t1], in order. Each
-// boundary time is computed from p0 afresh (no accumulated increments); the step count is
-// bounded by the cells a line can cross, so rounding cannot make it loop.
-template <typename Piece>
-void for_each_cell(const GridValues& g, const Vec3& p0, const Vec3& e, double t0, double t1, Piece piece) {
-  if (!clip_to_lattice(g, p0, e, t0, t1)) return;
-  const Vec3 start = p0 + e * t0;
-  Cell cell{}, step{};
-  std::array<double, 3> t_next{};
-  auto boundary_time = [&](int k) { return (cell[k] + (step[k] > 0 ? 1 : 0) - p0[k]) / e[k]; };
-  for (int k = 0; k < 3; ++k) {
-    cell[k] = std::clamp(static_cast<int>(std::floor(start[k])), 0, g.nodes[k] - 2);
-    step[k] = e[k] > 0.0 ? 1 : e[k] < 0.0 ? -1 : 0;
-    t_next[k] = step[k] ? boundary_time(k) : std::numeric_limits<double>::infinity();
-  }
-  double t = t0;
-  for (int guard = g.nodes[0] + g.nodes[1] + g.nodes[2] + 3; guard > 0; --guard) {
-    const int k = static_cast<int>(std::min_element(t_next.begin(), t_next.end()) - t_next.begin());
-    const double t_end = std::min(t_next[k], t1);
-    if (t_end > t) piece(cell, t, t_end);
-    if (t_end >= t1) return;
-    t = std::max(t, t_end);
-    cell[k] += step[k];
-    if (cell[k] < 0 || cell[k] > g.nodes[k] - 2) return;
-    t_next[k] = boundary_time(k);
-  }
-}
-
 bool usable(const GridField& f, const Vec3& p0, const Vec3& e) {
   return f.values && std::isfinite(p0.x) && std::isfinite(p0.y) && std::isfinite(p0.z) && std::isfinite(e.x) &&
          std::isfinite(e.y) && std::isfinite(e.z);
 }
 
 }  // namespace
+
+GridCellWalk::GridCellWalk(const GridField& f, const Vec3& o, const Vec3& d, double t0, double t1)
+    : p0_(f.index_at(o)), e_(f.index_per_m * d) {
+  if (!usable(f, p0_, e_) || !clip_to_lattice(*f.values, p0_, e_, t0, t1)) return;  // nothing to cross
+  g_ = f.values.get();
+  const Vec3 start = p0_ + e_ * t0;
+  for (int k = 0; k < 3; ++k) {
+    cell_[k] = std::clamp(static_cast<int>(std::floor(start[k])), 0, g_->nodes[k] - 2);
+    step_[k] = e_[k] > 0.0 ? 1 : e_[k] < 0.0 ? -1 : 0;
+    t_next_[k] = step_[k] ? boundary_time(k) : std::numeric_limits<double>::infinity();
+  }
+  t_ = t0;
+  t1_ = t1;
+  steps_left_ = g_->nodes[0] + g_->nodes[1] + g_->nodes[2] + 3;
+}
+
+double GridCellWalk::boundary_time(int k) const { return (cell_[k] + (step_[k] > 0 ? 1 : 0) - p0_[k]) / e_[k]; }
+
+bool GridCellWalk::next(GridCell& cell, double& ta, double& tb) {
+  while (steps_left_ > 0) {
+    --steps_left_;
+    const int k = static_cast<int>(std::min_element(t_next_.begin(), t_next_.end()) - t_next_.begin());
+    const double t_end = std::min(t_next_[k], t1_), from = t_;
+    const GridCell here = cell_;
+    if (t_end >= t1_) {
+      steps_left_ = 0;
+    } else {
+      t_ = std::max(t_, t_end);
+      cell_[k] += step_[k];
+      if (cell_[k] < 0 || cell_[k] > g_->nodes[k] - 2) steps_left_ = 0;
+      else t_next_[k] = boundary_time(k);
+    }
+    if (t_end > from) {
+      cell = here;
+      ta = from;
+      tb = t_end;
+      return true;
+    }
+  }
+  return false;
+}
+
+double grid_cell_max(const GridField& f, const GridCell& cell) {
+  const Corners c = corners(*f.values, cell);
+  return f.scale * *std::max_element(c.begin(), c.end());
+}
 
 double grid_concentration_at(const GridField& f, const Vec3& x_m) {
   if (!f.values) return 0.0;
@@ -91,29 +109,31 @@ double grid_concentration_at(const GridField& f, const Vec3& x_m) {
 }
 
 double grid_column_density(const GridField& f, const Vec3& o, const Vec3& d, double t0, double t1) {
-  const Vec3 p0 = f.index_at(o), e = f.index_per_m * d;
-  if (!usable(f, p0, e)) return 0.0;
+  GridCellWalk walk(f, o, d, t0, t1);
+  const Vec3 &p0 = walk.p0(), &e = walk.e();
   // Gauss–Legendre, 2 points: exact for polynomials of degree 3, the interpolant along a line.
   const double node = 1.0 / std::sqrt(3.0);
   double sum = 0.0;
-  for_each_cell(*f.values, p0, e, t0, t1, [&](const Cell& cell, double ta, double tb) {
+  Cell cell{};
+  for (double ta = 0.0, tb = 0.0; walk.next(cell, ta, tb);) {
     const double half = 0.5 * (tb - ta), mid = 0.5 * (ta + tb);
     const Corners c = corners(*f.values, cell);
     const Vec3 base = p0 - cell_origin(cell);
     sum += half * (trilinear(c, base + e * (mid - half * node)) + trilinear(c, base + e * (mid + half * node)));
-  });
+  }
   return f.scale * sum;
 }
 
 double grid_max_concentration_on(const GridField& f, const Vec3& o, const Vec3& d, double t0, double t1) {
-  const Vec3 p0 = f.index_at(o), e = f.index_per_m * d;
-  if (!usable(f, p0, e)) return 0.0;
+  if (!usable(f, f.index_at(o), f.index_per_m * d)) return 0.0;
   if (!(t1 > t0)) return grid_concentration_at(f, o + d * t0);
+  GridCellWalk walk(f, o, d, t0, t1);
   double peak = 0.0;
-  for_each_cell(*f.values, p0, e, t0, t1, [&](const Cell& cell, double, double) {
+  Cell cell{};
+  for (double ta = 0.0, tb = 0.0; walk.next(cell, ta, tb);) {
     const Corners c = corners(*f.values, cell);
     peak = std::max(peak, *std::max_element(c.begin(), c.end()));
-  });
+  }
   return f.scale * peak;
 }
 

@@ -3,9 +3,10 @@
 // and Jarosz 2019 ("A null-scattering path integral formulation of light transport"), with
 // spectral MIS over the carried wavelengths.
 //
-// Only the scattering is tracked. The majorant is σ̄(λ) = σ_s(λ)·ρ̄ with ρ̄ the largest density on
-// a piece of the segment (kMajorantPieces pieces, each with its own bound, so a density that
-// falls along the ray wastes few null collisions); the absorption's transmittance multiplies the
+// Only the scattering is tracked. The majorant is σ̄(λ) = σ_s(λ)·ρ̄ with ρ̄ a bound of the density
+// on each piece of the segment (media/majorant.h: one piece in a homogeneous medium, one per cell
+// the ray crosses in a voxel grid, 8 equal pieces through an analytic field), so a density that
+// varies along the ray wastes few null collisions; the absorption's transmittance multiplies the
 // throughput in closed form (media/medium.h). Since σ_s(x, λ) = ρ(x)·σ_s(λ), the chance that a
 // tentative collision is real, ρ(x)/ρ̄, is the same at every wavelength.
 //
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "bouguer/media/majorant.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/render/rng.h"
 
@@ -32,8 +34,15 @@ struct SpectralMis {
   SampledSpectrum<N> r_l = SampledSpectrum<N>::constant(1.0f);
 };
 
-// The density bound is taken per piece; a homogeneous medium needs one.
-inline constexpr int kMajorantPieces = 8;
+// ∫ρ dt over [t0, t1] (finite) along the ray: the exact column density of the medium's scattering
+// density (concentration_field.h), so that σ_s(λ)·ρ(x(t))·exp(−σ_s(λ)·∫₀ᵗρ) is the analog
+// density of a scattering distance and exp(−σ_s(λ)·∫ρ) the probability of passing through, as a
+// bidirectional estimator's MIS needs them. Not the integral of the majorant, which the tracking
+// draws with (detail::MajorantWalk::rho_length_m).
+template <typename Ray>
+double scattering_column_density(const ScatteringMedium& m, const Ray& ray, double t0, double t1) {
+  return column_density(m.density, ray.origin, ray.direction, t0, t1);
+}
 
 namespace detail {
 
@@ -44,24 +53,32 @@ struct MajorantWalk {
   int collisions = 0;
 };
 
-// Walks the pieces of [0, t_max] along `ray`; at each tentative collision calls
-// on_collision(t, ρ(x)/ρ̄), which returns false to stop the walk there.
+// Walks the majorant's pieces of [0, t_max] along `ray` (media/majorant.h); at each tentative
+// collision calls on_collision(t, ρ(x)/ρ̄), which returns false to stop the walk there. Each
+// tentative collision is where the optical depth of the hero's majorant since the last one reaches
+// an exponential draw τ. Through a grid the τ left at a cell's end carries into the next cell (one
+// logarithm per collision, not per cell: the same distribution, since the process is memoryless);
+// the homogeneous and analytic walks draw τ afresh in each piece, as they did before the grid had
+// its own pieces, so that their images stay bit for bit. Pieces with ρ̄ = 0 draw nothing.
 template <typename Ray, typename OnCollision>
 MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const Ray& ray, double t_max, Rng& rng,
                            OnCollision on_collision) {
-  const bool homogeneous = std::holds_alternative<ConstantField>(m.density);
-  const int pieces = homogeneous ? 1 : kMajorantPieces;
+  const bool carry = std::holds_alternative<GridField>(m.density);
+  auto draw = [&] { return -std::log1p(-rng.next_double()); };
   MajorantWalk walk;
-  for (int p = 0; p < pieces; ++p) {
-    const double a = t_max * p / pieces, b = p + 1 == pieces ? t_max : t_max * (p + 1) / pieces;
-    const double rho_bar = max_concentration_on(m.density, ray.origin, ray.direction, a, b);
+  DensityMajorant majorant(m.density, ray.origin, ray.direction, t_max);
+  double tau = carry ? draw() : 0.0;
+  for (MajorantSegment piece; majorant.next(piece);) {
+    const double a = piece.t0, b = piece.t1, rho_bar = piece.density;
     if (!(rho_bar > 0.0)) continue;
     const double rate = sigma_hero * rho_bar;
+    if (!carry) tau = draw();
     double t = a;
     for (;;) {
-      const double dt = rate > 0.0 ? -std::log1p(-rng.next_double()) / rate : b - t;
+      const double dt = rate > 0.0 ? tau / rate : b - t;
       if (t + dt >= b) {
         walk.rho_length_m += rho_bar * (b - t);
+        tau = std::max(0.0, tau - rate * (b - t));
         break;
       }
       t += dt;
@@ -69,6 +86,7 @@ MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const R
       ++walk.collisions;
       const double real = concentration_at(m.density, ray.origin + ray.direction * t) / rho_bar;
       if (!on_collision(t, std::min(1.0, real))) return walk;
+      tau = draw();
     }
   }
   return walk;
@@ -78,7 +96,8 @@ MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const R
 // its collisions of T_maj,k/T_maj,hero · σ_s,k/σ_s,hero (the ratio of the two majorants' densities
 // for each collision, the wavelength-independent ρ/ρ̄ or 1 − ρ/ρ̄ left out) and the ratio of the
 // pass-through probabilities to its end. The majorant is constant within a piece and σ̄ = σ_s·ρ̄,
-// so this is one exponential per wavelength for the whole walk:
+// so this is one exponential per wavelength for the whole walk, whatever the pieces (M sums
+// ρ̄·length over the very pieces the walk drew with):
 //   exp(−(σ_s,k − σ_s,hero)·M) · (σ_s,k/σ_s,hero)^n.
 // After a dispersive interface (`single`) only the hero is carried: all ones.
 template <std::size_t N>
