@@ -80,7 +80,8 @@ TEST(Scattering, WhiteFurnaceWithAGridDensity) {
   };
   test::write_vdb_file(dir / "balls.vdb", {g});
   expect_white_furnace(
-      furnace_scene(fmt::format(R"(, "density": {{"field": "grid", "file": "{}"}})", (dir / "balls.vdb").string())),
+      test::furnace_scene(
+          fmt::format(R"(, "density": {{"field": "grid", "file": "{}"}})", (dir / "balls.vdb").string()), "path"),
       "grid density");
 }
 
