@@ -2,9 +2,8 @@
 // for bit, and a rank that fails stops the job and leaves an earlier output as it was. CI runs as
 // root (--allow-run-as-root) on 2 cores (--oversubscribe); --bind-to none lets every rank's
 // threads use every core; --timeout stops a job that hangs.
-#include <gtest/gtest.h>
-
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include "support/test_support.h"
 
@@ -15,19 +14,20 @@ namespace fs = std::filesystem;
 const std::string kExample = (fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "examples" / "issue3.json").string();
 constexpr std::string_view kMpiexec = BOUGUER_MPIEXEC;  // empty when the build has no MPI
 
-#define SKIP_WITHOUT_MPI() \
-  if (kMpiexec.empty()) { \
+#define SKIP_WITHOUT_MPI()                                                                                  \
+  if (kMpiexec.empty()) {                                                                                   \
     GTEST_SKIP() << "this build has no MPI (install libopenmpi-dev and openmpi-bin, then configure again)"; \
   }
 
-const std::vector<std::string> kMpirunOptions = {"--allow-run-as-root", "--oversubscribe", "--bind-to", "none",
-                                                 "--timeout", "60"};
+const std::vector<std::string> kMpirunOptions = {
+    "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "--timeout", "60"};
 
 // One rank's command line: `render SCENE -o OUT` and the integrator's settings.
 std::vector<std::string> render_args(const std::string& scene, const fs::path& out, const std::string& integrator,
                                      const std::vector<std::string>& extra = {}, const char* spp = "4") {
-  std::vector<std::string> args = {BOUGUER_EXE, "render", scene, "--integrator", integrator, "--resolution", "40x30",
-                                   "--spp", spp, "--threads", "1", "--quiet", "-o", out.string()};
+  std::vector<std::string> args = {BOUGUER_EXE, "render",    scene, "--integrator", integrator, "--resolution",
+                                   "40x30",     "--spp",     spp,   "--threads",    "1",        "--quiet",
+                                   "-o",        out.string()};
   args.insert(args.end(), extra.begin(), extra.end());
   return args;
 }
@@ -81,12 +81,13 @@ TEST(CliMpi, ARankThatFailsStopsTheJobAndKeepsTheEarlierOutput) {
   const auto dir = test::scratch_dir("mpi_failure");
   const fs::path out = dir / "out.exr";
   test::write_file(out, "the earlier output");
-  const auto missing = mpirun({{2, render_args(kExample, out, "path")},
-                               {1, render_args((dir / "missing.json").string(), out, "path")}});
+  const auto missing =
+      mpirun({{2, render_args(kExample, out, "path")}, {1, render_args((dir / "missing.json").string(), out, "path")}});
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_NE(missing.err.find("missing.json"), std::string::npos) << missing.err;
   EXPECT_EQ(test::read_file(out), "the earlier output");
-  const auto other = mpirun({{1, render_args(kExample, out, "light")}, {1, render_args(kExample, out, "light", {}, "3")}});
+  const auto other =
+      mpirun({{1, render_args(kExample, out, "light")}, {1, render_args(kExample, out, "light", {}, "3")}});
   EXPECT_NE(other.exit_code, 0);
   EXPECT_NE(other.err.find("bouguer: error: rank 0 of 2: rank 1 renders another job than rank 0 (spp 3 against 4)"),
             std::string::npos)

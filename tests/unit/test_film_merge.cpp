@@ -1,10 +1,10 @@
 // Films rendered in pieces, serialised and merged are bit for bit the film of one render, for
 // every integrator; a truncated or hostile serialised film is an Error, never a crash.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
-#include <fmt/format.h>
 #include <random>
 
 #include "bouguer/core/error.h"

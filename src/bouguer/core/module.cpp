@@ -15,9 +15,9 @@ void* load_module_entry(const std::string& built_path, const char* symbol, bool 
   std::array<char, 4096> self{};
   const ssize_t n = readlink("/proc/self/exe", self.data(), self.size() - 1);
   if (n > 0)
-    candidates.push_back(
-        (fs::path(std::string(self.data(), static_cast<std::size_t>(n))).parent_path() / fs::path(built_path).filename())
-            .string());
+    candidates.push_back((fs::path(std::string(self.data(), static_cast<std::size_t>(n))).parent_path() /
+                          fs::path(built_path).filename())
+                             .string());
   for (const std::string& path : candidates) {
     void* handle = dlopen(path.c_str(), RTLD_NOW | (global ? RTLD_GLOBAL : RTLD_LOCAL));
     if (!handle) {

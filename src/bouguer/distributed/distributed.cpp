@@ -40,16 +40,18 @@ const mpi_module::Api& mpi() {
   std::call_once(once, [] {
 #ifdef BOUGUER_MPI_MODULE
     using Entry = const mpi_module::Api* (*)();
-    if (const auto entry = reinterpret_cast<Entry>(load_module_entry(BOUGUER_MPI_MODULE, "bouguer_mpi_module_api", true, problem))) {
+    if (const auto entry =
+            reinterpret_cast<Entry>(load_module_entry(BOUGUER_MPI_MODULE, "bouguer_mpi_module_api", true, problem))) {
       api = entry();
       if (api->version != 1) problem = "not Bouguer's MPI module", api = nullptr;
     }
 #endif
   });
   if (!api)
-    fail("started by mpirun, but this bouguer cannot use MPI ({}): build it with Open MPI installed (libopenmpi-dev, "
-         "see docs/distributed.md), or run it without mpirun",
-         problem);
+    fail(
+        "started by mpirun, but this bouguer cannot use MPI ({}): build it with Open MPI installed (libopenmpi-dev, "
+        "see docs/distributed.md), or run it without mpirun",
+        problem);
   return *api;
 }
 
@@ -66,18 +68,24 @@ std::uint64_t fnv1a(std::string_view bytes) {
 
 Job job_of(const RenderScene& scene, const RenderSettings& s, const FilmBuffer& film) {
   const std::uint64_t scene_hash = scene.file.empty() ? 0 : fnv1a(read_file_bytes(scene.file, kMaxTextFileBytes));
-  return {static_cast<std::uint64_t>(film.width()), static_cast<std::uint64_t>(film.height()),
-          static_cast<std::uint64_t>(s.spp), static_cast<std::uint64_t>(s.integrator),
-          static_cast<std::uint64_t>(s.spectral), static_cast<std::uint64_t>(s.max_depth), s.seed,
-          film.has_spectra() ? 1u : 0u, scene_hash};
+  return {static_cast<std::uint64_t>(film.width()),
+          static_cast<std::uint64_t>(film.height()),
+          static_cast<std::uint64_t>(s.spp),
+          static_cast<std::uint64_t>(s.integrator),
+          static_cast<std::uint64_t>(s.spectral),
+          static_cast<std::uint64_t>(s.max_depth),
+          s.seed,
+          film.has_spectra() ? 1u : 0u,
+          scene_hash};
 }
 
 void check_same_job(const Job& mine, const Job& theirs, int rank) {
   for (std::size_t i = 0; i < mine.size(); ++i)
     if (mine[i] != theirs[i])
-      fail("rank {} renders another job than rank 0 ({} {} against {}): every rank must read the same scene file with "
-           "the same options",
-           rank, kJobFields[i], theirs[i], mine[i]);
+      fail(
+          "rank {} renders another job than rank 0 ({} {} against {}): every rank must read the same scene file with "
+          "the same options",
+          rank, kJobFields[i], theirs[i], mine[i]);
 }
 
 struct Context {
@@ -198,7 +206,9 @@ void render_as_root(const Context& c, const mpi_module::Api& api, int ranks, Fil
   if (failure) std::rethrow_exception(failure);
   const double seconds = gather(api, ranks, film, stats);
   if (!quiet)
-    fmt::print(stderr, "bouguer: {} ranks, {} pieces of {} rows ({} rendered by rank 0); the films of {} other ranks ({} each) gathered in {:.3f} s\n",
+    fmt::print(stderr,
+               "bouguer: {} ranks, {} pieces of {} rows ({} rendered by rank 0); the films of {} other ranks ({} each) "
+               "gathered in {:.3f} s\n",
                ranks, c.pieces.size(), c.pieces.front().y1 - c.pieces.front().y0, own_pieces, ranks - 1,
                format_bytes(film.serialised_bytes()), seconds);
 }
