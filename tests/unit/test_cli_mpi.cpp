@@ -19,8 +19,12 @@ constexpr std::string_view kMpiexec = BOUGUER_MPIEXEC;  // empty when the build 
     GTEST_SKIP() << "this build has no MPI (install libopenmpi-dev and openmpi-bin, then configure again)"; \
   }
 
-const std::vector<std::string> kMpirunOptions = {
-    "--allow-run-as-root", "--oversubscribe", "--bind-to", "none", "--timeout", "60"};
+// The shared-memory transport copies instead of reading the other process's memory (CMA), which
+// containers often forbid (ptrace rules); it makes no difference to the image.
+// clang-format off
+const std::vector<std::string> kMpirunOptions = {"--allow-run-as-root", "--oversubscribe", "--bind-to", "none",
+                                                 "--timeout", "60", "--mca", "btl_vader_single_copy_mechanism", "none"};
+// clang-format on
 
 // One rank's command line: `render SCENE -o OUT` and the integrator's settings.
 std::vector<std::string> render_args(const std::string& scene, const fs::path& out, const std::string& integrator,
