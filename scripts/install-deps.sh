@@ -22,6 +22,8 @@ packages=(
   libcairo2-dev        # plots (bouguer material --plot): SVG, PNG and PDF from one drawing
   chromium             # the report page is checked in a real browser (headless) by the tests
   fonts-dejavu-core    # a font for plot labels and the report screenshot
+  libopenmpi-dev       # distributed rendering (mpirun -np N bouguer render); optional at configure time
+  openmpi-bin          # mpirun, for the distributed tests
 )
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang libclang-rt-14-dev)  # libFuzzer, ASan, UBSan (make fuzz only)

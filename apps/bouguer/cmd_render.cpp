@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bouguer/core/error.h"
+#include "bouguer/distributed/distributed.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/output_set.h"
@@ -172,7 +173,12 @@ int run_render(const RenderCli& o) {
   Progress progress(o.quiet);
   RenderStats stats;
   Passes passes;
-  {
+  if (distributed::launched_by_mpirun()) {  // one rank of mpirun -np N: rank 0 writes (docs/distributed.md)
+    if (!distributed::render_over_ranks(scene, settings, buffer, o.threads, o.quiet,
+                                        [&](double f) { progress.update(f); }, stats))
+      return 0;
+    passes.complete = settings.spp;
+  } else {
     const InterruptGuard guard;
     passes = render_passes(scene, settings, buffer, o.threads, progress, stats, o.time_s);
   }

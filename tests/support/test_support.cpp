@@ -50,12 +50,14 @@ std::string shell_quote(const std::string& s) {
 }
 }  // namespace
 
-RunResult run_bouguer(const std::vector<std::string>& args) {
+RunResult run_bouguer(const std::vector<std::string>& args) { return run_program(BOUGUER_EXE, args); }
+
+RunResult run_program(const std::string& program, const std::vector<std::string>& args) {
   static int counter = 0;
   const fs::path dir = fs::path(BOUGUER_TEST_TMP) / "run";
   fs::create_directories(dir);
   const std::string stem = fmt::format("{}/{}_{}", dir.string(), ::getpid(), counter++);
-  std::string cmd = shell_quote(BOUGUER_EXE);
+  std::string cmd = shell_quote(program);
   for (const auto& a : args) {
     cmd.push_back(' ');
     cmd.append(shell_quote(a));

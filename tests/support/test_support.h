@@ -20,6 +20,8 @@ struct RunResult {
 
 // Runs build/bouguer with the given arguments (each shell-quoted), capturing stdout and stderr.
 RunResult run_bouguer(const std::vector<std::string>& args);
+// The same for any program (found on PATH when the name has no slash).
+RunResult run_program(const std::string& program, const std::vector<std::string>& args);
 
 // Runs `body` in a child process whose address space may grow by at most budget_bytes beyond what
 // it had at the fork (RLIMIT_AS, like `ulimit -v`). `outcome` says how it ended: "ok" (it

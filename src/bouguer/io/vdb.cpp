@@ -1,14 +1,13 @@
 #include "bouguer/io/vdb.h"
 
-#include <dlfcn.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <array>
 #include <fstream>
 #include <mutex>
 
 #include "bouguer/core/memory.h"
+#include "bouguer/core/module.h"
 #include "bouguer/io/csv.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/io/vdb_module.h"
@@ -41,23 +40,10 @@ const vdb_module::Api& module_api() {
   static std::string problem;
   static std::once_flag once;
   std::call_once(once, [] {
-    std::vector<std::string> candidates = {BOUGUER_VDB_MODULE};
-    std::array<char, 4096> self{};
-    const ssize_t n = readlink("/proc/self/exe", self.data(), self.size() - 1);
-    if (n > 0) candidates.push_back((fs::path(std::string(self.data(), static_cast<std::size_t>(n))).parent_path() /
-                                     fs::path(BOUGUER_VDB_MODULE).filename())
-                                        .string());
-    for (const std::string& path : candidates) {
-      void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-      if (!handle) {
-        problem = dlerror();
-        continue;
-      }
-      using Entry = const vdb_module::Api* (*)();
-      if (const auto entry = reinterpret_cast<Entry>(dlsym(handle, "bouguer_vdb_module_api"))) api = entry();
-      if (api && api->version == 1) return;
-      problem = path + ": not Bouguer's OpenVDB module";
-      api = nullptr;
+    using Entry = const vdb_module::Api* (*)();
+    if (const auto entry = reinterpret_cast<Entry>(load_module_entry(BOUGUER_VDB_MODULE, "bouguer_vdb_module_api", false, problem))) {
+      api = entry();
+      if (api->version != 1) problem = "not Bouguer's OpenVDB module", api = nullptr;
     }
   });
   if (!api) throw VdbError(fmt::format("OpenVDB grids cannot be read: {}", problem), false);

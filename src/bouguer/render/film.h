@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "bouguer/core/math.h"
@@ -49,9 +50,18 @@ namespace bouguer {
 // in sample order (so sample ranges rendered one after another sum in the same order as one
 // render), and splats are added as fixed-point integers (so their sum does not depend on the
 // order threads add them in).
+// Across processes: each renders whole pixels (every sample of the pixel regions it is given)
+// into a film of the full size, and merge() adds the films: a pixel's camera sums come from the
+// one film that has them (adding zero is exact), the splats as integers (exact in any order,
+// wrapping as the atomic adds of one process do), so the merged film is bit for bit the film of
+// one process (tests/unit/test_film_merge.cpp).
 class FilmBuffer {
  public:
   FilmBuffer(int width_px, int height_px, std::vector<double> spectrum_wavelengths_nm = {});
+  FilmBuffer(FilmBuffer&& other) noexcept;
+
+  // The most wavelengths a film's spectra may have (the full mode keeps 96).
+  static constexpr std::size_t kMaxSpectrumWavelengths = 4096;
 
   // The memory a render of this size takes for its image: this buffer, the resolved Film and the
   // image writers' conversion buffers (what make_film checks before allocating).
@@ -77,6 +87,19 @@ class FilmBuffer {
   // pixel). Splats that did not fit the fixed-point range are counted in saturated_splats().
   Film resolve(double splat_scale) const;
   std::uint64_t saturated_splats() const { return saturated_.load(); }
+
+  // Adds another film of the same size and wavelengths. The pixels with camera samples must be
+  // in one of the two films only (an Error names the first pixel in both): then the result is
+  // exactly the film one render of both parts gives.
+  void merge(const FilmBuffer& other);
+
+  // Every sum in a flat byte layout of the native byte order (a header that names the size and
+  // wavelengths, then the arrays), and back: deserialise checks the header against the limits
+  // and the byte count against the header before allocating, so a truncated or hostile buffer is
+  // an Error naming `source`, never a crash or an allocation the bytes do not pay for.
+  std::vector<std::byte> serialise() const;
+  std::uint64_t serialised_bytes() const;
+  static FilmBuffer deserialise(std::span<const std::byte> bytes, std::string_view source);
 
  private:
   static constexpr double kSplatUnit = 1.0 / (1 << 20);  // fixed-point step of the splat sums

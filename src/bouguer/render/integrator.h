@@ -1,8 +1,8 @@
 #pragma once
 // One interface for every estimator: render a pixel region and a sample range of a compiled scene
 // into a film. Each sample is seeded by (seed, pixel, sample index), so any split of the work —
-// threads, sample ranges rendered one after another, pixel regions, later processes — gives the
-// bit-identical image. The name → integrator and name → spectral mode tables below are the only
+// threads, sample ranges rendered one after another into one film, pixel regions, processes that
+// each render whole pixels (distributed/) — gives the bit-identical image. The name → integrator and name → spectral mode tables below are the only
 // lists of them: the scene loader, the command line and the documentation read these.
 #include <atomic>
 #include <cstdint>

@@ -1,0 +1,103 @@
+// mpirun -np N bouguer render, as a user runs it (docs/distributed.md): the one-process image bit
+// for bit, and a rank that fails stops the job and leaves an earlier output as it was. CI runs as
+// root (--allow-run-as-root) on 2 cores (--oversubscribe); --bind-to none lets every rank's
+// threads use every core; --timeout stops a job that hangs.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "support/test_support.h"
+
+namespace bouguer {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kExample = (fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "examples" / "issue3.json").string();
+constexpr std::string_view kMpiexec = BOUGUER_MPIEXEC;  // empty when the build has no MPI
+
+#define SKIP_WITHOUT_MPI()                                                                                  \
+  if (kMpiexec.empty()) {                                                                                   \
+    GTEST_SKIP() << "this build has no MPI (install libopenmpi-dev and openmpi-bin, then configure again)"; \
+  }
+
+// The shared-memory transport copies instead of reading the other process's memory (CMA), which
+// containers often forbid (ptrace rules); it makes no difference to the image.
+// clang-format off
+const std::vector<std::string> kMpirunOptions = {"--allow-run-as-root", "--oversubscribe", "--bind-to", "none",
+                                                 "--timeout", "60", "--mca", "btl_vader_single_copy_mechanism", "none"};
+// clang-format on
+
+// One rank's command line: `render SCENE -o OUT` and the integrator's settings.
+std::vector<std::string> render_args(const std::string& scene, const fs::path& out, const std::string& integrator,
+                                     const std::vector<std::string>& extra = {}, const char* spp = "4") {
+  std::vector<std::string> args = {BOUGUER_EXE, "render",    scene, "--integrator", integrator, "--resolution",
+                                   "40x30",     "--spp",     spp,   "--threads",    "1",        "--quiet",
+                                   "-o",        out.string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+// mpirun with one command line per group of ranks: {{ranks, args}, ...} joined by ':'.
+test::RunResult mpirun(const std::vector<std::pair<int, std::vector<std::string>>>& groups) {
+  std::vector<std::string> args = kMpirunOptions;
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    if (i > 0) args.push_back(":");
+    args.insert(args.end(), {"-np", std::to_string(groups[i].first)});
+    args.insert(args.end(), groups[i].second.begin(), groups[i].second.end());
+  }
+  return test::run_program(std::string(kMpiexec), args);
+}
+
+class MpiRender : public ::testing::TestWithParam<std::tuple<const char*, int>> {};
+
+TEST_P(MpiRender, GivesTheOneProcessImageBitForBit) {
+  SKIP_WITHOUT_MPI();
+  const auto [integrator, ranks] = GetParam();
+  const auto dir = test::scratch_dir(fmt::format("mpi_{}_{}", integrator, ranks));
+  // Spectra travel too: the path tracer's run also writes the spectral EXR.
+  auto spectral = [&](const char* name) {
+    return std::string(integrator) == "path" ? std::vector<std::string>{"--spectral-exr", (dir / name).string()}
+                                             : std::vector<std::string>{};
+  };
+  auto one = render_args(kExample, dir / "one.exr", integrator, spectral("one_spectra.exr"));
+  const auto single = test::run_program(one[0], {one.begin() + 1, one.end()});
+  ASSERT_EQ(single.exit_code, 0) << single.err;
+  const auto r = mpirun({{ranks, render_args(kExample, dir / "mpi.exr", integrator, spectral("mpi_spectra.exr"))}});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string image = test::read_file(dir / "one.exr");
+  ASSERT_GT(image.size(), 1000u);
+  EXPECT_TRUE(image == test::read_file(dir / "mpi.exr"));
+  if (std::string(integrator) == "path") {
+    EXPECT_TRUE(test::read_file(dir / "one_spectra.exr") == test::read_file(dir / "mpi_spectra.exr"));
+  }
+  EXPECT_EQ(test::line_count(r.out), 0) << r.out;  // --quiet on every rank
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, MpiRender,
+                         ::testing::Combine(::testing::Values("whitted", "path", "light"), ::testing::Values(2, 3)),
+                         [](const auto& p) {
+                           return fmt::format("{}_{}ranks", std::get<0>(p.param), std::get<1>(p.param));
+                         });
+
+// A rank that exits early (its scene is not there) or renders another job (other options) stops
+// the whole job with a message; the output written before stays as it was.
+TEST(CliMpi, ARankThatFailsStopsTheJobAndKeepsTheEarlierOutput) {
+  SKIP_WITHOUT_MPI();
+  const auto dir = test::scratch_dir("mpi_failure");
+  const fs::path out = dir / "out.exr";
+  test::write_file(out, "the earlier output");
+  const auto missing =
+      mpirun({{2, render_args(kExample, out, "path")}, {1, render_args((dir / "missing.json").string(), out, "path")}});
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.err.find("missing.json"), std::string::npos) << missing.err;
+  EXPECT_EQ(test::read_file(out), "the earlier output");
+  const auto other =
+      mpirun({{1, render_args(kExample, out, "light")}, {1, render_args(kExample, out, "light", {}, "3")}});
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_NE(other.err.find("bouguer: error: rank 0 of 2: rank 1 renders another job than rank 0 (spp 3 against 4)"),
+            std::string::npos)
+      << other.err;
+  EXPECT_EQ(test::read_file(out), "the earlier output");
+}
+
+}  // namespace
+}  // namespace bouguer
