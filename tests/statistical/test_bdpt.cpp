@@ -53,6 +53,30 @@ TEST(Bidirectional, ConvergesToThePathTracerOnACausticFloor) {
   EXPECT_LT(d.mean, 0.3);
 }
 
+// The same floor under a dispersive ball (N-SF11): a bidirectional sample keeps one wavelength
+// from its start in such a scene. The image means per channel agree within 2 %, which the spread
+// between two seeds (its noise) must leave room for.
+TEST(Bidirectional, ConvergesToThePathTracerUnderADispersiveBall) {
+  std::string json = test::caustic_scene("path", 1, 1);
+  const std::string red = R"("red": {"absorption": {"library": "red-glass", "concentration": 0.3}})";
+  ASSERT_NE(json.find(red), std::string::npos);
+  json.replace(json.find(red), red.size(), R"("red": {"ior": {"library": "N-SF11"}})");
+  const SceneDesc desc = parse_scene(json, "dispersive.json");
+  ASSERT_TRUE(compile(desc).dispersive);
+  const Film path = render(desc, IntegratorType::path, SpectralMode::full, 8192, 1);
+  const Film a = render(desc, IntegratorType::bdpt, SpectralMode::full, 4096, 2);
+  const Film b = render(desc, IntegratorType::bdpt, SpectralMode::full, 4096, 3);
+  for (int c = 0; c < 3; ++c) {
+    const double p = test::channel_estimate(path, c, 0, 0, path.width, path.height).mean;
+    const double ma = test::channel_estimate(a, c, 0, 0, a.width, a.height).mean;
+    const double mb = test::channel_estimate(b, c, 0, 0, b.width, b.height).mean;
+    const double spread = std::abs(ma - mb) / (ma + mb);
+    std::printf("dispersive ball, ch %d: path %.5f, bdpt %.5f (seed spread %.4f)\n", c, p, 0.5 * (ma + mb), spread);
+    EXPECT_NEAR(0.5 * (ma + mb), p, 0.02 * p) << "ch " << c;
+    EXPECT_LT(3.0 * spread, 0.02) << "ch " << c << ": too noisy for the tolerance";
+  }
+}
+
 // The scattering furnaces of #12: medium vertices connected like surface vertices, with the
 // spectral MIS of the camera and light subpaths and of each connection, full and hero.
 void expect_bidirectional_furnace(const std::string& density, const std::string& what) {
