@@ -173,7 +173,8 @@ void vdb(std::string_view bytes, const fs::path& dir) {
     require(peak >= 0.0 && peak <= max_concentration(f), "peak {} of {}", peak, max_concentration(f));
     require(column <= peak * 2.0 * reach * (1.0 + 1e-9) + 1e-300, "column {} above peak {} × length", column, peak);
     // The tracking majorant (a piece per cell): in order, inside the segment, bounded, above the column.
-    DensityMajorant majorant(f, o, d, 2.0 * reach);
+    const ConcentrationField field = f;  // the majorant refers to it
+    DensityMajorant majorant(field, o, d, 2.0 * reach);
     double end = 0.0, integral = 0.0;
     for (MajorantSegment s; majorant.next(s);) {
       require(s.t0 >= end && s.t1 > s.t0 && s.t1 <= 2.0 * reach, "piece [{}, {}] after {}", s.t0, s.t1, end);

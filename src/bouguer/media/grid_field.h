@@ -32,10 +32,11 @@ double grid_cell_max(const GridField& f, const GridCell& cell);
 // and the majorants of tracking (media/majorant.h). Each boundary time is computed from p0 afresh
 // (no accumulated increments); the step count is bounded by the cells a line can cross, so
 // rounding cannot make it loop. Nothing is crossed outside the lattice, or where the ray is not
-// finite.
+// finite. The field's values must outlive the walk (a temporary field is refused).
 class GridCellWalk {
  public:
   GridCellWalk(const GridField& f, const Vec3& origin_m, const Vec3& direction, double t0, double t1);
+  GridCellWalk(GridField&&, const Vec3&, const Vec3&, double, double) = delete;
   // The next cell with ta < tb; false once the segment is done.
   bool next(GridCell& cell, double& ta, double& tb);
   const Vec3& p0() const { return p0_; }  // the ray's origin in index space

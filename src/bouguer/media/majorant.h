@@ -28,10 +28,12 @@ struct MajorantSegment {
 inline constexpr int kMajorantPieces = 8;
 
 // The pieces of [0, t_max] (finite) along origin + t·direction, in order: next() gives the next
-// one, false once the segment is done. Pieces do not overlap; where none lies, ρ = 0.
+// one, false once the segment is done. Pieces do not overlap; where none lies, ρ = 0. The field
+// must outlive the walk (it is referred to, not copied; a temporary is refused).
 class DensityMajorant {
  public:
   DensityMajorant(const ConcentrationField& field, const Vec3& origin_m, const Vec3& direction, double t_max);
+  DensityMajorant(ConcentrationField&&, const Vec3&, const Vec3&, double) = delete;
   bool next(MajorantSegment& s);
 
  private:
