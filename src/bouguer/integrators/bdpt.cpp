@@ -10,9 +10,10 @@
 // hero mode); in scattering media distances follow the sample's hero wavelength and every
 // contribution is divided by the mean over the wavelengths of the product of its parts' spectral-MIS
 // ratios (camera subpath, light subpath, connection), the one-sample balance over the hero choice.
-// A scene with dispersive media keeps one wavelength from the start of each sample (weight N):
-// a connection joins two subpaths, and only a path whose parts follow one wavelength's geometry
-// can be joined anywhere. Bouguer–Lambert along every segment and connection is the medium's
+// In a scene with dispersive media both subpaths carry every wavelength until a dispersive
+// interface; from there on the surfaces are built for one kept wavelength, the same for both
+// subpaths of a sample, and a contribution of a path that crossed one counts at that wavelength
+// only (weight N), whichever subpath crossed it. Bouguer–Lambert along every segment and connection is the medium's
 // exact transmittance.
 //
 // Depth: s + t − 2 ≤ max_depth, where medium vertices count like surface vertices (unlike the
@@ -35,8 +36,10 @@ bool is_delta_light(const Light& light) {
 template <std::size_t N>
 class Bdpt {
  public:
-  Bdpt(const SceneView<N>& v, const WalkMedia& media, SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
-      : v_(v), s_(v.scene), media_(media), w_(w), rng_(rng), rays_(rays) {}
+  // `kept`: in a dispersive scene, the sample's wavelengths with all but the kept one terminated.
+  Bdpt(const SceneView<N>& v, const WalkMedia& media, SampledWavelengths<N>& w, const SampledWavelengths<N>* kept,
+       Rng& rng, std::uint64_t& rays)
+      : v_(v), s_(v.scene), media_(media), w_(w), kept_(kept), rng_(rng), rays_(rays) {}
 
   void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path);
   void light_subpath(std::vector<Vertex<N>>& path);
@@ -65,6 +68,7 @@ class Bdpt {
   const RenderScene& s_;
   const WalkMedia& media_;
   SampledWavelengths<N>& w_;
+  const SampledWavelengths<N>* kept_;
   Rng& rng_;
   std::uint64_t& rays_;
 };
@@ -86,6 +90,7 @@ void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path) {
   state.parallel = v_.camera.desc.type == CameraType::orthographic;
   state.pdf_dir = state.parallel ? pdf[0] : pdf[1];
   state.from = ray.origin;
+  state.kept = kept_;
   KeepVertices<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 2};
   random_walk(v_, media_, TransportMode::radiance, state, w_, rng_, rays_, keep);
 }
@@ -97,6 +102,7 @@ void Bdpt<N>::light_subpath(std::vector<Vertex<N>>& path) {
   WalkState<N> state;
   if (!start_light_subpath(v_, w_, rng_, y, state)) return;
   path.push_back(y);
+  state.kept = kept_;
   KeepVertices<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 1};
   random_walk(v_, media_, TransportMode::importance, state, w_, rng_, rays_, keep);
 }
@@ -223,11 +229,13 @@ void splat(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavel
 template <std::size_t N>
 SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
                                     FilmBuffer& film, const SampledSpectrum<N>& keep) {
+  // A path that crossed a dispersive interface counts at the kept wavelength only (weight N).
+  auto mask = [&](bool dispersed) { return dispersed ? keep : SampledSpectrum<N>::constant(1.0f); };
   const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
   if (s == 0) {  // the camera path met a lamp or escaped to a light at infinity
     if (pt.kind != VertexKind::light) return {};
     const SampledSpectrum<N> le = pt.infinite ? escaped(v_, -1, pt.light_dir, w_) : emitted(v_, pt.hit, pt.wo, w_);
-    const SampledSpectrum<N> l = pt.beta * le * keep;
+    const SampledSpectrum<N> l = pt.beta * le * mask(pt.dispersed);
     if (l.is_zero()) return {};
     return l * static_cast<float>(mis_weight(light, camera, nullptr, 0, t, 0.0) / mean_ratio(s_, pt.r_u));
   }
@@ -242,7 +250,7 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
     const auto tr = transmission(v_, path_vertex(qs), c->wi, c->distance_m, medium_towards(qs, c->wi), w_, rng_,
                                  rays_, media_.sigma_mean);
     if (!tr) return {};
-    SampledSpectrum<N> l = qs.beta * fq * tr->tr * static_cast<float>(c->factor) * keep;
+    SampledSpectrum<N> l = qs.beta * fq * tr->tr * static_cast<float>(c->factor) * mask(qs.dispersed);
     if (l.is_zero()) return {};
     Vertex<N> lens;
     lens.kind = VertexKind::camera;
@@ -266,7 +274,8 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
     if (!tr) return {};
     const SampledSpectrum<N> le =
         li->texel >= 0 ? v_.tables.environment(*s_.environment, li->texel, w_) : v_.tables.at(li->spectrum, w_);
-    SampledSpectrum<N> l = pt.beta * fp * le * tr->tr * static_cast<float>(li->factor / (chosen->second * li->pdf)) * keep;
+    SampledSpectrum<N> l = pt.beta * fp * le * tr->tr *
+                           static_cast<float>(li->factor / (chosen->second * li->pdf)) * mask(pt.dispersed);
     if (l.is_zero()) return {};
     Vertex<N> y;
     y.kind = VertexKind::light;
@@ -292,16 +301,20 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
   const auto tr = transmission(v_, path_vertex(pt), wi, distance, medium_towards(pt, wi), w_, rng_, rays_,
                                media_.sigma_mean);
   if (!tr) return {};
-  SampledSpectrum<N> l = pt.beta * fp * fq * qs.beta * tr->tr * static_cast<float>(1.0 / d2) * keep;
+  SampledSpectrum<N> l =
+      pt.beta * fp * fq * qs.beta * tr->tr * static_cast<float>(1.0 / d2) * mask(pt.dispersed || qs.dispersed);
   if (l.is_zero()) return {};
   return l * static_cast<float>(mis_weight(light, camera, nullptr, s, t, tr->tau) /
                                 mean_ratio(s_, pt.r_u * qs.r_u, tr->ratios.r_l));
 }
 
-// The σ̄_s of every medium over the sample's wavelengths (walk.h), and the dispersion mask.
+// The σ̄_s of every medium over the sample's wavelengths (walk.h). In a dispersive scene, `kept`
+// becomes the sample's wavelengths with all but one terminated (the one both subpaths follow past
+// a dispersive interface) and the result is N at that one, 0 elsewhere: what a contribution of a
+// path that crossed such an interface is multiplied by. Otherwise all ones.
 template <std::size_t N>
 SampledSpectrum<N> begin_sample(const SceneView<N>& view, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
-                                std::vector<double>& sigma_mean) {
+                                std::vector<double>& sigma_mean, SampledWavelengths<N>& kept) {
   const RenderScene& scene = view.scene;
   draw_hero(scene, w, rng);
   sigma_mean.assign(scene.media.size(), 0.0);
@@ -311,7 +324,8 @@ SampledSpectrum<N> begin_sample(const SceneView<N>& view, SampledWavelengths<N>&
         sigma_mean[m] = view.tables.at(sm->sigma_s, w).average();
   SampledSpectrum<N> keep = SampledSpectrum<N>::constant(1.0f);
   if (scene.dispersive && N > 1) {
-    const int j = keep_wavelength(view, w, dispersion_u, rng);
+    kept = w;
+    const int j = keep_wavelength(view, kept, dispersion_u, rng);
     keep = {};
     keep[static_cast<std::size_t>(j)] = static_cast<float>(N);
   }
@@ -384,10 +398,11 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
   SampledWavelengths<N> w = tables.wavelengths(0.0);
   tables.restart(w, 0.0);
   std::vector<double> sigma_mean;
-  begin_sample(view, w, rng.next_double(), rng, sigma_mean);
+  SampledWavelengths<N> kept = w;
+  begin_sample(view, w, rng.next_double(), rng, sigma_mean, kept);
   const WalkMedia media{sigma_mean};
   std::uint64_t rays = 0;
-  Bdpt<N> bdpt(view, media, w, rng, rays);
+  Bdpt<N> bdpt(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
   std::vector<Vertex<N>> camera_path, light_path;
   const auto [u, v] = subpixel(sample, settings.spp, rng);
   bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
@@ -442,9 +457,10 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
       [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u, std::uint64_t& rays) {
         thread_local std::vector<Vertex<N>> camera_path, light_path;
         thread_local std::vector<double> sigma_mean;
-        const SampledSpectrum<N> keep = begin_sample(view, w, dispersion_u, rng, sigma_mean);
+        thread_local SampledWavelengths<N> kept;
+        const SampledSpectrum<N> keep = begin_sample(view, w, dispersion_u, rng, sigma_mean, kept);
         const WalkMedia media{sigma_mean};
-        Bdpt<N> bdpt(view, media, w, rng, rays);
+        Bdpt<N> bdpt(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
         const auto [u, v] = subpixel(s, settings.spp, rng);
         bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
         bdpt.light_subpath(light_path);

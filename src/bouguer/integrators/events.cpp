@@ -158,11 +158,7 @@ int keep_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, double u, R
 template <std::size_t N>
 bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
                          SampledSpectrum<N>& beta, double u, Rng& rng) {
-  if (N == 1 || surface.kind != SurfaceKind::interface || w.secondary_terminated()) return false;
-  const auto& media = v.scene.media;
-  if (!media[static_cast<std::size_t>(surface.medium_front)].dispersive &&
-      !media[static_cast<std::size_t>(surface.medium_behind)].dispersive)
-    return false;
+  if (N == 1 || w.secondary_terminated() || !is_dispersive(v.scene, surface)) return false;
   const int j = keep_wavelength(v, w, u, rng);
   const float kept = beta[static_cast<std::size_t>(j)] * static_cast<float>(N);
   beta = SampledSpectrum<N>{};

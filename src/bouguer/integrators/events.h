@@ -148,6 +148,14 @@ template <std::size_t N>
 bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
                          SampledSpectrum<N>& beta, double u, Rng& rng);
 
+// Whether a path crossing `surface` splits the wavelengths: an interface with a medium whose index
+// varies with wavelength on either side.
+inline bool is_dispersive(const RenderScene& scene, const Surface& surface) {
+  if (surface.kind != SurfaceKind::interface) return false;
+  return scene.media[static_cast<std::size_t>(surface.medium_front)].dispersive ||
+         scene.media[static_cast<std::size_t>(surface.medium_behind)].dispersive;
+}
+
 // Terminates all carried wavelengths but j = ⌊u·N⌋ (its value within its bin drawn in full mode)
 // and returns j; the caller weighs what it carries by N.
 template <std::size_t N>

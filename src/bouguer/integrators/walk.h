@@ -38,6 +38,7 @@ struct Vertex {
   SampledSpectrum<N> r_u = SampledSpectrum<N>::constant(1.0f);  // its spectral-MIS ratios so far
   double pdf_fwd = 0.0, pdf_rev = 0.0;
   bool delta = false;  // a specular surface: never connected
+  bool dispersed = false;  // its subpath has crossed a dispersive interface (here or before)
   // Light endpoints (the start of a light subpath, or where a camera subpath met a lamp or escaped).
   int light = -1;
   bool infinite = false;  // background, environment or distant light (no point)
@@ -78,6 +79,12 @@ struct WalkState {
   Vec3 from;  // the last vertex
   double pdf_dir = 0.0;
   double dispersion_u = 0.0;  // chooses the wavelength kept at the first dispersive interface
+  // Deferred dispersion (the bidirectional estimator): the wavelengths stay as they are and the
+  // surfaces from the first dispersive one on are built for `kept` (one wavelength, the same for
+  // both subpaths of a sample); `dispersed` marks the vertices whose contributions count only
+  // at that wavelength.
+  const SampledWavelengths<N>* kept = nullptr;
+  bool dispersed = false;
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int crossings = 0;
@@ -129,6 +136,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     x.tau_in = tau;
     x.beta = state.beta;
     x.r_u = state.mis.r_u;
+    x.dispersed = state.dispersed;
     return x;
   };
   auto record = [&](Vertex<N>& x) {
@@ -193,12 +201,15 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
       continue;
     }
-    keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);
+    if (!state.kept)
+      keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);
+    else if (!state.dispersed && is_dispersive(scene, surface))
+      state.dispersed = true;
     const Vec3 wo = -d;
     Vertex<N> vx = make(VertexKind::surface, hit->point);
     vx.normal = hit->normal;
     vx.hit = *hit;
-    vx.event = surface_event(v, *hit, surface, wo, state.medium, w);
+    vx.event = surface_event(v, *hit, surface, wo, state.medium, state.dispersed ? *state.kept : w);
     vx.delta = is_specular(vx.event.bsdf);
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
