@@ -26,28 +26,28 @@ SceneBuilder lit_builder() {
   c.position_m = {0.02, 0.15, 0.25};
   c.look_at_m = {0.01, 0.01, 0.01};
   c.width_px = c.height_px = 12;
-  b.camera(c);
+  b.camera(c, b.at("camera"));
   RenderSettings s;
   s.integrator = IntegratorType::path;
   s.spp = 16;
-  b.settings(s);
+  b.settings(s, b.at("render"));
   MediumDesc glass;
   glass.name = "glass";
   glass.ior = ConstantIor{1.5};
   glass.sigma_a_per_m = find_library_material("red-glass")->sigma_a_per_m;
   glass.absorbing = true;
-  b.medium(glass, "media.glass");
+  b.medium(glass, b.at("media.glass"));
   ObjectDesc tet;
   tet.name = "tetrahedron";
   tet.shape = tetrahedron(0.04);
   tet.inside = "glass";
-  b.object(tet, "objects[0]");
+  b.object(tet, b.at("objects[0]"));
   ObjectDesc lamp;
   lamp.name = "lamp";
   lamp.shape = QuadShape{0.5, 0.5};
   lamp.transform = Transform::translate({0, 0, -0.1});
   lamp.emission = EmissionDesc{ConstantSpectrum{1.0}, true, std::nullopt};
-  b.object(lamp, "objects[1]");
+  b.object(lamp, b.at("objects[1]"));
   return b;
 }
 
@@ -80,23 +80,23 @@ TEST(SceneBuilder, ChecksEachPartWhereItIsAddedAndNamesThePlace) {
         ObjectDesc o;
         o.shape = BoxShape{};
         o.inside = "glas";
-        b.object(o, "objects[2]");
+        b.object(o, b.at("objects[2]"));
         (void)std::move(b).build();
       },
       "built-in-code: objects[2].inside: unknown medium 'glas' (did you mean 'glass'?)");
-  expect_error([] { lit_builder().medium(predefined_media()[1], "media.air"); }, "media.air: 'air' is predefined");
+  expect_error([] { lit_builder().medium(predefined_media()[1], Source{"built-in-code", "media.air"}); }, "media.air: 'air' is predefined");
   expect_error(
       [] {
         ObjectDesc o;
         o.shape = BoxShape{};
-        lit_builder().object(o, "objects[5]");
+        lit_builder().object(o, Source{"built-in-code", "objects[5]"});
       },
       "objects[5]: give exactly one of 'inside'");
   expect_error(
       [] {
         CameraDesc c;
         c.look_at_m = c.position_m;
-        lit_builder().camera(c, "camera");
+        lit_builder().camera(c, Source{"built-in-code", "camera"});
       },
       "camera: 'position' and 'look_at' coincide");
   expect_error(
