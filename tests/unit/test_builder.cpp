@@ -109,5 +109,50 @@ TEST(SceneBuilder, ChecksEachPartWhereItIsAddedAndNamesThePlace) {
       "object 'tetrahedron': triangle 1 names vertex 9, but there are 4");
 }
 
+// Every check is reachable without JSON: plain inputs and a Source, as glTF and Python will give.
+TEST(SceneBuilder, ResolvesFrontEndValuesWithoutJson) {
+  const Source at{"asset.glb", "materials[3]"};
+  EXPECT_DOUBLE_EQ(resolve_length_m(LengthInput{"5 mm"}, at), 0.005);
+  expect_error([&] { (void)resolve_positive_length_m(LengthInput{-1.0}, at / "radius"); },
+               "asset.glb: materials[3].radius: must be a positive length");
+  expect_error([&] { (void)resolve_ior(IorInput{IorLibraryInput{"bk7x"}}, at / "ior"); },
+               "asset.glb: materials[3].ior.library: unknown dispersion data 'bk7x'");
+  MediumInput wine;
+  AbsorptionInput red;
+  red.source = AbsorptionLibraryInput{"red-glass"};
+  wine.absorption.push_back(red);
+  const MediumDesc m = resolve_medium("wine", wine, at);
+  EXPECT_TRUE(m.absorbing);
+  MediumInput no_ior;
+  AbsorptionInput rgb;
+  rgb.source = AbsorptionValuesInput{RgbInput{{1, 2, 3}}, "attenuation_per_m", std::nullopt};
+  no_ior.absorption.push_back(rgb);
+  expect_error([&] { (void)resolve_medium("m", no_ior, at); }, "asset.glb: materials[3]: needs 'ior'");
+  expect_error([&] { (void)resolve_surface_material(DiffuseInput{RgbInput{{0.5, 1.5, 0.5}}}, at); },
+               "materials[3].reflectance.rgb[1]: a reflectance must lie between 0 and 1");
+}
+
+// The command line's overrides pass the same check as a scene's values, once, naming the option.
+TEST(SceneBuilder, OverridesPassTheSameCheckNamingTheOption) {
+  SceneBuilder b = lit_builder();
+  expect_error([&] { b.spp(0, b.at("render.spp")); }, "built-in-code: render.spp: must be between 1 and 1048576 (got 0)");
+  try {
+    b.spp(0, Source::option("--spp"));
+    FAIL() << "no error";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()), "--spp: must be between 1 and 1048576 (got 0)");
+  }
+  expect_error([&] { b.resolution(80, 0, Source::option("--resolution")); },
+               "--resolution: each side must be 1 to 16384 pixels (got 80x0)");
+  expect_error([&] { b.integrator("bidirectional", Source::option("--integrator")); },
+               "--integrator: unknown integrator 'bidirectional'");
+  b.spp(3, Source::option("--spp")).max_depth(5, Source::option("--max-depth")).resolution(7, 9, Source::option("--resolution"));
+  const SceneDesc desc = std::move(b).build();
+  EXPECT_EQ(desc.render.spp, 3);
+  EXPECT_EQ(desc.render.max_depth, 5);
+  EXPECT_EQ(desc.camera.width_px, 7);
+  EXPECT_EQ(desc.camera.height_px, 9);
+}
+
 }  // namespace
 }  // namespace bouguer
