@@ -26,9 +26,9 @@ namespace {
 
 struct RenderCli {
   std::vector<std::string> outputs = {"render.png"};
-  std::string scene, spectral_exr, stats_json, integrator, spectral, resolution;
-  int spp = 0, threads = 0, max_depth = 0;
-  long long seed = -1;
+  std::string scene, spectral_exr, stats_json;
+  SceneOverrides overrides;
+  int threads = 0;
   double time_s = 0.0;  // --time: a budget of seconds (0: none)
   bool quiet = false;
 };
@@ -63,19 +63,6 @@ class Progress {
   double last_ = -1e9;
   std::mutex mutex_;
 };
-
-void apply_overrides(const RenderCli& o, SceneDesc& s) {
-  if (!o.integrator.empty()) s.render.integrator = find_integrator(o.integrator)->type;
-  if (!o.spectral.empty()) s.render.spectral = find_spectral_mode(o.spectral)->mode;
-  if (o.spp > 0) s.render.spp = o.spp;
-  if (o.max_depth > 0) s.render.max_depth = o.max_depth;
-  if (o.seed >= 0) s.render.seed = static_cast<std::uint64_t>(o.seed);
-  if (!o.resolution.empty()) {
-    const Resolution r = parse_resolution(o.resolution);
-    s.camera.width_px = r.width;
-    s.camera.height_px = r.height;
-  }
-}
 
 // Ctrl-C: the first stops the render after the tiles in flight (the image so far is written),
 // the second exits at once.
@@ -160,12 +147,11 @@ OutputSet checked_outputs(const RenderCli& o) {
 
 int run_render(const RenderCli& o) {
   const OutputSet outputs = checked_outputs(o);
-  SceneDesc desc = load_scene(o.scene);
-  apply_overrides(o, desc);
+  const SceneDesc desc = load_scene_with(o.scene, o.overrides);
   RenderSettings settings = desc.render;
   // A budget of seconds without --spp: as many samples as the budget allows.
   constexpr int kTimedSpp = 1 << 20;
-  if (o.time_s > 0.0 && o.spp == 0) settings.spp = kTimedSpp;
+  if (o.time_s > 0.0 && !o.overrides.spp) settings.spp = kTimedSpp;
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
@@ -232,12 +218,26 @@ int run_render(const RenderCli& o) {
 }  // namespace
 
 Resolution parse_resolution(const std::string& text) {
-  int w = 0, h = 0;
+  long long w = 0, h = 0;
   char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' || w < 1 || h < 1 || w > 16384 ||
-      h > 16384)
-    fail("--resolution: expected WIDTHxHEIGHT such as 640x480, each 1 to 16384 (got '{}')", text);
+  if (std::sscanf(text.c_str(), "%lld%c%lld%c", &w, &x, &h, &extra) != 3 || x != 'x')
+    fail_usage("--resolution: expected WIDTHxHEIGHT such as 640x480 (got '{}')", text);
   return {w, h};
+}
+
+SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
+  SceneBuilder b(scene);
+  load_scene(scene, b);
+  if (!o.integrator.empty()) b.integrator(o.integrator, Source::option("--integrator"));
+  if (!o.spectral.empty()) b.spectral_mode(o.spectral, Source::option("--spectral"));
+  if (o.spp) b.spp(*o.spp, Source::option("--spp"));
+  if (o.max_depth) b.max_depth(*o.max_depth, Source::option("--max-depth"));
+  if (o.seed) b.seed(*o.seed, Source::option("--seed"));
+  if (!o.resolution.empty()) {
+    const Resolution r = parse_resolution(o.resolution);
+    b.resolution(r.width, r.height, Source::option("--resolution"));
+  }
+  return std::move(b).build();
 }
 
 Command add_render_command(CLI::App& parent) {
@@ -248,23 +248,21 @@ Command add_render_command(CLI::App& parent) {
                   "Image(s) to write: .png (sRGB 8-bit), .exr or .pfm (linear float); repeat for several")
       ->capture_default_str();
   app->add_option("--spectral-exr", o->spectral_exr, "Also write a spectral EXR (JCGT layout; --spectral full)");
-  app->add_option("--spp", o->spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
-  std::vector<std::string> integrators, modes;
+  SceneOverrides& over = o->overrides;
+  app->add_option("--spp", over.spp, "Samples per pixel, 1 to 1048576 (overrides the scene)");
   std::string integrator_help = "Estimator (overrides the scene):", mode_help = "Wavelengths carried (overrides the scene):";
   for (const IntegratorInfo& i : integrator_table()) {
-    integrators.emplace_back(i.name);
     integrator_help += fmt::format(" {} ({});", i.name, i.summary);
   }
   for (const SpectralModeInfo& m : spectral_mode_table()) {
-    modes.emplace_back(m.name);
     mode_help += fmt::format(" {} ({});", m.name, m.summary);
   }
-  app->add_option("--integrator", o->integrator, integrator_help)->check(CLI::IsMember(integrators));
-  app->add_option("--spectral", o->spectral, mode_help)->check(CLI::IsMember(modes));
-  app->add_option("--resolution", o->resolution, "Image size WIDTHxHEIGHT (overrides the scene)");
+  app->add_option("--integrator", over.integrator, integrator_help);
+  app->add_option("--spectral", over.spectral, mode_help);
+  app->add_option("--resolution", over.resolution, "Image size WIDTHxHEIGHT, each 1 to 16384 (overrides the scene)");
   app->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
-  app->add_option("--seed", o->seed, "Random seed (overrides the scene)")->check(CLI::Range(0LL, 2147483647LL));
-  app->add_option("--max-depth", o->max_depth, "Maximum ray depth (overrides the scene)")->check(CLI::Range(1, 1000));
+  app->add_option("--seed", over.seed, "Random seed, 0 to 2147483647 (overrides the scene)");
+  app->add_option("--max-depth", over.max_depth, "Maximum ray depth, 1 to 1000 (overrides the scene)");
   app->add_option("--time", o->time_s,
                   "Render whole passes for at most SECONDS, then write the image (with --spp: whichever ends first; "
                   "the image then depends on the machine)")

@@ -29,8 +29,7 @@ namespace fs = std::filesystem;
 struct ReportOptions {
   std::string out = "out/report";
   std::string scenes = "scenes/paper";
-  std::string resolution;
-  int spp = 0;
+  SceneOverrides overrides;  // resolution and spp
   int threads = 0;
   bool quiet = false;
 };
@@ -89,7 +88,6 @@ int run_report(const ReportOptions& o) {
     if (e.path().extension() == ".json") scenes.push_back(e.path());
   std::sort(scenes.begin(), scenes.end());
   if (scenes.empty()) fail("--scenes: no .json scene files in '{}'", o.scenes);
-  const Resolution size = o.resolution.empty() ? Resolution{} : parse_resolution(o.resolution);
   fs::create_directories(o.out, ec);
   if (ec) fail_usage("--out {}: cannot create the folder: {}", o.out, ec.message());
   const fs::path index = fs::path(o.out) / "index.html";
@@ -103,12 +101,7 @@ int run_report(const ReportOptions& o) {
   std::vector<std::string> plotted;
   const auto start = std::chrono::steady_clock::now();
   for (const fs::path& file : scenes) {
-    SceneDesc desc = load_scene(file);
-    if (size.width > 0) {
-      desc.camera.width_px = size.width;
-      desc.camera.height_px = size.height;
-    }
-    if (o.spp > 0) desc.render.spp = o.spp;
+    const SceneDesc desc = load_scene_with(file.string(), o.overrides);
     const std::string name = file.stem().string();
     if (!o.quiet) fmt::print(stderr, "report: {} ({}x{}, {} spp)\n", name, desc.camera.width_px, desc.camera.height_px,
                              desc.render.spp);
@@ -196,8 +189,8 @@ Command add_report_command(CLI::App& parent) {
       "report", "Render the paper's scenes in full spectrum and RGB and write one self-contained HTML page.");
   app->add_option("--out", o->out, "folder for index.html")->capture_default_str();
   app->add_option("--scenes", o->scenes, "folder of scene files")->capture_default_str();
-  app->add_option("--resolution", o->resolution, "WxH instead of each scene's own");
-  app->add_option("--spp", o->spp, "samples per pixel instead of each scene's own")->check(CLI::Range(1, 1 << 20));
+  app->add_option("--resolution", o->overrides.resolution, "WxH instead of each scene's own");
+  app->add_option("--spp", o->overrides.spp, "samples per pixel instead of each scene's own");
   app->add_option("--threads", o->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   app->add_flag("--quiet", o->quiet, "no progress lines");
   return {app, [o] { return run_report(*o); }};

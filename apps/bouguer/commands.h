@@ -2,8 +2,12 @@
 // Each subcommand registers its options on the CLI11 app and returns what to run once parsed.
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
+
+#include "bouguer/scene/description.h"
 
 namespace bouguer::cli {
 
@@ -22,11 +26,19 @@ Command add_report_command(CLI::App& parent);
 // and prints its bounds with six decimals).
 CLI::Validator finite_between(double lo, double hi);
 
-// "640x480" -> {640, 480}; anything else (missing x, trailing text, sizes outside 1..16384) is an
-// Error naming --resolution.
+// "640x480" -> {640, 480}; anything else (missing x, trailing text) is a UsageError naming
+// --resolution. The sizes are checked by the SceneBuilder (load_scene_with).
 struct Resolution {
-  int width = 0, height = 0;
+  std::int64_t width = 0, height = 0;
 };
 Resolution parse_resolution(const std::string& text);
+
+// The command line's overrides of a scene's settings. They are set on the SceneBuilder after the
+// scene file, so each passes the one check the file's value passes, its message naming the option.
+struct SceneOverrides {
+  std::string integrator, spectral, resolution;
+  std::optional<std::int64_t> spp, max_depth, seed;
+};
+bouguer::SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& overrides);
 
 }  // namespace bouguer::cli

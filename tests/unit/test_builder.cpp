@@ -26,28 +26,28 @@ SceneBuilder lit_builder() {
   c.position_m = {0.02, 0.15, 0.25};
   c.look_at_m = {0.01, 0.01, 0.01};
   c.width_px = c.height_px = 12;
-  b.camera(c);
+  b.camera(c, b.at("camera"));
   RenderSettings s;
   s.integrator = IntegratorType::path;
   s.spp = 16;
-  b.settings(s);
+  b.settings(s, b.at("render"));
   MediumDesc glass;
   glass.name = "glass";
   glass.ior = ConstantIor{1.5};
   glass.sigma_a_per_m = find_library_material("red-glass")->sigma_a_per_m;
   glass.absorbing = true;
-  b.medium(glass, "media.glass");
+  b.medium(glass, b.at("media.glass"));
   ObjectDesc tet;
   tet.name = "tetrahedron";
   tet.shape = tetrahedron(0.04);
   tet.inside = "glass";
-  b.object(tet, "objects[0]");
+  b.object(tet, b.at("objects[0]"));
   ObjectDesc lamp;
   lamp.name = "lamp";
   lamp.shape = QuadShape{0.5, 0.5};
   lamp.transform = Transform::translate({0, 0, -0.1});
   lamp.emission = EmissionDesc{ConstantSpectrum{1.0}, true, std::nullopt};
-  b.object(lamp, "objects[1]");
+  b.object(lamp, b.at("objects[1]"));
   return b;
 }
 
@@ -80,23 +80,23 @@ TEST(SceneBuilder, ChecksEachPartWhereItIsAddedAndNamesThePlace) {
         ObjectDesc o;
         o.shape = BoxShape{};
         o.inside = "glas";
-        b.object(o, "objects[2]");
+        b.object(o, b.at("objects[2]"));
         (void)std::move(b).build();
       },
       "built-in-code: objects[2].inside: unknown medium 'glas' (did you mean 'glass'?)");
-  expect_error([] { lit_builder().medium(predefined_media()[1], "media.air"); }, "media.air: 'air' is predefined");
+  expect_error([] { lit_builder().medium(predefined_media()[1], Source{"built-in-code", "media.air"}); }, "media.air: 'air' is predefined");
   expect_error(
       [] {
         ObjectDesc o;
         o.shape = BoxShape{};
-        lit_builder().object(o, "objects[5]");
+        lit_builder().object(o, Source{"built-in-code", "objects[5]"});
       },
       "objects[5]: give exactly one of 'inside'");
   expect_error(
       [] {
         CameraDesc c;
         c.look_at_m = c.position_m;
-        lit_builder().camera(c, "camera");
+        lit_builder().camera(c, Source{"built-in-code", "camera"});
       },
       "camera: 'position' and 'look_at' coincide");
   expect_error(
@@ -107,6 +107,51 @@ TEST(SceneBuilder, ChecksEachPartWhereItIsAddedAndNamesThePlace) {
         (void)compile(desc);
       },
       "object 'tetrahedron': triangle 1 names vertex 9, but there are 4");
+}
+
+// Every check is reachable without JSON: plain inputs and a Source, as glTF and Python will give.
+TEST(SceneBuilder, ResolvesFrontEndValuesWithoutJson) {
+  const Source at{"asset.glb", "materials[3]"};
+  EXPECT_DOUBLE_EQ(resolve_length_m(LengthInput{"5 mm"}, at), 0.005);
+  expect_error([&] { (void)resolve_positive_length_m(LengthInput{-1.0}, at / "radius"); },
+               "asset.glb: materials[3].radius: must be a positive length");
+  expect_error([&] { (void)resolve_ior(IorInput{IorLibraryInput{"bk7x"}}, at / "ior"); },
+               "asset.glb: materials[3].ior.library: unknown dispersion data 'bk7x'");
+  MediumInput wine;
+  AbsorptionInput red;
+  red.source = AbsorptionLibraryInput{"red-glass"};
+  wine.absorption.push_back(red);
+  const MediumDesc m = resolve_medium("wine", wine, at);
+  EXPECT_TRUE(m.absorbing);
+  MediumInput no_ior;
+  AbsorptionInput rgb;
+  rgb.source = AbsorptionValuesInput{RgbInput{{1, 2, 3}}, "attenuation_per_m", std::nullopt};
+  no_ior.absorption.push_back(rgb);
+  expect_error([&] { (void)resolve_medium("m", no_ior, at); }, "asset.glb: materials[3]: needs 'ior'");
+  expect_error([&] { (void)resolve_surface_material(DiffuseInput{RgbInput{{0.5, 1.5, 0.5}}}, at); },
+               "materials[3].reflectance.rgb[1]: a reflectance must lie between 0 and 1");
+}
+
+// The command line's overrides pass the same check as a scene's values, once, naming the option.
+TEST(SceneBuilder, OverridesPassTheSameCheckNamingTheOption) {
+  SceneBuilder b = lit_builder();
+  expect_error([&] { b.spp(0, b.at("render.spp")); }, "built-in-code: render.spp: must be between 1 and 1048576 (got 0)");
+  try {
+    b.spp(0, Source::option("--spp"));
+    FAIL() << "no error";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(std::string(e.what()), "--spp: must be between 1 and 1048576 (got 0)");
+  }
+  expect_error([&] { b.resolution(80, 0, Source::option("--resolution")); },
+               "--resolution: each side must be 1 to 16384 pixels (got 80x0)");
+  expect_error([&] { b.integrator("bidirectional", Source::option("--integrator")); },
+               "--integrator: unknown integrator 'bidirectional'");
+  b.spp(3, Source::option("--spp")).max_depth(5, Source::option("--max-depth")).resolution(7, 9, Source::option("--resolution"));
+  const SceneDesc desc = std::move(b).build();
+  EXPECT_EQ(desc.render.spp, 3);
+  EXPECT_EQ(desc.render.max_depth, 5);
+  EXPECT_EQ(desc.camera.width_px, 7);
+  EXPECT_EQ(desc.camera.height_px, 9);
 }
 
 }  // namespace

@@ -103,7 +103,8 @@ TEST(HostileScene, NumbersThatWouldPoisonTheImageAreRefusedWithTheirPlace) {
        "s.json: lights[0]: the light's intensity reaches"},
       {R"({"objects": [], "background": {"spectrum": "E", "scale": 1e300}})", "s.json: background: the background's radiance reaches"},
       {R"({"objects": [], "render": {"spp": 18446744073709551615}})",
-       "s.json: render.spp: must be between 1 and 1048576 (got 18446744073709551615)"},
+       "s.json: render.spp: 18446744073709551615 is beyond the largest whole number, 9223372036854775807"},
+      {R"({"objects": [], "render": {"spp": 2000000}})", "s.json: render.spp: must be between 1 and 1048576 (got 2000000)"},
   };
   for (const auto& c : cases) {
     const std::string e = scene_error(c.json);

@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/media/medium.h"
+#include "bouguer/render/integrator.h"
 
 namespace bouguer {
 
@@ -27,84 +29,123 @@ bool is_predefined(const std::string& name) {
   return false;
 }
 
+// Each setting's range, checked in one place for every front end and the command line.
+constexpr std::int64_t kMaxSide = 16384, kMaxSpp = std::int64_t{1} << 20, kMaxDepth = 1000, kMaxSeed = 2147483647;
+
+int count_between(std::int64_t v, std::int64_t lo, std::int64_t hi, const Source& where) {
+  if (v < lo || v > hi) where.fail("must be between {} and {} (got {})", lo, hi, v);
+  return static_cast<int>(v);
+}
+
+void check_resolution(std::int64_t w, std::int64_t h, const Source& where) {
+  if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide)
+    where.fail("each side must be 1 to {} pixels (got {}x{})", kMaxSide, w, h);
+}
+
 }  // namespace
 
 SceneBuilder::SceneBuilder(std::filesystem::path source) { desc_.file = std::move(source); }
 
-void SceneBuilder::fail_at(const std::string& where, const std::string& problem) const {
-  fail("{}: {}: {}", desc_.file.string(), where.empty() ? "(top level)" : where, problem);
-}
+void SceneBuilder::refer_to_medium(const std::string& name, const Source& where) { medium_refs_.emplace_back(name, where); }
 
-void SceneBuilder::refer_to_medium(const std::string& name, const std::string& where) {
-  medium_refs_.emplace_back(name, where);
-}
-
-SceneBuilder& SceneBuilder::camera(const CameraDesc& c, const std::string& where) {
+SceneBuilder& SceneBuilder::camera(const CameraDesc& c, const Source& where) {
   if (c.type == CameraType::pinhole && !(c.fov_deg > 0.0 && c.fov_deg < 180.0))
-    fail_at(where + ".fov_deg", "must be between 0 and 180 degrees");
-  if (c.type == CameraType::orthographic && !(c.width_m > 0.0)) fail_at(where + ".width", "must be a positive length");
-  if (c.width_px < 1 || c.height_px < 1 || c.width_px > 16384 || c.height_px > 16384)
-    fail_at(where + ".resolution", fmt::format("each side must be 1 to 16384 pixels (got {}x{})", c.width_px, c.height_px));
+    (where / "fov_deg").fail("must be between 0 and 180 degrees");
+  if (c.type == CameraType::orthographic && !(c.width_m > 0.0)) (where / "width").fail("must be a positive length");
+  check_resolution(c.width_px, c.height_px, where / "resolution");
   const Vec3 forward = c.look_at_m - c.position_m;
-  if (length(forward) == 0.0) fail_at(where, "'position' and 'look_at' coincide");
+  if (length(forward) == 0.0) where.fail("'position' and 'look_at' coincide");
   if (length(c.up) == 0.0 || length(cross(normalize(forward), normalize(c.up))) < 1e-9)
-    fail_at(where + ".up", "'up' must not be zero or parallel to the view direction");
+    (where / "up").fail("'up' must not be zero or parallel to the view direction");
   desc_.camera = c;
   return *this;
 }
 
-SceneBuilder& SceneBuilder::settings(const RenderSettings& s, const std::string& where) {
-  if (s.spp < 1 || s.spp > (1 << 20)) fail_at(where + ".spp", fmt::format("must be between 1 and {}", 1 << 20));
-  if (s.max_depth < 1 || s.max_depth > 1000) fail_at(where + ".max_depth", "must be between 1 and 1000");
+SceneBuilder& SceneBuilder::settings(const RenderSettings& s, const Source& where) {
+  count_between(s.spp, 1, kMaxSpp, where / "spp");
+  count_between(s.max_depth, 1, kMaxDepth, where / "max_depth");
   desc_.render = s;
   return *this;
 }
 
-SceneBuilder& SceneBuilder::world_medium(const std::string& name, const std::string& where) {
+SceneBuilder& SceneBuilder::integrator(const std::string& name, const Source& where) {
+  const IntegratorInfo* info = find_integrator(name);
+  if (!info) where.fail("unknown integrator '{}' ({})", name, integrator_names());
+  desc_.render.integrator = info->type;
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::spectral_mode(const std::string& name, const Source& where) {
+  const SpectralModeInfo* info = find_spectral_mode(name);
+  if (!info) where.fail("unknown spectral mode '{}' ({})", name, spectral_mode_names());
+  desc_.render.spectral = info->mode;
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::spp(std::int64_t v, const Source& where) {
+  desc_.render.spp = count_between(v, 1, kMaxSpp, where);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::max_depth(std::int64_t v, const Source& where) {
+  desc_.render.max_depth = count_between(v, 1, kMaxDepth, where);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::seed(std::int64_t v, const Source& where) {
+  desc_.render.seed = static_cast<std::uint64_t>(count_between(v, 0, kMaxSeed, where));
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::resolution(std::int64_t width_px, std::int64_t height_px, const Source& where) {
+  check_resolution(width_px, height_px, where);
+  desc_.camera.width_px = static_cast<int>(width_px);
+  desc_.camera.height_px = static_cast<int>(height_px);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::world_medium(const std::string& name, const Source& where) {
   desc_.world_medium = name;
   refer_to_medium(name, where);
   return *this;
 }
 
-SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
-  if (is_predefined(m.name)) fail_at(where, fmt::format("'{}' is predefined; choose another name", m.name));
-  if (desc_.media.contains(m.name)) fail_at(where, fmt::format("a medium named '{}' exists already", m.name));
+SceneBuilder& SceneBuilder::medium(MediumDesc m, const Source& where) {
+  if (is_predefined(m.name)) where.fail("'{}' is predefined; choose another name", m.name);
+  if (desc_.media.contains(m.name)) where.fail("a medium named '{}' exists already", m.name);
   if (const auto problem = beyond_limit(m.sigma_a_per_m, kMaxCoefficientPerM, "the absorption coefficient σ_a (per metre)"))
-    fail_at(where + ".absorption", *problem);
+    (where / "absorption").fail("{}", *problem);
   if (m.field_absorbers.size() > kMaxAbsorbersPerMedium)
-    fail_at(where + ".absorption", fmt::format("at most {} absorbers per medium (got {})", kMaxAbsorbersPerMedium,
-                                               m.field_absorbers.size()));
+    (where / "absorption").fail("at most {} absorbers per medium (got {})", kMaxAbsorbersPerMedium, m.field_absorbers.size());
+  const bool density_scales_absorption = m.scattering && m.scattering->density && m.scattering->density_scales_absorption;
   for (std::size_t i = 0; i < m.field_absorbers.size(); ++i) {
     const FieldAbsorberDesc& a = m.field_absorbers[i];
-    const std::string at = m.field_absorbers.size() > 1 ? fmt::format("{}.absorption[{}]", where, i) : where + ".absorption";
+    const Source at = m.field_absorbers.size() > 1 ? (where / "absorption")[i] : where / "absorption";
     if (const auto problem = beyond_limit(a.epsilon_per_m, kMaxCoefficientPerM, "σ_a per unit concentration"))
-      fail_at(at, *problem);
-    if (min_value(a.epsilon_per_m) < 0.0) fail_at(at, "σ_a must not be negative");
+      at.fail("{}", *problem);
+    if (min_value(a.epsilon_per_m) < 0.0) at.fail("σ_a must not be negative");
     // A linear field grows without bound; its column densities are capped (concentration_field.h).
     const double peak = max_concentration(a.field);
     if (std::isfinite(peak) && !(peak * max_value(a.epsilon_per_m) <= kMaxCoefficientPerM))
-      fail_at(at + ".concentration", fmt::format("σ_a at the field's largest concentration ({:g}) exceeds {:g} per metre",
-                                                 peak, kMaxCoefficientPerM));
+      (at / "concentration")
+          .fail("σ_a at the field's largest concentration ({:g}) exceeds {:g} per metre", peak, kMaxCoefficientPerM);
+    if (density_scales_absorption && !std::holds_alternative<ConstantField>(a.field))
+      at.fail("with a scattering 'density', the absorption's concentration must be a number (the density field scales it)");
   }
   if (m.scattering) {
-    const std::string at = where + ".scattering";
+    const Source at = where / "scattering";
     if (const auto problem = beyond_limit(m.scattering->sigma_s_per_m, kMaxCoefficientPerM, "the scattering coefficient σ_s (per metre)"))
-      fail_at(at, *problem);
-    if (min_value(m.scattering->sigma_s_per_m) < 0.0) fail_at(at, "σ_s must not be negative");
+      at.fail("{}", *problem);
+    if (min_value(m.scattering->sigma_s_per_m) < 0.0) at.fail("σ_s must not be negative");
     if (m.scattering->sigma_a_per_m && min_value(*m.scattering->sigma_a_per_m) < 0.0)
-      fail_at(at, "the scatterers' σ_a must not be negative");
+      at.fail("the scatterers' σ_a must not be negative");
     if (const auto* hg = std::get_if<HenyeyGreensteinPhase>(&m.scattering->phase); hg && !(std::abs(hg->g) < 1.0))
-      fail_at(at + ".phase.g", fmt::format("must lie strictly between −1 and 1 (got {})", hg->g));
+      (at / "phase" / "g").fail("must lie strictly between −1 and 1 (got {})", hg->g);
     if (m.scattering->density) {
       const double peak = max_concentration(*m.scattering->density);
       const double sigma = std::max(max_value(m.scattering->sigma_s_per_m), max_value(m.sigma_a_per_m));
       if (std::isfinite(peak) && !(peak * sigma <= kMaxCoefficientPerM))
-        fail_at(at + ".density", fmt::format("σ at the density's largest value ({:g}) exceeds {:g} per metre", peak,
-                                             kMaxCoefficientPerM));
-      if (m.scattering->density_scales_absorption)
-        for (const FieldAbsorberDesc& a : m.field_absorbers)
-          if (!std::holds_alternative<ConstantField>(a.field))
-            fail_at(where + ".absorption", "with a scattering density, the absorption's concentration must be a number");
+        (at / "density").fail("σ at the density's largest value ({:g}) exceeds {:g} per metre", peak, kMaxCoefficientPerM);
     }
   }
   const std::string name = m.name;
@@ -112,52 +153,86 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const std::string& where) {
   return *this;
 }
 
-SceneBuilder& SceneBuilder::object(ObjectDesc o, const std::string& where) {
+SceneBuilder& SceneBuilder::medium(const std::string& name, const MediumInput& m, const Source& where) {
+  return medium(resolve_medium(name, m, where), where);
+}
+
+namespace {
+
+void check_roughness(double alpha, const Source& where) {
+  if (!(alpha >= 0.0 && alpha <= 1.0)) where.fail("a GGX roughness (alpha) must be between 0 and 1 (got {})", alpha);
+}
+
+void check_material(const MaterialDesc& material, const Source& where) {
+  if (const auto* d = std::get_if<DiffuseDesc>(&material)) {
+    if (max_value(d->reflectance) > 1.0 || min_value(d->reflectance) < 0.0)
+      (where / "reflectance").fail("a reflectance must lie between 0 and 1");
+    return;
+  }
+  const auto& c = std::get<ConductorDesc>(material);
+  if (min_value(c.n) <= 0.0) (where / "n").fail("must be positive");
+  if (min_value(c.k) < 0.0) (where / "k").fail("must not be negative");
+  check_roughness(c.roughness, where / "roughness");
+}
+
+}  // namespace
+
+SceneBuilder& SceneBuilder::object(ObjectDesc o, const Source& where) {
   const int roles = int(o.inside.has_value()) + int(o.emission.has_value()) + int(o.material.has_value());
-  if (roles != 1) fail_at(where, "give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
+  if (roles != 1) where.fail("give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
   if (!o.inside && (o.outside || o.contents || o.roughness != 0.0))
-    fail_at(where, "'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
-  if (!(o.roughness >= 0.0 && o.roughness <= 1.0))
-    fail_at(where + ".roughness", fmt::format("a GGX roughness (alpha) must be between 0 and 1 (got {})", o.roughness));
+    where.fail("'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
+  check_roughness(o.roughness, where / "roughness");
   const bool vessel = std::holds_alternative<VesselShape>(o.shape);
   if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
-    fail_at(where, "a filled vessel needs 'contents' (the liquid's medium)");
-  if (!vessel && o.contents) fail_at(where + ".contents", "only a vessel has contents");
+    where.fail("a filled vessel needs 'contents' (the liquid's medium)");
+  if (!vessel && o.contents) (where / "contents").fail("only a vessel has contents");
   if (o.emission)
     if (const auto problem = beyond_limit(o.emission->radiance, kMaxEmission, "the emitted radiance"))
-      fail_at(where + ".emission", *problem);
-  if (o.inside) refer_to_medium(*o.inside, where + ".inside");
-  if (o.outside) refer_to_medium(*o.outside, where + ".outside");
-  if (o.contents) refer_to_medium(*o.contents, where + ".contents");
+      (where / "emission").fail("{}", *problem);
+  if (o.material) check_material(*o.material, where / "material");
+  if (o.inside) refer_to_medium(*o.inside, where / "inside");
+  if (o.outside) refer_to_medium(*o.outside, where / "outside");
+  if (o.contents) refer_to_medium(*o.contents, where / "contents");
   desc_.objects.push_back(std::move(o));
   return *this;
 }
 
-SceneBuilder& SceneBuilder::light(const DeltaLightDesc& l, const std::string& where) {
+SceneBuilder& SceneBuilder::light(const DeltaLightDesc& l, const Source& where) {
   if (l.type != DeltaLightType::point && std::abs(length(l.direction) - 1.0) > 1e-9)
-    fail_at(where, "the light's direction must be a unit vector");
+    where.fail("the light's direction must be a unit vector");
   if (l.type == DeltaLightType::spot) {
-    if (!(l.cone_deg > 0.0 && l.cone_deg <= 90.0)) fail_at(where + ".cone_deg", "must be between 0 and 90 degrees");
+    if (!(l.cone_deg > 0.0 && l.cone_deg <= 90.0)) (where / "cone_deg").fail("must be between 0 and 90 degrees");
     if (!(l.falloff_deg >= 0.0 && l.falloff_deg <= l.cone_deg))
-      fail_at(where + ".falloff_deg", "must be between 0 and cone_deg");
+      (where / "falloff_deg").fail("must be between 0 and cone_deg");
   }
-  if (l.radius_m != 0.0 && (l.type != DeltaLightType::spot || !(l.radius_m > 0.0)))
-    fail_at(where + ".radius", "only a spot light takes a radius, and it must be a positive length");
-  if (const auto problem = beyond_limit(l.intensity, kMaxEmission, "the light's intensity")) fail_at(where, *problem);
+  if (l.radius_m != 0.0 && l.type != DeltaLightType::spot) (where / "radius").fail("only a spot light takes a radius");
+  if (!(l.radius_m >= 0.0)) (where / "radius").fail("must be a positive length");
+  if (const auto problem = beyond_limit(l.intensity, kMaxEmission, "the light's intensity")) where.fail("{}", *problem);
   desc_.lights.push_back(l);
   return *this;
 }
 
-SceneBuilder& SceneBuilder::background(const EmissionDesc& e, const std::string& where) {
-  if (const auto problem = beyond_limit(e.radiance, kMaxEmission, "the background's radiance")) fail_at(where, *problem);
+SceneBuilder& SceneBuilder::background(const EmissionDesc& e, const Source& where) {
+  if (const auto problem = beyond_limit(e.radiance, kMaxEmission, "the background's radiance")) where.fail("{}", *problem);
   desc_.background = e;
   desc_.environment.reset();
+  desc_.environment_map.reset();
   return *this;
 }
 
-SceneBuilder& SceneBuilder::environment(const EnvironmentDesc& e, const std::string& where) {
+SceneBuilder& SceneBuilder::environment(const EnvironmentDesc& e, const Source& where) {
+  const Source file = where / "environment";
+  const std::string ext = e.file.extension().string();
+  if (ext != ".exr" && ext != ".pfm") file.fail("an environment map must be an .exr or .pfm file");
+  if (!std::filesystem::exists(e.file)) file.fail("no such file: {}", e.file.string());
   if (!(e.scale >= 0.0 && e.scale <= kMaxEnvironmentRadiance))
-    fail_at(where + ".scale", fmt::format("must be between 0 and {:g} (got {})", kMaxEnvironmentRadiance, e.scale));
+    (where / "scale").fail("must be between 0 and {:g} (got {})", kMaxEnvironmentRadiance, e.scale);
+  try {
+    desc_.environment_map = std::make_shared<const EnvironmentMap>(load_environment(e));
+  } catch (const Error& error) {
+    file.fail("{}", error.what());
+  }
   desc_.environment = e;
   return *this;
 }
@@ -168,9 +243,9 @@ SceneDesc SceneBuilder::build() && {
   for (const auto& [name, m] : desc_.media) names.push_back(name);
   for (const auto& [name, where] : medium_refs_)
     if (!is_predefined(name) && !desc_.media.contains(name))
-      fail_at(where, fmt::format("unknown medium '{}'{}", name, suggestion(name, names)));
+      where.fail("unknown medium '{}'{}", name, suggestion(name, names));
   if (!is_predefined(desc_.world_medium) && !desc_.media.contains(desc_.world_medium))
-    fail_at("world_medium", fmt::format("unknown medium '{}'{}", desc_.world_medium, suggestion(desc_.world_medium, names)));
+    at("world_medium").fail("unknown medium '{}'{}", desc_.world_medium, suggestion(desc_.world_medium, names));
   return std::move(desc_);
 }
 

@@ -2,15 +2,20 @@
 // The front seam: every front end (the JSON loader today; glTF and Python later) describes a
 // scene through one SceneBuilder. Each part is checked where it is added — the physical checks
 // live with the types they check — and its errors are one line naming the source and the place
-// the front end gives (`where`, a key path such as "objects[2]"); build() then checks what parts
-// refer to (medium names) and returns the SceneDesc that compile accepts. Rewrites (spot lights
-// with a radius become disks, the predefined media) happen in compile, not here.
+// the front end gives (`where`, a Source: a file and a key path such as "objects[2]", or a
+// command-line option); build() then checks what parts refer to (medium names) and returns the
+// SceneDesc that compile accepts. Every file a scene names is read here or before, never in
+// compile. Rewrites (spot lights with a radius become disks, the predefined media) happen in
+// compile, not here.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "bouguer/scene/description.h"
+#include "bouguer/scene/source.h"
+#include "bouguer/scene/values.h"
 
 namespace bouguer {
 
@@ -21,24 +26,39 @@ class SceneBuilder {
  public:
   explicit SceneBuilder(std::filesystem::path source);
 
-  SceneBuilder& camera(const CameraDesc& c, const std::string& where = "camera");
-  SceneBuilder& settings(const RenderSettings& s, const std::string& where = "render");
-  SceneBuilder& world_medium(const std::string& name, const std::string& where = "world_medium");
-  SceneBuilder& medium(MediumDesc m, const std::string& where);
-  SceneBuilder& object(ObjectDesc o, const std::string& where);
-  SceneBuilder& light(const DeltaLightDesc& l, const std::string& where);
-  SceneBuilder& background(const EmissionDesc& e, const std::string& where = "background");
-  SceneBuilder& environment(const EnvironmentDesc& e, const std::string& where = "background");
+  // A place in the builder's own source file, for front ends that read one file.
+  Source at(std::string path) const { return {desc_.file, std::move(path)}; }
+
+  SceneBuilder& camera(const CameraDesc& c, const Source& where);
+  SceneBuilder& settings(const RenderSettings& s, const Source& where);
+  SceneBuilder& world_medium(const std::string& name, const Source& where);
+  SceneBuilder& medium(MediumDesc m, const Source& where);
+  // A medium as a front end gives it (library names, units, RGB, files: scene/values.h).
+  SceneBuilder& medium(const std::string& name, const MediumInput& m, const Source& where);
+  SceneBuilder& object(ObjectDesc o, const Source& where);
+  SceneBuilder& light(const DeltaLightDesc& l, const Source& where);
+  SceneBuilder& background(const EmissionDesc& e, const Source& where);
+  // Reads the map (an .exr or .pfm file) now, so compile reads no file.
+  SceneBuilder& environment(const EnvironmentDesc& e, const Source& where);
+
+  // Single settings as a front end or the command line gives them (names, whole numbers of any
+  // size), each checked as settings() checks it, with one message: a scene's values and the
+  // command line's overrides (called after the scene, so they win) pass the same check.
+  SceneBuilder& integrator(const std::string& name, const Source& where);
+  SceneBuilder& spectral_mode(const std::string& name, const Source& where);
+  SceneBuilder& spp(std::int64_t spp, const Source& where);
+  SceneBuilder& max_depth(std::int64_t depth, const Source& where);
+  SceneBuilder& seed(std::int64_t seed, const Source& where);
+  SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 
   // The checked description; an Error naming the place of a medium name that does not exist.
   SceneDesc build() &&;
 
  private:
-  [[noreturn]] void fail_at(const std::string& where, const std::string& problem) const;
-  void refer_to_medium(const std::string& name, const std::string& where);
+  void refer_to_medium(const std::string& name, const Source& where);
 
   SceneDesc desc_;
-  std::vector<std::pair<std::string, std::string>> medium_refs_;  // (name, where)
+  std::vector<std::pair<std::string, Source>> medium_refs_;  // (name, where)
 };
 
 }  // namespace bouguer

@@ -1,5 +1,6 @@
 #include "bouguer/scene/compile.h"
 
+#include <cassert>
 #include <map>
 #include <numbers>
 #include <tuple>
@@ -155,142 +156,174 @@ void add_lights_distributions(RenderScene& s) {
   s.emitters = LightDistribution::by_power(s.light_power, all);
 }
 
-}  // namespace
+// ---- the steps of compile, in order --------------------------------------------------------
 
-RenderScene compile(const SceneDesc& desc) {
-  RenderScene s;
-  s.file = desc.file;
-  s.camera = desc.camera;
-  if (desc.environment) {
-    try {
-      s.environment = std::make_unique<const EnvironmentMap>(load_environment(*desc.environment));
-    } catch (const Error& e) {
-      fail("{}: background.environment: {}", desc.file.string(), e.what());
+// A scattering medium: its density scales the absorption too, each absorber's field becoming
+// its concentration times the density (the builder requires numbers for those concentrations).
+ScatteringMedium lower_scattering(RenderScene& s, const MediumDesc& m, const std::filesystem::path& file) {
+  ScatteringMedium sc;
+  const ConcentrationField density = m.scattering->density.value_or(ConcentrationField{ConstantField{1.0}});
+  auto absorber = [&](const Spectrum& epsilon, double concentration) {
+    sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), scaled(density, concentration)});
+  };
+  const bool scale = m.scattering->density && m.scattering->density_scales_absorption;
+  auto unscaled = [&](const Spectrum& epsilon, const ConcentrationField& field) {
+    sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), field});
+  };
+  if (m.field_absorbers.empty()) {
+    if (m.absorbing) scale ? absorber(m.sigma_a_per_m, 1.0) : unscaled(m.sigma_a_per_m, ConstantField{1.0});
+  } else {
+    for (const FieldAbsorberDesc& a : m.field_absorbers) {
+      if (!scale) unscaled(a.epsilon_per_m, a.field);
+      else absorber(a.epsilon_per_m, std::get<ConstantField>(a.field).value);
     }
   }
-  std::vector<const MediumDesc*> media;
+  if (m.scattering->sigma_a_per_m) absorber(*m.scattering->sigma_a_per_m, 1.0);
+  if (sc.absorbers.size() > kMaxAbsorbersPerMedium)
+    fail("{}: media.{}: at most {} absorbers in a medium, its scatterers' own included", file.string(), m.name,
+         kMaxAbsorbersPerMedium);
+  sc.sigma_s = add_spectrum(s, m.scattering->sigma_s_per_m, SpectrumRole::coefficient);
+  sc.density = density;
+  sc.phase = m.scattering->phase;
+  return sc;
+}
+
+SceneMedium lower_medium(RenderScene& s, const MediumDesc& m, const std::filesystem::path& file) {
+  SceneMedium sm;
+  sm.name = m.name;
+  if (m.scattering) {
+    sm.medium = lower_scattering(s, m, file);
+    s.scatters = true;
+  } else if (m.field_absorbers.empty()) {
+    sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
+  } else {
+    FieldMedium f;
+    for (const FieldAbsorberDesc& a : m.field_absorbers)
+      f.absorbers.push_back({add_spectrum(s, a.epsilon_per_m, SpectrumRole::absorption), a.field});
+    sm.medium = std::move(f);
+  }
+  sm.ior = add_spectrum(s, m.ior, SpectrumRole::point);
+  sm.ior_reference = ior_at(m.ior, kReferenceWavelengthNm);
+  sm.dispersive = is_dispersive(m.ior);
+  s.dispersive = s.dispersive || sm.dispersive;
+  return sm;
+}
+
+// Every medium, the predefined ones first (unless the scene redefines them), then the world's.
+void lower_media(RenderScene& s, const SceneDesc& desc) {
   for (const MediumDesc& m : predefined_media())
-    if (!desc.media.contains(m.name)) media.push_back(&m);
-  for (const auto& [name, m] : desc.media) media.push_back(&m);
-  for (const MediumDesc* medium : media) {
-    const MediumDesc& m = *medium;
-    const std::string& name = m.name;
-    SceneMedium sm;
-    sm.name = name;
-    if (m.scattering) {
-      // The density scales the absorption too: each absorber's field becomes its concentration
-      // times the density (the loader requires numbers for those concentrations).
-      ScatteringMedium sc;
-      const ConcentrationField density = m.scattering->density.value_or(ConcentrationField{ConstantField{1.0}});
-      auto absorber = [&](const Spectrum& epsilon, double concentration) {
-        sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), scaled(density, concentration)});
-      };
-      const bool scale = m.scattering->density && m.scattering->density_scales_absorption;
-      auto unscaled = [&](const Spectrum& epsilon, const ConcentrationField& field) {
-        sc.absorbers.push_back({add_spectrum(s, epsilon, SpectrumRole::absorption), field});
-      };
-      if (m.field_absorbers.empty()) {
-        if (m.absorbing) scale ? absorber(m.sigma_a_per_m, 1.0) : unscaled(m.sigma_a_per_m, ConstantField{1.0});
-      } else {
-        for (const FieldAbsorberDesc& a : m.field_absorbers) {
-          if (!scale) unscaled(a.epsilon_per_m, a.field);
-          else absorber(a.epsilon_per_m, std::get<ConstantField>(a.field).value);
-        }
-      }
-      if (m.scattering->sigma_a_per_m) absorber(*m.scattering->sigma_a_per_m, 1.0);
-      if (sc.absorbers.size() > kMaxAbsorbersPerMedium)
-        fail("{}: media.{}: at most {} absorbers in a medium, its scatterers' own included", desc.file.string(),
-             name, kMaxAbsorbersPerMedium);
-      sc.sigma_s = add_spectrum(s, m.scattering->sigma_s_per_m, SpectrumRole::coefficient);
-      sc.density = density;
-      sc.phase = m.scattering->phase;
-      sm.medium = std::move(sc);
-      s.scatters = true;
-    } else if (m.field_absorbers.empty()) {
-      sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
-    } else {
-      FieldMedium f;
-      for (const FieldAbsorberDesc& a : m.field_absorbers)
-        f.absorbers.push_back({add_spectrum(s, a.epsilon_per_m, SpectrumRole::absorption), a.field});
-      sm.medium = std::move(f);
-    }
-    sm.ior = add_spectrum(s, m.ior, SpectrumRole::point);
-    sm.ior_reference = ior_at(m.ior, kReferenceWavelengthNm);
-    sm.dispersive = is_dispersive(m.ior);
-    s.dispersive = s.dispersive || sm.dispersive;
-    s.media.push_back(std::move(sm));
-  }
+    if (!desc.media.contains(m.name)) s.media.push_back(lower_medium(s, m, desc.file));
+  for (const auto& [name, m] : desc.media) s.media.push_back(lower_medium(s, m, desc.file));
   s.world_medium = medium_index(s, desc.world_medium);
   if (scattering(s.media[static_cast<std::size_t>(s.world_medium)].medium))
     fail("{}: world_medium: '{}' scatters; the world medium cannot (an unbounded scattering medium has no end to "
          "track to): put the scattering medium inside an object",
          desc.file.string(), desc.world_medium);
-  std::map<std::tuple<double, double, double>, int> albedo_index;  // (alpha, eta front, eta behind)
+}
 
+// The scene's objects, and a disk emitter for each spot light with a radius.
+std::vector<ObjectDesc> objects_with_spot_disks(const SceneDesc& desc) {
   std::vector<ObjectDesc> objects = desc.objects;
   for (std::size_t i = 0; i < desc.lights.size(); ++i)
     if (desc.lights[i].radius_m > 0.0) objects.push_back(spot_disk(desc.lights[i], fmt::format("lights[{}]", i)));
-  std::uint64_t triangles = 0;
-  const std::uint64_t available = memory_available_bytes();
-  for (const ObjectDesc& o : objects) {
-    require_geometry_room(triangles + triangle_bound(o.shape), available, desc, o);
-    std::vector<ShapePart> parts = make_shape(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
-    for (ShapePart& p : parts) {
-      p.mesh = transformed(std::move(p.mesh), o.transform);
-      check_world_positions(p.mesh, desc, o);
-      triangles += p.mesh.triangles.size();
-    }
-    require_geometry_room(triangles, available, desc, o);  // a mesh file's count is known only now
-    Surface base;
-    base.object = o.name;
-    base.roughness = o.roughness;
-    if (o.inside) {
-      if (!shape_is_closed(o.shape))
-        fail("{}: object '{}': a flat shape cannot bound medium '{}'; use it as an emitter or a material, or use a "
-             "closed shape",
-             desc.file.string(), o.name, *o.inside);
-      check_closed(parts, o, desc);
-    } else if (o.emission) {
-      base.kind = SurfaceKind::emitter;
-    } else {
-      base.kind = SurfaceKind::opaque;
-      base.material = static_cast<int>(s.materials.size());
-      if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
-        s.materials.push_back(DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance)});
-      else {
-        const auto& c = std::get<ConductorDesc>(*o.material);
-        s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),
-                                                add_spectrum(s, c.k, SpectrumRole::point), c.roughness});
-      }
-    }
-    const int inside = o.inside ? medium_index(s, *o.inside) : -1;
-    const int outside = medium_index(s, o.outside.value_or(desc.world_medium));
-    const int contents = o.contents ? medium_index(s, *o.contents) : -1;
-    auto pick = [&](Side side) { return side == Side::object ? inside : side == Side::contents ? contents : outside; };
-    for (const ShapePart& p : parts) {
-      Surface surface = base;
-      surface.medium_behind = pick(p.behind);
-      surface.medium_front = pick(p.in_front);
-      if (surface.kind == SurfaceKind::interface && surface.roughness == 0.0) {
-        const SceneMedium& front = s.media[static_cast<std::size_t>(surface.medium_front)];
-        const SceneMedium& behind = s.media[static_cast<std::size_t>(surface.medium_behind)];
-        surface.index_matched = !front.dispersive && !behind.dispersive && front.ior_reference == behind.ior_reference;
-      }
-      if (surface.kind == SurfaceKind::interface && surface.roughness > 0.0) {
-        const auto key = std::make_tuple(surface.roughness, s.media[static_cast<std::size_t>(surface.medium_front)].ior_reference,
-                                         s.media[static_cast<std::size_t>(surface.medium_behind)].ior_reference);
-        const auto [it, added] = albedo_index.try_emplace(key, static_cast<int>(s.dielectric_albedo.size()));
-        if (added)
-          s.dielectric_albedo.push_back(DielectricAlbedo::compute(std::get<0>(key), std::get<1>(key), std::get<2>(key)));
-        surface.albedo = it->second;
-      }
-      const std::uint32_t id = s.rays.add(p.mesh);
-      if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
-      if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission);
-      s.surfaces.push_back(surface);
+  return objects;
+}
+
+// The object's triangles in world space, within the memory and triangle limits.
+std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, std::uint64_t& triangles,
+                                  std::uint64_t available) {
+  require_geometry_room(triangles + triangle_bound(o.shape), available, desc, o);
+  std::vector<ShapePart> parts = make_shape(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
+  for (ShapePart& p : parts) {
+    p.mesh = transformed(std::move(p.mesh), o.transform);
+    check_world_positions(p.mesh, desc, o);
+    triangles += p.mesh.triangles.size();
+  }
+  require_geometry_room(triangles, available, desc, o);  // a mesh file's count is known only now
+  return parts;
+}
+
+// What the object's surfaces are (an interface, which must be closed; an emitter; an opaque
+// material), the same for all its parts but their media.
+Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>& parts, const SceneDesc& desc) {
+  Surface base;
+  base.object = o.name;
+  base.roughness = o.roughness;
+  if (o.inside) {
+    if (!shape_is_closed(o.shape))
+      fail("{}: object '{}': a flat shape cannot bound medium '{}'; use it as an emitter or a material, or use a "
+           "closed shape",
+           desc.file.string(), o.name, *o.inside);
+    check_closed(parts, o, desc);
+  } else if (o.emission) {
+    base.kind = SurfaceKind::emitter;
+  } else {
+    base.kind = SurfaceKind::opaque;
+    base.material = static_cast<int>(s.materials.size());
+    if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
+      s.materials.push_back(DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance)});
+    else {
+      const auto& c = std::get<ConductorDesc>(*o.material);
+      s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),
+                                              add_spectrum(s, c.k, SpectrumRole::point), c.roughness});
     }
   }
+  return base;
+}
+
+// An interface's optics from the media on its two sides: index-matched (smooth), or the energy
+// compensation table of its roughness and indices (one per distinct triple).
+using AlbedoIndex = std::map<std::tuple<double, double, double>, int>;  // (alpha, eta front, eta behind)
+
+void set_interface_optics(RenderScene& s, Surface& surface, AlbedoIndex& albedo_index) {
+  if (surface.kind != SurfaceKind::interface) return;
+  const SceneMedium& front = s.media[static_cast<std::size_t>(surface.medium_front)];
+  const SceneMedium& behind = s.media[static_cast<std::size_t>(surface.medium_behind)];
+  if (surface.roughness == 0.0) {
+    surface.index_matched = !front.dispersive && !behind.dispersive && front.ior_reference == behind.ior_reference;
+    return;
+  }
+  const auto key = std::make_tuple(surface.roughness, front.ior_reference, behind.ior_reference);
+  const auto [it, added] = albedo_index.try_emplace(key, static_cast<int>(s.dielectric_albedo.size()));
+  if (added) s.dielectric_albedo.push_back(DielectricAlbedo::compute(std::get<0>(key), std::get<1>(key), std::get<2>(key)));
+  surface.albedo = it->second;
+}
+
+// Each part into the ray scene, with its surface: the media on its two sides, its optics, its
+// area lights.
+void add_parts(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>& parts, const Surface& base,
+               const SceneDesc& desc, AlbedoIndex& albedo_index) {
+  const int inside = o.inside ? medium_index(s, *o.inside) : -1;
+  const int outside = medium_index(s, o.outside.value_or(desc.world_medium));
+  const int contents = o.contents ? medium_index(s, *o.contents) : -1;
+  auto pick = [&](Side side) { return side == Side::object ? inside : side == Side::contents ? contents : outside; };
+  for (const ShapePart& p : parts) {
+    Surface surface = base;
+    surface.medium_behind = pick(p.behind);
+    surface.medium_front = pick(p.in_front);
+    set_interface_optics(s, surface, albedo_index);
+    const std::uint32_t id = s.rays.add(p.mesh);
+    if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
+    if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission);
+    s.surfaces.push_back(surface);
+  }
+}
+
+void add_geometry(RenderScene& s, const SceneDesc& desc) {
+  AlbedoIndex albedo_index;
+  std::uint64_t triangles = 0;
+  const std::uint64_t available = memory_available_bytes();
+  for (const ObjectDesc& o : objects_with_spot_disks(desc)) {
+    const std::vector<ShapePart> parts = tessellate(o, desc, triangles, available);
+    const Surface base = object_surface(s, o, parts, desc);
+    add_parts(s, o, parts, base, desc, albedo_index);
+  }
   s.rays.commit();
+}
+
+// The delta lights (spots with a radius became disks), then the environment map or the
+// constant background.
+void add_lights(RenderScene& s, const SceneDesc& desc) {
   for (const DeltaLightDesc& l : desc.lights)
     if (!(l.radius_m > 0.0)) add_delta_light(s, l);
   if (s.environment) {
@@ -300,6 +333,19 @@ RenderScene compile(const SceneDesc& desc) {
     s.background_light = static_cast<int>(s.lights.size());
     s.lights.push_back(BackgroundLight{add_spectrum(s, desc.background.radiance, SpectrumRole::radiance)});
   }
+}
+
+}  // namespace
+
+RenderScene compile(const SceneDesc& desc) {
+  RenderScene s;
+  s.file = desc.file;
+  s.camera = desc.camera;
+  assert(!desc.environment || desc.environment_map);  // the builder reads the map
+  s.environment = desc.environment_map;
+  lower_media(s, desc);
+  add_geometry(s, desc);
+  add_lights(s, desc);
   add_lights_distributions(s);
   return s;
 }

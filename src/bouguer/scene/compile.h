@@ -56,7 +56,7 @@ struct RenderScene {
   bool dispersive = false;  // whether any medium's index varies with wavelength
   bool scatters = false;    // whether any medium scatters (the estimators then track it)
   std::vector<SurfaceMaterial> materials;
-  std::unique_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
+  std::shared_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
   std::vector<Light> lights;
   std::vector<double> light_power;  // by light, luminance flux (lights/light.h)
   // Next-event estimation draws one area light by power; every delta light and the environment
@@ -71,6 +71,11 @@ struct RenderScene {
   std::vector<DielectricAlbedo> dielectric_albedo;
 };
 
+// The steps, in order: lower the media (predefined ones included), tessellate each object
+// (spot lights with a radius as disk emitters) within the memory available, check that
+// interfaces are closed, add each part to the ray scene with its surface, add the delta lights
+// and the environment map or background, and the light distributions by power. Reads no file
+// but the mesh files that shapes name; the environment map comes read in `desc`.
 RenderScene compile(const SceneDesc& desc);
 
 }  // namespace bouguer

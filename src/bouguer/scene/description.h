@@ -1,10 +1,12 @@
 #pragma once
 // The plain description a scene file parses into: values in SI units with their source
-// resolved (library names, CSV files, unit conversions), but nothing built yet. `compile`
-// (scene/compile.h) turns it into the render scene.
+// resolved (library names, CSV files, unit conversions, the environment map read), but nothing
+// built yet. `compile` (scene/compile.h) turns it into the render scene and reads no file but
+// the meshes its shapes name.
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -130,6 +132,7 @@ struct SceneDesc {
   std::vector<DeltaLightDesc> lights;
   EmissionDesc background;                     // used when there is no environment map
   std::optional<EnvironmentDesc> environment;  // "background": {"environment": "sky.exr", ...}
+  std::shared_ptr<const EnvironmentMap> environment_map;  // that map, read by the builder
 };
 
 }  // namespace bouguer

@@ -3,7 +3,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <nlohmann/json.hpp>
@@ -13,18 +12,10 @@
 #include "bouguer/io/csv.h"
 #include "bouguer/io/json.h"
 #include "bouguer/io/limits.h"
-#include "bouguer/io/spectrum_csv.h"
 #include "bouguer/io/vdb.h"
-#include "bouguer/media/absorption.h"
 #include "bouguer/media/medium.h"
-#include "bouguer/media/ior_library.h"
-#include "bouguer/media/library.h"
-#include "bouguer/media/scattering_library.h"
-#include "bouguer/render/integrator.h"
 #include "bouguer/scene/builder.h"
-#include "bouguer/scene/material_file.h"
-#include "bouguer/spectra/cie.h"
-#include "bouguer/spectra/rgb_to_spectrum.h"
+#include "bouguer/scene/values.h"
 
 namespace bouguer {
 namespace {
@@ -33,22 +24,7 @@ using json = nlohmann::json;
 namespace fs = std::filesystem;
 
 // Where a value sits in the file: the file name and the key path, for messages.
-struct Where {
-  const fs::path* file;
-  std::string path;
-
-  Where operator/(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
-  Where operator[](std::size_t i) const { return {file, fmt::format("{}[{}]", path, i)}; }
-  template <typename... Args>
-  [[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) const {
-    bouguer::fail("{}: {}: {}", file->string(), path.empty() ? "(top level)" : path,
-                  fmt::format(f, std::forward<Args>(args)...));
-  }
-  fs::path resolve(const std::string& relative) const {
-    const fs::path p(relative);
-    return p.is_absolute() ? p : file->parent_path() / p;
-  }
-};
+using Where = Source;
 
 std::string type_name(const json& j) { return j.type_name(); }
 
@@ -65,6 +41,14 @@ double number(const json& j, const Where& w) {
   const double v = j.get<double>();
   if (!std::isfinite(v)) w.fail("expected a finite number");
   return v;
+}
+
+// A whole number for the builder, which checks its range (any value a 64-bit integer holds).
+std::int64_t whole_number(const json& j, const Where& w) {
+  if (!j.is_number_integer()) w.fail("expected a whole number, found {}", type_name(j));
+  if (j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX))
+    w.fail("{} is beyond the largest whole number, {}", j.get<std::uint64_t>(), INT64_MAX);
+  return j.get<std::int64_t>();
 }
 
 int integer(const json& j, const Where& w, int lo, int hi) {
@@ -93,28 +77,15 @@ const json& array(const json& j, const Where& w, std::size_t size = 0) {
   return j;
 }
 
-double length_m(const json& j, const Where& w) {
-  double v = 0.0;
-  if (j.is_number()) {
-    v = number(j, w);
-  } else {
-    if (!j.is_string()) w.fail("expected a length (metres, or a string such as \"5 mm\"), found {}", type_name(j));
-    try {
-      v = parse_length_m(j.get<std::string>());
-    } catch (const Error& e) {
-      w.fail("{}", e.what());
-    }
-  }
-  if (!(std::abs(v) <= kMaxSceneCoordinateM)) w.fail("{:g} m is beyond the scene's extent of ±{:g} m", v, kMaxSceneCoordinateM);
-  return v;
+// A length: metres, or a string with a unit; its meaning and range are the builder's (values.h).
+LengthInput length_input(const json& j, const Where& w) {
+  if (j.is_number()) return number(j, w);
+  if (!j.is_string()) w.fail("expected a length (metres, or a string such as \"5 mm\"), found {}", type_name(j));
+  return j.get<std::string>();
 }
 
-double positive_length_m(const json& j, const Where& w) {
-  const double v = length_m(j, w);
-  if (!(v > 0.0)) w.fail("must be a positive length (got {} m)", v);
-  if (v < kMinSceneLengthM) w.fail("{:g} m is below the smallest length of {:g} m", v, kMinSceneLengthM);
-  return v;
-}
+double length_m(const json& j, const Where& w) { return resolve_length_m(length_input(j, w), w); }
+double positive_length_m(const json& j, const Where& w) { return resolve_positive_length_m(length_input(j, w), w); }
 
 Vec3 vec3(const json& j, const Where& w) {
   array(j, w, 3);
@@ -140,73 +111,53 @@ std::vector<double> numbers(const json& j, const Where& w) {
   return out;
 }
 
-// {"rgb": [r, g, b]}: a linear Rec.709 colour, lifted to a spectrum by rgb_to_spectrum.h.
-Vec3 rgb_value(const json& j, const Where& w) {
-  expect_keys(j, w, {"rgb"});
-  const Vec3 rgb = vec3(j["rgb"], w / "rgb");
-  for (int i = 0; i < 3; ++i)
-    if (!(std::array{rgb.x, rgb.y, rgb.z}[i] >= 0.0)) (w / "rgb")[i].fail("must not be negative");
-  return rgb;
-}
+// {"rgb": [r, g, b]}: a linear Rec.709 colour (checked and lifted by the builder).
+RgbInput rgb_input(const json& j, const Where& w) { return {vec3(j["rgb"], w / "rgb")}; }
 
 // {"wavelength_nm": [...], "value": [...]} or {"csv": "file.csv"}: the table form shared by
 // absorption, IOR, reflectance and emission data. `extra` lists the caller's other keys.
-TabulatedSpectrum table(const json& j, const Where& w, std::vector<std::string> extra, bool allow_negative = false) {
+TableInput table_input(const json& j, const Where& w, std::vector<std::string> extra) {
   extra.insert(extra.end(), {"wavelength_nm", "value", "csv"});
   expect_keys(j, w, extra);
+  TableInput t;
   if (j.contains("csv")) {
     if (j.contains("wavelength_nm") || j.contains("value")) w.fail("give either 'csv' or 'wavelength_nm'/'value'");
-    const fs::path file = w.resolve(text(j["csv"], w / "csv"));
-    TabulatedSpectrum s = load_spectrum_csv(file, {.allow_negative = allow_negative});
-    try {
-      require_visible_overlap(s, file.string());
-    } catch (const Error& e) {
-      w.fail("{}", e.what());
-    }
-    return s;
+    t.csv = text(j["csv"], w / "csv");
+    return t;
   }
   if (!j.contains("wavelength_nm") || !j.contains("value")) w.fail("needs 'wavelength_nm' and 'value' arrays (or 'csv')");
-  std::vector<double> nm = numbers(j["wavelength_nm"], w / "wavelength_nm");
-  std::vector<double> v = numbers(j["value"], w / "value");
-  try {
-    TabulatedSpectrum s = make_tabulated(std::move(nm), std::move(v), w.path);
-    if (!allow_negative)
-      for (double x : s.value)
-        if (x < 0.0) (w / "value").fail("values must not be negative (got {})", x);
-    require_visible_overlap(s, w.path);
-    return s;
-  } catch (const Error& e) {
-    bouguer::fail("{}: {}", w.file->string(), e.what());
-  }
+  t.wavelength_nm = numbers(j["wavelength_nm"], w / "wavelength_nm");
+  t.value = numbers(j["value"], w / "value");
+  return t;
 }
 
 // ---- spectra, media ---------------------------------------------------------------------------
 
-// Named illuminants are normalised to luminance Y = scale; tables are taken in their own units
-// times scale (normalised to Y = scale with "normalise": true).
-EmissionDesc emission(const json& j, const Where& w, bool allow_two_sided) {
+// {"spectrum": "D65" | {"rgb": [...]} | table, "scale": s, "normalise": b, "two_sided": b}.
+EmissionInput emission_input(const json& j, const Where& w, bool allow_two_sided) {
   std::vector<std::string> keys = {"spectrum", "scale", "normalise"};
   if (allow_two_sided) keys.push_back("two_sided");
   expect_keys(j, w, keys);
-  const double scale = j.contains("scale") ? number(j["scale"], w / "scale") : 1.0;
-  if (scale < 0.0) (w / "scale").fail("must not be negative (got {})", scale);
+  EmissionInput e;
+  if (j.contains("scale")) e.scale = number(j["scale"], w / "scale");
   if (!j.contains("spectrum")) w.fail("needs 'spectrum' (a named illuminant such as \"D65\", or a table)");
   const json& s = j["spectrum"];
-  EmissionDesc e;
+  const Where ws = w / "spectrum";
   if (s.is_string()) {
-    const auto spd = named_illuminant_spd(s.get<std::string>());
-    if (!spd)
-      (w / "spectrum").fail("unknown illuminant '{}' (known: {})", s.get<std::string>(), fmt::join(illuminant_names(), ", "));
-    e.radiance = normalised_to_luminance(*spd, scale);
+    e.spectrum = s.get<std::string>();
   } else if (s.is_object() && s.contains("rgb")) {
-    e.radiance = scaled(Spectrum{rgb_to_illuminant(rgb_value(s, w / "spectrum"))}, scale);
+    expect_keys(s, ws, {"rgb"});
+    e.spectrum = rgb_input(s, ws);
   } else {
-    const Spectrum t = table(s, w / "spectrum", {});
-    const bool normalise = j.contains("normalise") && boolean(j["normalise"], w / "normalise");
-    e.radiance = normalise ? normalised_to_luminance(t, scale) : scaled(t, scale);
+    e.spectrum = table_input(s, ws, {});
   }
+  if (j.contains("normalise")) e.normalise = boolean(j["normalise"], w / "normalise");
   if (j.contains("two_sided")) e.two_sided = boolean(j["two_sided"], w / "two_sided");
   return e;
+}
+
+EmissionDesc emission(const json& j, const Where& w, bool allow_two_sided) {
+  return resolve_emission(emission_input(j, w, allow_two_sided), w);
 }
 
 // {"environment": "sky.exr", "scale": 1, "rotate_deg": 0}: a lat-long map (scene/environment.h).
@@ -214,51 +165,31 @@ EnvironmentDesc environment(const json& j, const Where& w) {
   expect_keys(j, w, {"environment", "scale", "rotate_deg"});
   EnvironmentDesc e;
   e.file = w.resolve(text(j["environment"], w / "environment"));
-  const std::string ext = e.file.extension().string();
-  if (ext != ".exr" && ext != ".pfm") (w / "environment").fail("an environment map must be an .exr or .pfm file");
-  if (!std::filesystem::exists(e.file)) (w / "environment").fail("no such file: {}", e.file.string());
   if (j.contains("scale")) e.scale = number(j["scale"], w / "scale");
-  if (!(e.scale >= 0.0)) (w / "scale").fail("must not be negative (got {})", e.scale);
   if (j.contains("rotate_deg")) e.rotate_deg = number(j["rotate_deg"], w / "rotate_deg");
   return e;
 }
 
-IorModel ior(const json& j, const Where& w) {
-  if (j.is_number()) {
-    const double n = number(j, w);
-    if (!(n >= 1.0 && n < 5.0)) w.fail("a refractive index must be between 1 and 5 (got {})", n);
-    return ConstantIor{n};
-  }
+IorInput ior_input(const json& j, const Where& w) {
+  if (j.is_number()) return number(j, w);
   if (!j.is_object()) w.fail("expected a number or an object (library, sellmeier, cauchy, abbe, table)");
   if (j.contains("library")) {
     expect_keys(j, w, {"library"});
-    const std::string name = text(j["library"], w / "library");
-    const IorLibraryEntry* e = find_ior_material(name);
-    if (!e) (w / "library").fail("unknown dispersion data '{}'{}", name, suggestion(name, ior_material_names()));
-    return e->sellmeier;
+    return IorLibraryInput{text(j["library"], w / "library")};
   }
   if (j.contains("abbe")) {
     expect_keys(j, w, {"abbe"});
     const Where wa = w / "abbe";
     expect_keys(j["abbe"], wa, {"n_d", "V_d"});
     if (!j["abbe"].contains("n_d") || !j["abbe"].contains("V_d")) wa.fail("needs 'n_d' and 'V_d'");
-    const double n_d = number(j["abbe"]["n_d"], wa / "n_d"), v_d = number(j["abbe"]["V_d"], wa / "V_d");
-    if (!(n_d >= 1.0 && n_d < 5.0)) (wa / "n_d").fail("must be between 1 and 5");
-    if (!(v_d >= 5.0 && v_d <= 200.0)) (wa / "V_d").fail("an Abbe number must be between 5 and 200");
-    return cauchy_from_abbe(n_d, v_d);
+    return AbbeInput{number(j["abbe"]["n_d"], wa / "n_d"), number(j["abbe"]["V_d"], wa / "V_d")};
   }
   if (j.contains("sellmeier")) {
     expect_keys(j, w, {"sellmeier"});
     const Where ws = w / "sellmeier";
     expect_keys(j["sellmeier"], ws, {"B", "C_um2"});
     if (!j["sellmeier"].contains("B") || !j["sellmeier"].contains("C_um2")) ws.fail("needs 'B' and 'C_um2'");
-    SellmeierIor s{numbers(j["sellmeier"]["B"], ws / "B"), numbers(j["sellmeier"]["C_um2"], ws / "C_um2")};
-    if (s.B.empty() || s.B.size() != s.C_um2.size()) ws.fail("'B' and 'C_um2' must have the same, non-zero length");
-    for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0) {
-      const double n = sellmeier_ior(s, nm);
-      if (!(n >= 1.0 && n < 5.0)) ws.fail("gives n = {} at {} nm; check the coefficients and units (C in µm²)", n, nm);
-    }
-    return s;
+    return SellmeierIor{numbers(j["sellmeier"]["B"], ws / "B"), numbers(j["sellmeier"]["C_um2"], ws / "C_um2")};
   }
   if (j.contains("cauchy")) {
     expect_keys(j, w, {"cauchy"});
@@ -269,14 +200,9 @@ IorModel ior(const json& j, const Where& w) {
     c.A = number(j["cauchy"]["A"], wc / "A");
     if (j["cauchy"].contains("B_um2")) c.B_um2 = number(j["cauchy"]["B_um2"], wc / "B_um2");
     if (j["cauchy"].contains("C_um4")) c.C_um4 = number(j["cauchy"]["C_um4"], wc / "C_um4");
-    for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 1.0)
-      if (!(cauchy_ior(c, nm) >= 1.0)) wc.fail("gives n < 1 at {} nm", nm);
     return c;
   }
-  TabulatedIor t{table(j, w, {})};
-  for (double n : t.n.value)
-    if (n < 1.0) w.fail("a refractive index must be at least 1 (got {})", n);
-  return t;
+  return table_input(j, w, {});
 }
 
 Transform transform(const json& j, const Where& w);
@@ -399,122 +325,36 @@ ConcentrationField concentration_field(const json& j, const Where& w) {
   (w / "field").fail("unknown concentration field '{}'{}", kind, suggestion(kind, kinds));
 }
 
-struct Absorption {
-  Spectrum sigma_a_per_m;  // at the concentration given; with a field, at concentration 1 (ε)
-  std::optional<double> library_ior;
-  std::optional<ConcentrationField> field;
-};
-
-Absorption absorption_at(const json& j, const Where& w, double concentration);
-
-// {"unit": ..., "rgb": [r, g, b]}: an absorption known in RGB only, lifted as pbrt-v4 lifts
-// unbounded RGB (a sigmoid spectrum around 1/2, scaled by 2·max) and tabulated at 1 nm.
-TabulatedSpectrum rgb_absorption_table(const json& j, const Where& w) {
-  expect_keys(j, w, {"unit", "rgb", "concentration", "thickness"});
-  const Vec3 rgb = vec3(j["rgb"], w / "rgb");
-  for (int i = 0; i < 3; ++i)
-    if (!(std::array{rgb.x, rgb.y, rgb.z}[i] >= 0.0)) (w / "rgb")[i].fail("must not be negative");
-  const double peak = std::max({rgb.x, rgb.y, rgb.z});
-  if (peak == 0.0) return tabulate_visible([](double) { return 0.0; });
-  const SigmoidPolynomial lifted = rgb_to_reflectance(rgb / (2.0 * peak));
-  return tabulate_visible([&](double nm) { return 2.0 * peak * lifted(nm); });
+// A concentration or density: a number, or a field.
+ConcentrationInput concentration_input(const json& j, const Where& w) {
+  if (j.is_object()) return concentration_field(j, w);
+  return number(j, w);
 }
 
-Absorption absorption(const json& j, const Where& w) {
+AbsorptionInput absorption_input(const json& j, const Where& w) {
   if (!j.is_object()) w.fail("expected an object with 'library' or 'unit'");
-  if (j.contains("concentration") && j["concentration"].is_object()) {
-    Absorption a = absorption_at(j, w, 1.0);
-    a.field = concentration_field(j["concentration"], w / "concentration");
-    return a;
-  }
-  const double concentration = j.contains("concentration") ? number(j["concentration"], w / "concentration") : 1.0;
-  if (concentration < 0.0) (w / "concentration").fail("must not be negative (got {})", concentration);
-  return absorption_at(j, w, concentration);
-}
-
-Absorption absorption_at(const json& j, const Where& w, double concentration) {
+  AbsorptionInput a;
+  if (j.contains("concentration")) a.concentration = concentration_input(j["concentration"], w / "concentration");
   if (j.contains("library")) {
     expect_keys(j, w, {"library", "concentration"});
-    const std::string name = text(j["library"], w / "library");
-    const LibraryMaterial* m = find_library_material(name);
-    if (!m) (w / "library").fail("unknown material '{}'{}", name, suggestion(name, library_material_names()));
-    if (m->molar && !j.contains("concentration"))
-      w.fail("'{}' is a solute: give its 'concentration' in mol/L", name);
-    return {scaled(m->sigma_a_per_m, concentration), m->default_ior, std::nullopt};
-  }
-  if (j.contains("csv") && !j.contains("unit")) {
+    a.source = AbsorptionLibraryInput{text(j["library"], w / "library")};
+  } else if (j.contains("csv") && !j.contains("unit")) {
     // A material file that names its own unit (scene/material_file.h).
     expect_keys(j, w, {"csv", "concentration"});
-    const fs::path path = w.resolve(text(j["csv"], w / "csv"));
-    MaterialFile f;
-    try {
-      f = load_material_csv(path);
-    } catch (const Error& e) {
-      bouguer::fail("{}: {}: {}", w.file->string(), w.path, e.what());
+    a.source = MaterialFileInput{text(j["csv"], w / "csv")};
+  } else {
+    AbsorptionValuesInput v;
+    if (j.contains("rgb")) {
+      expect_keys(j, w, {"unit", "rgb", "concentration", "thickness"});
+      v.values = rgb_input(j, w);
+    } else {
+      v.values = table_input(j, w, {"unit", "concentration", "thickness"});
     }
-    if (f.unit == AbsorptionUnit::molar_absorptivity && !j.contains("concentration"))
-      w.fail("{} is in molar_absorptivity: give 'concentration' in mol/L", path.string());
-    return {to_sigma_a_per_m(f.values, f.unit, concentration, f.thickness_m, w.path), f.ior, std::nullopt};
+    if (j.contains("unit")) v.unit = text(j["unit"], w / "unit");
+    if (j.contains("thickness")) v.thickness = length_input(j["thickness"], w / "thickness");
+    a.source = std::move(v);
   }
-  // RGB where only RGB data exist: the three values lifted to a smooth spectrum (as scattering
-  // RGB is, docs/scene-format.md), then converted from their unit like a table.
-  const TabulatedSpectrum values = j.contains("rgb") ? rgb_absorption_table(j, w) : table(j, w, {"unit", "concentration", "thickness"});
-  if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, absorbance_per_cm, internal_transmittance, "
-                                  "molar_absorptivity, extinction_coefficient) or 'library'");
-  const std::string unit_name = text(j["unit"], w / "unit");
-  const auto unit = absorption_unit_from_name(unit_name);
-  if (!unit) {
-    const std::vector<std::string> units = {"attenuation_per_m", "absorbance_per_cm", "internal_transmittance",
-                                            "molar_absorptivity", "extinction_coefficient"};
-    (w / "unit").fail("unknown unit '{}'{}", unit_name, suggestion(unit_name, units));
-  }
-  if (*unit == AbsorptionUnit::molar_absorptivity && !j.contains("concentration"))
-    w.fail("unit 'molar_absorptivity' needs 'concentration' in mol/L");
-  std::optional<double> thickness;
-  if (j.contains("thickness")) thickness = positive_length_m(j["thickness"], w / "thickness");
-  try {
-    return {to_sigma_a_per_m(values, *unit, concentration, thickness, w.path), std::nullopt, std::nullopt};
-  } catch (const Error& e) {
-    bouguer::fail("{}: {}", w.file->string(), e.what());
-  }
-}
-
-// σ_s as a table with a unit, an RGB triple with a unit (lifted to a smooth spectrum, for data
-// measured in RGB only), or Rayleigh's λ⁻⁴ through one value; natural log, per metre inside.
-Spectrum scattering_coefficient(const json& j, const Where& w) {
-  if (j.contains("rayleigh")) {
-    const Where wr = w / "rayleigh";
-    const json& r = j["rayleigh"];
-    if (!r.is_object()) wr.fail("expected an object with 'at_nm' and 'value_per_m'");
-    expect_keys(r, wr, {"at_nm", "value_per_m"});
-    if (!r.contains("at_nm") || !r.contains("value_per_m")) wr.fail("needs 'at_nm' and 'value_per_m' (σ_s there)");
-    const double at_nm = number(r["at_nm"], wr / "at_nm");
-    if (!(at_nm >= 200.0 && at_nm <= 2000.0)) (wr / "at_nm").fail("must lie between 200 and 2000 nm (got {})", at_nm);
-    const double value = number(r["value_per_m"], wr / "value_per_m");
-    if (value < 0.0) (wr / "value_per_m").fail("σ_s must not be negative (got {})", value);
-    return tabulate_visible([&](double nm) { return value * std::pow(at_nm / nm, 4.0); });
-  }
-  if (!j.contains("unit")) w.fail("needs 'unit' (attenuation_per_m, attenuation_per_cm or attenuation_per_mm), "
-                                  "'rayleigh' or 'library'");
-  const std::string unit = text(j["unit"], w / "unit");
-  static const std::vector<std::pair<std::string, double>> kUnits = {
-      {"attenuation_per_m", 1.0}, {"attenuation_per_cm", 100.0}, {"attenuation_per_mm", 1000.0}};
-  const auto u = std::find_if(kUnits.begin(), kUnits.end(), [&](const auto& p) { return p.first == unit; });
-  if (u == kUnits.end()) {
-    std::vector<std::string> names;
-    for (const auto& p : kUnits) names.push_back(p.first);
-    (w / "unit").fail("unknown unit '{}'{} (σ_s is a natural-log coefficient)", unit, suggestion(unit, names));
-  }
-  if (j.contains("rgb")) {
-    const Vec3 rgb = vec3(j["rgb"], w / "rgb");
-    for (int i = 0; i < 3; ++i)
-      if (!(std::array{rgb.x, rgb.y, rgb.z}[i] >= 0.0)) (w / "rgb")[i].fail("σ_s must not be negative");
-    // Lifted as pbrt-v4 lifts unbounded RGB: a sigmoid spectrum around 1/2, scaled by 2·max.
-    const double peak = std::max({rgb.x, rgb.y, rgb.z});
-    if (peak == 0.0) return ConstantSpectrum{0.0};
-    return scaled(Spectrum{rgb_to_reflectance(rgb / (2.0 * peak))}, 2.0 * peak * u->second);
-  }
-  return scaled(Spectrum{table(j, w, {"unit", "phase", "density"})}, u->second);
+  return a;
 }
 
 PhaseFunction phase_function(const json& j, const Where& w) {
@@ -527,106 +367,65 @@ PhaseFunction phase_function(const json& j, const Where& w) {
   if (type == "henyey_greenstein") {
     expect_keys(j, w, {"type", "g"});
     if (!j.contains("g")) w.fail("a Henyey-Greenstein phase function needs 'g' (the mean cosine, −1 < g < 1)");
-    const double g = number(j["g"], w / "g");
-    if (!(g > -1.0 && g < 1.0)) (w / "g").fail("must lie strictly between −1 and 1 (got {})", g);
-    return HenyeyGreensteinPhase{g};
+    return HenyeyGreensteinPhase{number(j["g"], w / "g")};  // g checked by the builder
   }
   (w / "type").fail("unknown phase function '{}'{}", type, suggestion(type, {"isotropic", "henyey_greenstein"}));
 }
 
-// A density or concentration: a number, or a field.
-ConcentrationField density_field(const json& j, const Where& w) {
-  if (j.is_object()) return concentration_field(j, w);
-  const double c = number(j, w);
-  if (c < 0.0) w.fail("must not be negative (got {})", c);
-  return ConstantField{c};
-}
-
-// `library` is set to the entry when the medium comes from the scattering library (its
-// absorption and index are the medium's defaults).
-ScatteringDesc scattering(const json& j, const Where& w, const ScatteringLibraryEntry*& library) {
+ScatteringInput scattering_input(const json& j, const Where& w) {
   if (!j.is_object()) w.fail("expected an object with 'unit' and σ_s values, 'rayleigh' or 'library'");
-  ScatteringDesc d;
+  ScatteringInput in;
   if (j.contains("library")) {
     expect_keys(j, w, {"library", "concentration", "density"});
-    const std::string name = text(j["library"], w / "library");
-    const ScatteringLibraryEntry* e = find_scattering_medium(name);
-    if (!e) (w / "library").fail("unknown scattering medium '{}'{}", name, suggestion(name, scattering_medium_names()));
-    d.sigma_s_per_m = e->sigma_s_per_m;
-    d.phase = e->phase;
-    if (max_value(e->sigma_a_per_m) > 0.0) d.sigma_a_per_m = e->sigma_a_per_m;
-    library = e;
-    if (j.contains("concentration")) {
-      // The library medium as a fraction of another liquid (a little milk in water): its σ_s and
-      // σ_a scale, the host's `absorption` does not.
-      if (j.contains("density")) w.fail("give either 'concentration' (of the library medium) or 'density', not both");
-      d.density = density_field(j["concentration"], w / "concentration");
-      d.density_scales_absorption = false;
-      return d;
-    }
+    ScatteringLibraryInput lib{text(j["library"], w / "library"), std::nullopt};
+    if (j.contains("concentration")) lib.concentration = concentration_input(j["concentration"], w / "concentration");
+    in.source = std::move(lib);
   } else {
     expect_keys(j, w, {"unit", "wavelength_nm", "value", "csv", "rgb", "rayleigh", "phase", "density"});
-    d.sigma_s_per_m = scattering_coefficient(j, w);
-    if (j.contains("phase")) d.phase = phase_function(j["phase"], w / "phase");
+    ScatteringValuesInput v;
+    if (j.contains("rayleigh")) {
+      const Where wr = w / "rayleigh";
+      const json& r = j["rayleigh"];
+      if (!r.is_object()) wr.fail("expected an object with 'at_nm' and 'value_per_m'");
+      expect_keys(r, wr, {"at_nm", "value_per_m"});
+      if (!r.contains("at_nm") || !r.contains("value_per_m")) wr.fail("needs 'at_nm' and 'value_per_m' (σ_s there)");
+      v.values = RayleighInput{number(r["at_nm"], wr / "at_nm"), number(r["value_per_m"], wr / "value_per_m")};
+    } else {
+      if (!j.contains("unit"))
+        w.fail("needs 'unit' (attenuation_per_m, attenuation_per_cm or attenuation_per_mm), 'rayleigh' or 'library'");
+      v.unit = text(j["unit"], w / "unit");
+      if (j.contains("rgb")) v.values = rgb_input(j, w);
+      else v.values = table_input(j, w, {"unit", "phase", "density"});
+    }
+    if (j.contains("phase")) v.phase = phase_function(j["phase"], w / "phase");
+    in.source = std::move(v);
   }
-  if (j.contains("density")) d.density = density_field(j["density"], w / "density");
-  return d;
+  if (j.contains("density")) in.density = concentration_input(j["density"], w / "density");
+  return in;
 }
 
-MediumDesc medium(const std::string& name, const json& j, const Where& w) {
+MediumInput medium_input(const json& j, const Where& w) {
   expect_keys(j, w, {"ior", "absorption", "scattering"});
-  MediumDesc m;
-  m.name = name;
-  std::optional<double> library_ior;
+  MediumInput m;
   if (j.contains("absorption")) {
     // One absorber, or a list whose σ_a add up (a dye diffusing into wine; a layered cocktail).
     const Where wa = w / "absorption";
-    std::vector<Absorption> parts;
     if (j["absorption"].is_array()) {
       const json& list = array(j["absorption"], wa);
-      if (list.empty() || list.size() > kMaxAbsorbersPerMedium)
-        wa.fail("needs 1 to {} absorbers (got {})", kMaxAbsorbersPerMedium, list.size());
-      for (std::size_t i = 0; i < list.size(); ++i) parts.push_back(absorption(list[i], wa[i]));
+      m.absorption_listed = true;
+      for (std::size_t i = 0; i < list.size(); ++i) m.absorption.push_back(absorption_input(list[i], wa[i]));
     } else {
-      parts.push_back(absorption(j["absorption"], wa));
-    }
-    for (const Absorption& a : parts)
-      if (!library_ior) library_ior = a.library_ior;
-    if (parts.size() == 1 && !parts[0].field) {
-      m.sigma_a_per_m = std::move(parts[0].sigma_a_per_m);
-      m.absorbing = max_value(m.sigma_a_per_m) > 0.0;
-    } else {
-      for (Absorption& a : parts)
-        m.field_absorbers.push_back({std::move(a.sigma_a_per_m), a.field.value_or(ConcentrationField{ConstantField{1.0}})});
-      m.absorbing = true;
+      m.absorption.push_back(absorption_input(j["absorption"], wa));
     }
   }
-  if (j.contains("scattering")) {
-    const ScatteringLibraryEntry* library = nullptr;
-    m.scattering = scattering(j["scattering"], w / "scattering", library);
-    if (library && !library_ior) library_ior = library->ior;
-    if (m.scattering->density && m.scattering->density_scales_absorption)
-      for (std::size_t i = 0; i < m.field_absorbers.size(); ++i)
-        if (!std::holds_alternative<ConstantField>(m.field_absorbers[i].field))
-          (m.field_absorbers.size() > 1 ? (w / "absorption")[i] : w / "absorption")
-              .fail("with a scattering 'density', the absorption's concentration must be a number (the density "
-                    "field scales it)");
-  }
-  if (j.contains("ior")) m.ior = ior(j["ior"], w / "ior");
-  else if (library_ior) m.ior = ConstantIor{*library_ior};
-  else w.fail("needs 'ior' (only library materials have a default)");
+  if (j.contains("scattering")) m.scattering = scattering_input(j["scattering"], w / "scattering");
+  if (j.contains("ior")) m.ior = ior_input(j["ior"], w / "ior");
   return m;
 }
 
-Spectrum spectral_value(const json& j, const Where& w) {
-  if (j.is_number()) return ConstantSpectrum{number(j, w)};
-  return table(j, w, {});
-}
-
-double roughness(const json& j, const Where& w) {
-  const double a = number(j, w);
-  if (!(a >= 0.0 && a <= 1.0)) w.fail("a GGX roughness (alpha) must be between 0 and 1 (got {})", a);
-  return a;
+SpectralInput spectral_input(const json& j, const Where& w) {
+  if (j.is_number()) return number(j, w);
+  return table_input(j, w, {});
 }
 
 MaterialDesc material(const json& j, const Where& w) {
@@ -634,32 +433,27 @@ MaterialDesc material(const json& j, const Where& w) {
   const std::string type = text(j["type"], w / "type");
   if (type == "diffuse") {
     expect_keys(j, w, {"type", "reflectance"});
-    DiffuseDesc d;
+    DiffuseInput d;
     if (j.contains("reflectance")) {
       const json& r = j["reflectance"];
+      const Where wr = w / "reflectance";
       if (r.is_object() && r.contains("rgb")) {
-        // Checked here, before the fit would clamp it: an RGB reflectance above 1 is a mistake.
-        const Vec3 rgb = rgb_value(r, w / "reflectance");
-        for (int i = 0; i < 3; ++i)
-          if (std::array{rgb.x, rgb.y, rgb.z}[i] > 1.0)
-            (w / "reflectance" / "rgb")[i].fail("a reflectance must lie between 0 and 1");
-        d.reflectance = Spectrum{rgb_to_reflectance(rgb)};
+        expect_keys(r, wr, {"rgb"});
+        d.reflectance = rgb_input(r, wr);
+      } else if (r.is_number()) {
+        d.reflectance = number(r, wr);
       } else {
-        d.reflectance = spectral_value(r, w / "reflectance");
+        d.reflectance = table_input(r, wr, {});
       }
-      if (max_value(d.reflectance) > 1.0 || min_value(d.reflectance) < 0.0)
-        (w / "reflectance").fail("a reflectance must lie between 0 and 1");
     }
-    return d;
+    return resolve_surface_material(d, w);
   }
   if (type == "conductor") {
     expect_keys(j, w, {"type", "n", "k", "roughness"});
     if (!j.contains("n") || !j.contains("k")) w.fail("a conductor needs 'n' and 'k' (numbers or tables)");
-    ConductorDesc c{spectral_value(j["n"], w / "n"), spectral_value(j["k"], w / "k"), 0.0};
-    if (min_value(c.n) <= 0.0) (w / "n").fail("must be positive");
-    if (min_value(c.k) < 0.0) (w / "k").fail("must not be negative");
-    if (j.contains("roughness")) c.roughness = roughness(j["roughness"], w / "roughness");
-    return c;
+    ConductorInput c{spectral_input(j["n"], w / "n"), spectral_input(j["k"], w / "k"), 0.0};
+    if (j.contains("roughness")) c.roughness = number(j["roughness"], w / "roughness");
+    return resolve_surface_material(c, w);  // its ranges checked by the builder
   }
   (w / "type").fail("unknown material '{}' (diffuse, conductor)", type);
 }
@@ -790,7 +584,7 @@ Transform transform(const json& j, const Where& w) {
 
 // ---- top level ---------------------------------------------------------------------------------
 
-CameraDesc camera(const json& j, const Where& w) {
+void read_camera(const json& j, const Where& w, SceneBuilder& b) {
   expect_keys(j, w, {"type", "position", "look_at", "up", "fov_deg", "width", "resolution"});
   CameraDesc c;
   if (j.contains("type")) {
@@ -804,33 +598,21 @@ CameraDesc camera(const json& j, const Where& w) {
   if (j.contains("up")) c.up = direction(j["up"], w / "up");
   if (j.contains("fov_deg")) c.fov_deg = number(j["fov_deg"], w / "fov_deg");
   if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
+  b.camera(c, w);
   if (j.contains("resolution")) {
-    array(j["resolution"], w / "resolution", 2);
-    c.width_px = integer(j["resolution"][0], (w / "resolution")[0], 1, 16384);
-    c.height_px = integer(j["resolution"][1], (w / "resolution")[1], 1, 16384);
+    const Where wr = w / "resolution";
+    array(j["resolution"], wr, 2);
+    b.resolution(whole_number(j["resolution"][0], wr[0]), whole_number(j["resolution"][1], wr[1]), wr);
   }
-  return c;  // checked by the builder
 }
 
-RenderSettings render_settings(const json& j, const Where& w) {
+void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
   expect_keys(j, w, {"integrator", "spectral", "spp", "max_depth", "seed"});
-  RenderSettings r;
-  if (j.contains("integrator")) {
-    const std::string i = text(j["integrator"], w / "integrator");
-    const IntegratorInfo* info = find_integrator(i);
-    if (!info) (w / "integrator").fail("unknown integrator '{}' ({})", i, integrator_names());
-    r.integrator = info->type;
-  }
-  if (j.contains("spectral")) {
-    const std::string s = text(j["spectral"], w / "spectral");
-    const SpectralModeInfo* info = find_spectral_mode(s);
-    if (!info) (w / "spectral").fail("unknown spectral mode '{}' ({})", s, spectral_mode_names());
-    r.spectral = info->mode;
-  }
-  if (j.contains("spp")) r.spp = integer(j["spp"], w / "spp", 1, 1 << 20);
-  if (j.contains("max_depth")) r.max_depth = integer(j["max_depth"], w / "max_depth", 1, 1000);
-  if (j.contains("seed")) r.seed = static_cast<std::uint64_t>(integer(j["seed"], w / "seed", 0, 2147483647));
-  return r;
+  if (j.contains("integrator")) b.integrator(text(j["integrator"], w / "integrator"), w / "integrator");
+  if (j.contains("spectral")) b.spectral_mode(text(j["spectral"], w / "spectral"), w / "spectral");
+  if (j.contains("spp")) b.spp(whole_number(j["spp"], w / "spp"), w / "spp");
+  if (j.contains("max_depth")) b.max_depth(whole_number(j["max_depth"], w / "max_depth"), w / "max_depth");
+  if (j.contains("seed")) b.seed(whole_number(j["seed"], w / "seed"), w / "seed");
 }
 
 DeltaLightDesc delta_light(const json& j, const Where& w) {
@@ -857,13 +639,8 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
   if (l.type == DeltaLightType::spot) {
     if (j.contains("cone_deg")) l.cone_deg = number(j["cone_deg"], w / "cone_deg");
     l.falloff_deg = j.contains("falloff_deg") ? number(j["falloff_deg"], w / "falloff_deg") : 0.8 * l.cone_deg;
-    if (j.contains("radius")) {
-      l.radius_m = length_m(j["radius"], w / "radius");
-      if (!(l.radius_m > 0.0)) (w / "radius").fail("must be a positive length");
-    }
-  } else if (j.contains("radius")) {
-    (w / "radius").fail("only a spot light takes a radius");
   }
+  if (j.contains("radius")) l.radius_m = positive_length_m(j["radius"], w / "radius");  // the builder: spots only
   // The same spectrum keys as an emitter: named illuminants are scaled to Y = scale.
   json spectrum_keys = json::object();
   for (const char* k : {"spectrum", "scale"})
@@ -885,63 +662,50 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   if (j.contains("contents")) o.contents = text(j["contents"], w / "contents");
   if (j.contains("emission")) o.emission = emission(j["emission"], w / "emission", true);
   if (j.contains("material")) o.material = material(j["material"], w / "material");
-  if (!o.inside && j.contains("roughness"))
-    w.fail("'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
-  if (j.contains("roughness")) o.roughness = roughness(j["roughness"], w / "roughness");
+  if (j.contains("roughness")) o.roughness = number(j["roughness"], w / "roughness");
   return o;  // its roles and media are checked by the builder
 }
 
 }  // namespace
 
-double parse_length_m(const std::string& s) {
-  std::size_t i = 0;
-  while (i < s.size() && s[i] == ' ') ++i;
-  double v = 0.0;
-  const auto [ptr, ec] = std::from_chars(s.data() + i, s.data() + s.size(), v);
-  if (ec != std::errc()) fail("'{}' is not a length (write e.g. \"5 mm\")", s);
-  if (!std::isfinite(v)) fail("'{}' is not a finite length", s);
-  std::string unit(ptr, s.data() + s.size());
-  unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
-  if (unit.empty()) fail("'{}' has no unit (write e.g. \"{} mm\"; nm, um, mm, cm, m, km)", s, s);
-  static const std::vector<std::pair<std::string, double>> units = {
-      {"nm", 1e-9}, {"um", 1e-6}, {"µm", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}, {"km", 1e3}};
-  for (const auto& [name, factor] : units)
-    if (unit == name) return v * factor;
-  fail("'{}': unknown length unit '{}' (nm, um, mm, cm, m, km)", s, unit);
-}
-
-SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
+static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b) {
   const json root = parse_json(json_text, path);
-  const Where top{&path, ""};
+  const Where top{path, ""};
   expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "lights", "background"});
-  SceneBuilder b(path);
-  if (root.contains("camera")) b.camera(camera(root["camera"], top / "camera"));
-  if (root.contains("render")) b.settings(render_settings(root["render"], top / "render"));
-  if (root.contains("world_medium")) b.world_medium(text(root["world_medium"], top / "world_medium"));
+  if (root.contains("camera")) read_camera(root["camera"], top / "camera", b);
+  if (root.contains("render")) read_render_settings(root["render"], top / "render", b);
+  if (root.contains("world_medium")) b.world_medium(text(root["world_medium"], top / "world_medium"), top / "world_medium");
   if (root.contains("media")) {
     const Where wm = top / "media";
     if (!root["media"].is_object()) wm.fail("expected an object of named media");
-    for (const auto& [name, m] : root["media"].items()) b.medium(medium(name, m, wm / name), (wm / name).path);
+    for (const auto& [name, m] : root["media"].items()) b.medium(name, medium_input(m, wm / name), wm / name);
   }
   if (!root.contains("objects")) top.fail("needs 'objects'");
   const Where wo = top / "objects";
   array(root["objects"], wo);
-  for (std::size_t i = 0; i < root["objects"].size(); ++i) b.object(object(root["objects"][i], wo[i], i), wo[i].path);
+  for (std::size_t i = 0; i < root["objects"].size(); ++i) b.object(object(root["objects"][i], wo[i], i), wo[i]);
   if (root.contains("lights")) {
     const Where wl = top / "lights";
     array(root["lights"], wl);
-    for (std::size_t i = 0; i < root["lights"].size(); ++i) b.light(delta_light(root["lights"][i], wl[i]), wl[i].path);
+    for (std::size_t i = 0; i < root["lights"].size(); ++i) b.light(delta_light(root["lights"][i], wl[i]), wl[i]);
   }
   if (root.contains("background")) {
     const json& bg = root["background"];
     if (bg.is_object() && bg.contains("environment"))
-      b.environment(environment(bg, top / "background"));
+      b.environment(environment(bg, top / "background"), top / "background");
     else
-      b.background(emission(bg, top / "background", false));
+      b.background(emission(bg, top / "background", false), top / "background");
   }
+}
+
+SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
+  SceneBuilder b(path);
+  read_scene(json_text, path, b);
   return std::move(b).build();
 }
 
 SceneDesc load_scene(const fs::path& path) { return parse_scene(read_text_file(path), path); }
+
+void load_scene(const fs::path& path, SceneBuilder& builder) { read_scene(read_text_file(path), path, builder); }
 
 }  // namespace bouguer

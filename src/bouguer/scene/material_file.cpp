@@ -8,7 +8,7 @@
 #include "bouguer/io/csv.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/io/spectrum_csv.h"
-#include "bouguer/scene/loader.h"
+#include "bouguer/scene/values.h"
 
 namespace bouguer {
 namespace {

@@ -1,0 +1,148 @@
+#pragma once
+// What a front end's values mean, in one place for every front end (the JSON loader today, glTF
+// and Python later): lengths with units, library names, RGB colours and how each use lifts them
+// to a spectrum, spectrum tables and the CSV files they come in, absorption in its units and
+// material files, and the assembly of a medium from its parts. A front end reads its own format
+// into these plain inputs (no JSON here) and the functions below — or SceneBuilder::medium —
+// turn them into the description's values in SI units, checking each and failing with one line
+// that names the Source and the key below it ("scene.json: media.wine.absorption.unit: ...").
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "bouguer/core/math.h"
+#include "bouguer/media/concentration_field.h"
+#include "bouguer/media/ior.h"
+#include "bouguer/media/phase.h"
+#include "bouguer/scene/description.h"
+#include "bouguer/scene/source.h"
+#include "bouguer/spectra/spectrum.h"
+
+namespace bouguer {
+
+// ---- the inputs --------------------------------------------------------------------------------
+
+// A length: metres, or a number with a unit ("5 mm"; nm, um, µm, mm, cm, m, km).
+using LengthInput = std::variant<double, std::string>;
+
+// A linear Rec.709 colour, lifted to a spectrum as its use requires (a reflectance, an
+// illuminant, an unbounded coefficient).
+struct RgbInput {
+  Vec3 rgb;
+};
+
+// A tabulated spectrum: the two arrays, or a CSV file of (wavelength_nm, value) rows.
+struct TableInput {
+  std::vector<double> wavelength_nm, value;
+  std::optional<std::filesystem::path> csv;  // set instead of the arrays
+};
+
+// A spectral quantity (a conductor's n or k, a reflectance): a constant or a table.
+using SpectralInput = std::variant<double, TableInput>;
+
+// Radiance of an emitter, a light's intensity or the background: a named illuminant ("D65"),
+// normalised to luminance Y = scale; an RGB colour (RGB (1, 1, 1) is D65 at Y = 1) times scale;
+// or a table times scale (normalised to Y = scale with `normalise`).
+struct EmissionInput {
+  std::variant<std::string, RgbInput, TableInput> spectrum;
+  double scale = 1.0;
+  bool normalise = false;
+  bool two_sided = false;
+};
+
+// A refractive index: a constant, a dispersion library entry, an Abbe number, Sellmeier or
+// Cauchy coefficients, or a table.
+struct IorLibraryInput {
+  std::string name;
+};
+struct AbbeInput {
+  double n_d = 1.5, V_d = 50.0;
+};
+using IorInput = std::variant<double, IorLibraryInput, AbbeInput, SellmeierIor, CauchyIor, TableInput>;
+
+// A concentration or density: a number, or a field varying in space (media/concentration_field.h).
+using ConcentrationInput = std::variant<double, ConcentrationField>;
+
+// One absorber: a library material, a material file that names its own unit
+// (scene/material_file.h), or values (a table, or RGB where only RGB data exist) in a unit
+// (media/absorption.h: attenuation_per_m, absorbance_per_cm, internal_transmittance with a
+// thickness, molar_absorptivity, extinction_coefficient).
+struct AbsorptionLibraryInput {
+  std::string name;
+};
+struct MaterialFileInput {
+  std::filesystem::path csv;
+};
+struct AbsorptionValuesInput {
+  std::variant<TableInput, RgbInput> values;
+  std::string unit;
+  std::optional<LengthInput> thickness;
+};
+struct AbsorptionInput {
+  std::variant<AbsorptionLibraryInput, MaterialFileInput, AbsorptionValuesInput> source;
+  std::optional<ConcentrationInput> concentration;  // mol/L for solutes; a factor otherwise
+};
+
+// Scattering: a library medium (its σ_s, phase, σ_a and index), optionally as a fraction of
+// another liquid (`concentration`), or σ_s given as values in a unit (attenuation_per_m, _per_cm,
+// _per_mm) or Rayleigh's λ⁻⁴ through one value; `density` scales σ_s (and the absorption).
+struct ScatteringLibraryInput {
+  std::string name;
+  std::optional<ConcentrationInput> concentration;
+};
+struct RayleighInput {
+  double at_nm = 550.0, value_per_m = 0.0;
+};
+struct ScatteringValuesInput {
+  std::variant<TableInput, RgbInput, RayleighInput> values;
+  std::string unit;  // not for Rayleigh
+  PhaseFunction phase = IsotropicPhase{};
+};
+struct ScatteringInput {
+  std::variant<ScatteringLibraryInput, ScatteringValuesInput> source;
+  std::optional<ConcentrationInput> density;
+};
+
+// A medium: its index (a library absorber or scattering medium supplies a default), its
+// absorbers (their σ_a add up) and its scattering. `absorption_listed`: the absorbers were given
+// as a list, so messages name each by its index.
+struct MediumInput {
+  std::optional<IorInput> ior;
+  std::vector<AbsorptionInput> absorption;
+  bool absorption_listed = false;
+  std::optional<ScatteringInput> scattering;
+};
+
+// Opaque surfaces: a diffuse reflectance (a number, table or RGB, 0 to 1; 0.5 when not given)
+// or a conductor's n and k with a GGX roughness.
+struct DiffuseInput {
+  std::optional<std::variant<double, TableInput, RgbInput>> reflectance;
+};
+struct ConductorInput {
+  SpectralInput n = 0.2, k = 3.0;
+  double roughness = 0.0;
+};
+using MaterialInput = std::variant<DiffuseInput, ConductorInput>;
+
+// ---- what they mean ----------------------------------------------------------------------------
+
+// "5 mm", "0.5 cm", "1.2 um", "2 m" -> metres (an Error naming the text).
+double parse_length_m(const std::string& text);
+
+// A length within the scene's extent (io/limits.h); a positive one, at least the smallest length.
+double resolve_length_m(const LengthInput& length, const Source& where);
+double resolve_positive_length_m(const LengthInput& length, const Source& where);
+
+// A table, its CSV read (relative to the source's folder), non-negative unless allowed, and
+// overlapping the visible range.
+TabulatedSpectrum resolve_table(const TableInput& table, const Source& where, bool allow_negative = false);
+Spectrum resolve_spectral(const SpectralInput& value, const Source& where);
+
+EmissionDesc resolve_emission(const EmissionInput& emission, const Source& where);
+IorModel resolve_ior(const IorInput& ior, const Source& where);
+MediumDesc resolve_medium(const std::string& name, const MediumInput& medium, const Source& where);
+MaterialDesc resolve_surface_material(const MaterialInput& material, const Source& where);
+
+}  // namespace bouguer
