@@ -147,6 +147,9 @@ OutputSet checked_outputs(const RenderCli& o) {
 
 int run_render(const RenderCli& o) {
   const OutputSet outputs = checked_outputs(o);
+  // A piece under mpirun is every sample of its pixels: a budget of seconds cannot end them together.
+  if (o.time_s > 0.0 && distributed::launched_by_mpirun())
+    fail_usage("--time: not under mpirun, whose pieces take every sample of their pixels; give --spp");
   const SceneDesc desc = load_scene_with(o.scene, o.overrides);
   RenderSettings settings = desc.render;
   // A budget of seconds without --spp: as many samples as the budget allows.

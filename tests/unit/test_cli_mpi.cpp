@@ -97,6 +97,10 @@ TEST(CliMpi, ARankThatFailsStopsTheJobAndKeepsTheEarlierOutput) {
             std::string::npos)
       << other.err;
   EXPECT_EQ(test::read_file(out), "the earlier output");
+  const auto timed = mpirun({{2, render_args(kExample, out, "path", {"--time", "1"})}});
+  EXPECT_NE(timed.exit_code, 0);
+  EXPECT_NE(timed.err.find("--time: not under mpirun"), std::string::npos) << timed.err;
+  EXPECT_EQ(test::read_file(out), "the earlier output");
 }
 
 }  // namespace
