@@ -216,16 +216,6 @@ double Bdpt<N>::mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>
   return 1.0 / (1.0 + sum);
 }
 
-// A light path's contribution at film position (x, y) (t = 1).
-template <std::size_t N>
-void splat(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavelengths<N>& w, double x, double y,
-           const SampledSpectrum<N>& l) {
-  if (film.has_spectra())
-    film.add_splat(x, y, tables.to_linear_rgb(l, w), std::span<const float>(l.v.data(), N));
-  else
-    film.add_splat(x, y, tables.to_linear_rgb(l, w));
-}
-
 template <std::size_t N>
 SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
                                     FilmBuffer& film, const SampledSpectrum<N>& keep) {
@@ -257,7 +247,7 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
     lens.point = qs.point + c->wi * c->distance_m;
     lens.pdf_fwd = 1.0;
     l *= static_cast<float>(mis_weight(light, camera, &lens, s, 1, tr->tau) / mean_ratio(s_, qs.r_u, tr->ratios.r_l));
-    splat(film, v_.tables, w_, c->film_x, c->film_y, l);
+    add_splat(film, v_.tables, w_, c->film_x, c->film_y, l);
     return {};
   }
   if (s == 1) {  // next-event estimation: a light drawn by power, as light subpaths start
@@ -426,9 +416,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
         if (t > 1) {
           const Vec3 wi = d / length_m;
           const int m = pt.kind == VertexKind::surface ? pt.event.medium_towards(wi) : pt.medium;
-          if (m >= 0 && sigma_mean[static_cast<std::size_t>(m)] > 0.0)
-            tau = sigma_mean[static_cast<std::size_t>(m)] *
-                  column_density(scattering_medium(scene, m)->density, pt.point, wi, 0.0, length_m);
+          tau = scattering_depth(view, media, m, pt.point, wi, length_m);
         }
         if (t == 1) continue;  // through media the lens connection's depth needs the crossings: skip
       }

@@ -40,7 +40,7 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
     if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
       ratio_track(*sm, v.tables, Ray{start, wi}, length_m, w, rng, out.tr, out.ratios);
       if (!sigma_mean.empty() && std::isfinite(length_m))
-        out.tau += sigma_mean[static_cast<std::size_t>(medium)] * column_density(sm->density, start, wi, 0.0, length_m);
+        out.tau += sigma_mean[static_cast<std::size_t>(medium)] * scattering_column_density(*sm, Ray{start, wi}, 0.0, length_m);
     } else
       out.tr *= travel(v, medium, Ray{start, wi}, length_m, w);
     if (out.tr.is_zero()) return std::nullopt;
@@ -180,11 +180,7 @@ void splat_towards(const SceneView<N>& v, const PathVertex& at, const CameraConn
   if (!t) return;
   const SampledSpectrum<N> l =
       value * t->tr * static_cast<float>(c.factor / mean_ratio(v.scene, path_r_u, t->ratios.r_l));
-  if (film.has_spectra()) {
-    film.add_splat(c.film_x, c.film_y, v.tables.to_linear_rgb(l, w), std::span<const float>(l.v.data(), N));
-  } else {
-    film.add_splat(c.film_x, c.film_y, v.tables.to_linear_rgb(l, w));
-  }
+  add_splat(film, v.tables, w, c.film_x, c.film_y, l);
 }
 
 }  // namespace

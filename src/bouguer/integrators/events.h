@@ -162,6 +162,16 @@ template <std::size_t N>
 int keep_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, double u, Rng& rng);
 
 
+// A light path's contribution l (all carried wavelengths) at film position (x, y), in pixels.
+template <std::size_t N>
+void add_splat(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavelengths<N>& w, double x, double y,
+               const SampledSpectrum<N>& l) {
+  if (film.has_spectra())
+    film.add_splat(x, y, tables.to_linear_rgb(l, w), std::span<const float>(l.v.data(), N));
+  else
+    film.add_splat(x, y, tables.to_linear_rgb(l, w));
+}
+
 // A light-path vertex at a non-specular surface, arrived at along wo (towards the light): the
 // light it sends to the camera, through the medium on the camera's side, splatted at its film
 // position. The throughput beta carries importance-mode weights; path_r_u the path's ratios.

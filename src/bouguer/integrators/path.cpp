@@ -30,8 +30,7 @@ struct Radiance {
   static constexpr bool kReverse = false;
   const SceneView<N>& v;
   const SampledWavelengths<N>& w;
-  const WalkState<N>& state;
-  SpectralMis<N>& mis;  // the walk's: r_u over the path, r_l since its last vertex (media/scattering.h)
+  WalkState<N>& state;  // its mis: r_u over the path, r_l since its last vertex (media/scattering.h)
   Rng& rng;
   std::uint64_t& rays;
   Vec3 previous;  // the last vertex: where next-event estimation would have started
@@ -44,17 +43,18 @@ struct Radiance {
     const double arrived = state.pdf_dir;
     const Vec3 d = -x.wo;
     if (x.infinite) {  // an environment map is also reached by next-event estimation: weighted against it
-      const double weight = arrived == 0.0 || !scene.environment
-                                ? 1.0
-                                : spectral_power_heuristic(scene, arrived, mis.r_u, environment_pdf(scene, d), mis.r_l);
-      l += x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
+      const double weight =
+          arrived == 0.0 || !scene.environment
+              ? 1.0
+              : spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
+      l += x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u));
       return;
     }
     const double weight =
         arrived == 0.0 ? 1.0
-                       : spectral_power_heuristic(scene, arrived, mis.r_u, area_light_pdf(scene, x.hit, previous, d),
-                                                  mis.r_l);
-    l += x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, mis.r_u));
+                       : spectral_power_heuristic(scene, arrived, state.mis.r_u, area_light_pdf(scene, x.hit, previous, d),
+                                                  state.mis.r_l);
+    l += x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u));
   }
 
   bool vertex(const Vertex<N>& x) {
@@ -66,12 +66,12 @@ struct Radiance {
     if (x.kind == VertexKind::medium) {
       if (++scatterings > kMaxScatterings) return false;
       const PhaseFunction& phase = scattering_medium(scene, x.medium)->phase;
-      l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, mis.r_u, rng, rays);
+      l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, state.mis.r_u, rng, rays);
     } else {
       if (++surfaces > v.max_depth) return false;
-      if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, mis.r_u, rng, rays, true, true);
+      if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true);
     }
-    if (scene.scatters) mis.r_l = mis.r_u;  // (all ones otherwise)
+    if (scene.scatters) state.mis.r_l = state.mis.r_u;  // (all ones otherwise)
     previous = x.point;
     return true;
   }
@@ -86,7 +86,7 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
   state.from = state.start = ray.origin;
   state.medium = v.scene.world_medium;
   state.dispersion_u = dispersion_u;
-  Radiance<N> li{v, w, state, state.mis, rng, rays, ray.origin, {}};
+  Radiance<N> li{v, w, state, rng, rays, ray.origin, {}};
   random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
   return li.l;
 }

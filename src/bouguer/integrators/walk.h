@@ -63,7 +63,7 @@ double scattering_depth(const SceneView<N>& v, const WalkMedia& media, int mediu
                         double t) {
   const double sigma = media.sigma(medium);
   if (!(sigma > 0.0)) return 0.0;
-  return sigma * column_density(scattering_medium(v.scene, medium)->density, start, d, 0.0, t);
+  return sigma * scattering_column_density(*scattering_medium(v.scene, medium), Ray{start, d}, 0.0, t);
 }
 
 // The state a walk continues from: the ray leaving the last vertex, where the current segment
