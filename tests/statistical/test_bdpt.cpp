@@ -151,7 +151,8 @@ TEST(Bidirectional, LightsALiquidInGlassThatThePathTracerLeavesDark) {
 // one recomputed from the geometry (the walk's density records are right). A scene with every
 // kind of vertex: diffuse and rough dielectric surfaces, smooth glass, a scattering medium behind
 // an index-matched boundary, an area lamp, a point light and a spot.
-TEST(Bidirectional, StrategyWeightsOfEveryPathSumToOne) {
+void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const RenderSettings&, int, int, int),
+                               const char* what) {
   const std::string json = R"({
     "camera": {"position": [0, 0.3, 0.5], "look_at": [0, 0.05, 0], "fov_deg": 40, "resolution": [8, 8]},
     "render": {"integrator": "bdpt", "spectral": "hero", "spp": 16, "max_depth": 12},
@@ -182,17 +183,23 @@ TEST(Bidirectional, StrategyWeightsOfEveryPathSumToOne) {
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x)
       for (int sample = 0; sample < 16; ++sample) {
-        const BdptMisCheck c = bdpt_mis_check(scene, desc.render, x, y, sample);
+        const BdptMisCheck c = check(scene, desc.render, x, y, sample);
         for (const double sum : c.sums) worst_sum = std::max(worst_sum, std::abs(sum - 1.0));
         worst_difference = std::max(worst_difference, c.max_weight_difference);
         paths += c.sums.size();
       }
-  std::printf("MIS over %zu full paths: largest |Σ weights − 1| %.2e, largest renderer-vs-recomputed weight %.2e\n",
-              paths, worst_sum, worst_difference);
+  std::printf("%s MIS over %zu full paths: largest |Σ weights − 1| %.2e, largest renderer-vs-recomputed weight %.2e\n",
+              what, paths, worst_sum, worst_difference);
   EXPECT_GT(paths, 800u);
   EXPECT_LT(worst_sum, 1e-9);
   EXPECT_LT(worst_difference, 1e-3);  // hit points are rounded: measured 2e-5
 }
+
+TEST(Bidirectional, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_one(bdpt_mis_check, "bdpt"); }
+
+// With merging: the connections' weights and the merges' (at every vertex where a path can merge,
+// surfaces and the medium alike) of every full path sum to 1.
+TEST(VertexMerging, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_one(vcm_mis_check, "vcm"); }
 
 }  // namespace
 }  // namespace bouguer

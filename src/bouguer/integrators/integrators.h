@@ -3,7 +3,8 @@
 //   whitted: the paper's ray tracer (integrators/whitted.cpp),
 //   path:    unidirectional spectral path tracing with next-event estimation (path.cpp),
 //   light:   light tracing, paths from the emitters connected to the camera (light.cpp),
-//   bdpt:    bidirectional path tracing over one random walk (bdpt.cpp, walk.h).
+//   bdpt:    bidirectional path tracing over one random walk (bdpt.cpp, bidirectional.h, walk.h),
+//   vcm:     vertex connection and merging: bdpt and photon mapping under one MIS (vcm.cpp).
 #include <vector>
 
 #include "bouguer/integrators/events.h"
@@ -20,6 +21,8 @@ void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelR
                   const RenderControl&, RenderStats&);
 void render_bdpt(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                  const RenderControl&, RenderStats&);
+void render_vcm(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
+                const RenderControl&, RenderStats&);
 
 // The bidirectional estimator's MIS, checked on the subpaths of one camera sample: for every full
 // path a connection makes, the weights of all strategies that could have made it, recomputed from
@@ -30,6 +33,9 @@ struct BdptMisCheck {
   double max_weight_difference = 0.0;
 };
 BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
+// The same for vertex connection and merging (vcm.cpp): the merging strategies at every vertex
+// where a path can merge are in each sum too (the radius of iteration `sample`).
+BdptMisCheck vcm_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
 
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
 // stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's

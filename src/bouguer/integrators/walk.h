@@ -91,9 +91,10 @@ struct WalkState {
 };
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
-// a light at infinity), times the segment's distance density.
-template <std::size_t N>
-double to_area_density(double pdf_dir, const Vec3& from, const Vertex<N>& to, double tau, bool parallel = false) {
+// a light at infinity), times the segment's distance density. `to`: a Vertex, or any record with
+// its point, normal, kind, sigma_rho, infinite and on_surface() (vcm.cpp's photons).
+template <typename V>
+double to_area_density(double pdf_dir, const Vec3& from, const V& to, double tau, bool parallel = false) {
   double pdf = pdf_dir;
   if (parallel) {
     if (to.on_surface()) pdf *= std::abs(dot(to.normal, normalize(to.point - from)));

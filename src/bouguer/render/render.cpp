@@ -29,6 +29,9 @@ constexpr IntegratorInfo kIntegrators[] = {
     {IntegratorType::bdpt, "bdpt",
      "bidirectional path tracing: every connection of a camera and a light subpath, MIS (light through glass)",
      render_bdpt, true, true, true},
+    {IntegratorType::vcm, "vcm",
+     "vertex connection and merging: bdpt and photon mapping under one MIS (caustics seen through glass)",
+     render_vcm, true, true, true},
 };
 
 constexpr SpectralModeInfo kSpectralModes[] = {

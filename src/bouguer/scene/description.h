@@ -25,7 +25,7 @@
 namespace bouguer {
 
 enum class CameraType { pinhole, orthographic };
-enum class IntegratorType { whitted, path, light, bdpt };  // names: render/integrator.h
+enum class IntegratorType { whitted, path, light, bdpt, vcm };  // names: render/integrator.h
 
 struct CameraDesc {
   CameraType type = CameraType::pinhole;
@@ -44,6 +44,7 @@ struct RenderSettings {
   int spp = 16;
   int max_depth = 32;
   std::uint64_t seed = 0;
+  double merge_radius_m = 0.0;  // vcm: the first iteration's merging radius (0: two pixel footprints)
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).
