@@ -98,6 +98,11 @@ TEST(LightsInMedia, PointLightInAGlassSphereBidirectional) {
   for (const double n : {1.2, 1.5, 2.0}) expect_sphere_energy("bdpt", n, 6.0, 512);
 }
 
+// Vertex connection and merging adds merging on the floor to bdpt's strategies.
+TEST(LightsInMedia, PointLightInAGlassSphereVertexMerging) {
+  for (const double n : {1.2, 1.5, 2.0}) expect_sphere_energy("vcm", n, 6.0, 256);
+}
+
 // An emitter immersed in a dielectric that does not absorb neither loses flux nor gains it: the
 // same closed form at σ_a = 0 is exactly 1 (the reflected light leaves through the far side).
 TEST(LightsInMedia, PointLightInClearGlassKeepsItsFlux) {

@@ -73,7 +73,7 @@ TEST_P(MpiRender, GivesTheOneProcessImageBitForBit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cli, MpiRender,
-                         ::testing::Combine(::testing::Values("whitted", "path", "light", "bdpt"), ::testing::Values(2, 3)),
+                         ::testing::Combine(::testing::Values("whitted", "path", "light", "bdpt", "vcm"), ::testing::Values(2, 3)),
                          [](const auto& p) {
                            return fmt::format("{}_{}ranks", std::get<0>(p.param), std::get<1>(p.param));
                          });

@@ -265,7 +265,7 @@ TEST(Render, ThreadCountDoesNotChangeTheImage) {
 // the mean is below 0.1 %; the test allows 0.5 %, the issue's tolerance, which is > 5 σ.
 TEST(PathTracer, BacklitSlabMatchesTheClosedForm) {
   const Spectrum red = find_library_material("red-glass")->sigma_a_per_m;
-  for (const char* integrator : {"path", "bdpt"})
+  for (const char* integrator : {"path", "bdpt", "vcm"})
   for (const double mm : {2.0, 8.0}) {
     for (const char* mode : {"full", "rgb3"}) {
       const Film film = render_text(slab_scene(mm, R"({"library": "red-glass"})", mode, integrator, 16, 64), 2);
@@ -427,7 +427,7 @@ TEST(PathTracer, ColouredShadowBehindRedGlass) {
 }
 
 TEST(PathTracer, ThreadCountDoesNotChangeTheImage) {
-  for (const char* integrator : {"path", "bdpt"}) {
+  for (const char* integrator : {"path", "bdpt", "vcm"}) {
     const std::string scene = slab_scene(4.0, R"({"library": "light-blue-glass"})", "full", integrator, 8, 16);
     EXPECT_EQ(render_text(scene, 1).rgb, render_text(scene, 2).rgb) << integrator;
   }

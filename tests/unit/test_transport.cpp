@@ -34,7 +34,7 @@ bool bit_identical(const Film& a, const Film& b) {
 }
 
 TEST(Splits, SampleRangesAndPixelRegionsGiveTheWholeRenderBitForBit) {
-  for (const char* integrator : {"whitted", "path", "light", "bdpt"})
+  for (const char* integrator : {"whitted", "path", "light", "bdpt", "vcm"})
     for (const char* spectral : {"full", "hero", "rgb3"}) {
       const SceneDesc desc = parse_scene(busy_scene(integrator, spectral, 8), "busy.json");
       const RenderScene scene = compile(desc);
@@ -286,7 +286,7 @@ TEST(IntegratorTable, TheLoaderTheCommandLineAndTheDocsUseIt) {
   }
   EXPECT_NE(rendering.find("[--integrator " + integrators + "]"), std::string::npos) << integrators;
   EXPECT_NE(rendering.find("[--spectral " + modes + "]"), std::string::npos) << modes;
-  EXPECT_EQ(integrator_names(), "whitted, path, light or bdpt");
+  EXPECT_EQ(integrator_names(), "whitted, path, light, bdpt or vcm");
 }
 
 }  // namespace

@@ -92,6 +92,12 @@ SceneBuilder& SceneBuilder::max_depth(std::int64_t v, const Source& where) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::merge_radius(double radius_m, const Source& where) {
+  if (!(radius_m > 0.0) || !std::isfinite(radius_m)) where.fail("the merging radius must be a positive length");
+  desc_.render.merge_radius_m = radius_m;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::seed(std::int64_t v, const Source& where) {
   desc_.render.seed = static_cast<std::uint64_t>(count_between(v, 0, kMaxSeed, where));
   return *this;

@@ -48,6 +48,7 @@ class SceneBuilder {
   SceneBuilder& spectral_mode(const std::string& name, const Source& where);
   SceneBuilder& spp(std::int64_t spp, const Source& where);
   SceneBuilder& max_depth(std::int64_t depth, const Source& where);
+  SceneBuilder& merge_radius(double radius_m, const Source& where);  // vcm's first merging radius
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 
