@@ -243,7 +243,9 @@ bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings,
   std::atexit([] { mpi().finalize(); });
   const auto start = std::chrono::steady_clock::now();
   try {
-    const Context c{scene, settings, threads, make_pieces(film.width(), film.height(), ranks, pieces_per_rank()),
+    // vcm: every piece traces the light subpaths of the whole image (its photons), so one per rank.
+    const int per_rank = settings.integrator == IntegratorType::vcm ? 1 : pieces_per_rank();
+    const Context c{scene, settings, threads, make_pieces(film.width(), film.height(), ranks, per_rank),
                     job_of(scene, settings, film)};
     if (rank != 0) {
       render_as_worker(c, api, film);
