@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # make estimators: for scenes where light reaches diffuse surfaces through glass (caustics), the
-# seconds each estimator (path, bdpt) needs to reach mean CIEDE2000 < 2 and < 1 against a long
+# seconds each estimator (path, bdpt, vcm) needs to reach mean CIEDE2000 < 2 and < 1 against a long
 # reference, all in one run on one machine. The reference is the bidirectional estimator at
 # ESTIMATORS_REFERENCE_SPP (another seed); each estimator renders 4, 8, 16, ... spp (seed 1) until
 # both thresholds are met or the next render would pass ESTIMATORS_SPP_MAX. Small resolution: the
@@ -32,7 +32,7 @@ table=$(
     "$build/bouguer" render "$scene" --integrator bdpt --spectral full --spp "$reference_spp" --seed 1000 \
       --resolution "$resolution" -o "$ref" --stats-json "$out/$name-reference.json" --quiet
     ref_seconds=$(seconds_of "$out/$name-reference.json")
-    for integrator in path bdpt; do
+    for integrator in path bdpt vcm; do
       two="-" one="-" last="-"
       for spp in 4 8 16 32 64 128 256 512 1024 2048 4096 8192 16384 32768; do
         [ "$spp" -gt "$spp_max" ] && break
