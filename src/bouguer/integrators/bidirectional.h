@@ -57,6 +57,20 @@ class Bdpt {
   // The strategy (s, t) over the two subpaths: its contribution, weighted; t = 1 splats it.
   SampledSpectrum<N> connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
                              FilmBuffer& film, const SampledSpectrum<N>& keep);
+  // Every strategy (s, t) within the depth, summed (light tracing splatted).
+  SampledSpectrum<N> connect_all(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, FilmBuffer& film,
+                                 const SampledSpectrum<N>& keep) {
+    const int nc = static_cast<int>(camera.size()), nl = static_cast<int>(light.size());
+    if (light.empty()) light.emplace_back();  // the slot of s = 1's own light sample
+    SampledSpectrum<N> l;
+    for (int t = 1; t <= nc; ++t)
+      for (int k = 0; k <= std::max(nl, 1); ++k) {
+        const int depth = k + t - 2;
+        if ((k == 1 && t == 1) || depth < 0 || depth > v_.max_depth) continue;
+        l += connect(light, camera, k, t, film, keep);
+      }
+    return l;
+  }
 
   // The densities of the vertex records and the MIS weight (public for the check in
   // bdpt_mis_check below).

@@ -37,6 +37,17 @@ BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& sett
 // where a path can merge are in each sum too (the radius of iteration `sample`).
 BdptMisCheck vcm_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
 
+// A camera sample's radiance into its pixel (and its spectrum, where the film keeps spectra).
+template <std::size_t N>
+void add_camera_sample(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavelengths<N>& w, int x, int y,
+                       const SampledSpectrum<N>& l) {
+  const Vec3 rgb = tables.to_linear_rgb(l, w);
+  if (film.has_spectra())
+    film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N));
+  else
+    film.add_sample(x, y, rgb, 1.0);
+}
+
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
 // stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's
 // samples in a shuffled order; the fixed modes stratify the wavelength kept at a dispersive
@@ -82,11 +93,7 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
                              const auto [u, v] = subpixel(s, settings.spp, rng);
                              const SampledSpectrum<N> l =
                                  li(view, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
-                             const Vec3 rgb = tables.to_linear_rgb(l, w);
-                             if (film.has_spectra())
-                               film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N));
-                             else
-                               film.add_sample(x, y, rgb, 1.0);
+                             add_camera_sample(film, tables, w, x, y, l);
                            });
 }
 

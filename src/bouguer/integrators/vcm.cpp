@@ -312,15 +312,8 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
           const auto [u, v] = subpixel(it, settings.spp, rng);
           b.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
           b.light_subpath(light_path, lrng);
-          const int nc = static_cast<int>(camera_path.size()), nl = static_cast<int>(light_path.size());
-          if (light_path.empty()) light_path.emplace_back();  // the slot of s = 1's own light sample
-          SampledSpectrum<N> l;
-          for (int t = 1; t <= nc; ++t)
-            for (int k = 0; k <= std::max(nl, 1); ++k) {
-              const int depth = k + t - 2;
-              if ((k == 1 && t == 1) || depth < 0 || depth > settings.max_depth) continue;
-              l += b.connect(light_path, camera_path, k, t, film, keep);
-            }
+          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep);
+          const int nc = static_cast<int>(camera_path.size());
           for (int t = 2; t <= nc; ++t) {
             const Vertex<N>& pt = camera_path[static_cast<std::size_t>(t - 1)];
             if (!Bdpt<N>::mergeable(pt)) continue;
@@ -353,11 +346,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
             };
             (in_medium ? medium_grid : surface_grid).around(pt.point, merge);
           }
-          const Vec3 rgb = tables.to_linear_rgb(l, wc);
-          if (film.has_spectra())
-            film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N));
-          else
-            film.add_sample(x, y, rgb, 1.0);
+          add_camera_sample(film, tables, wc, x, y, l);
         }
     });
   }
