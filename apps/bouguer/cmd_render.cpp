@@ -197,7 +197,11 @@ int run_render(const RenderCli& o) {
                               {"spectral", mode},
                               {"integrator", integrator_info(settings.integrator).name},
                               {"threads", o.threads}};
-    stats_text = j.dump(2) + "\n";
+    nlohmann::json jv = j;
+    if (stats.iterations > 0)
+      jv["vcm"] = {{"iterations", stats.iterations}, {"light_paths", stats.light_paths}, {"photons", stats.photons},
+                   {"merges", stats.merges}, {"last_radius_m", stats.radius_m}};
+    stats_text = jv.dump(2) + "\n";
   }
   // All or nothing: no file is replaced unless every output was written.
   using Path = std::filesystem::path;
@@ -211,10 +215,14 @@ int run_render(const RenderCli& o) {
                fmt::join(o.outputs, ", "));
     return 130;
   }
-  if (!o.quiet)
+  if (!o.quiet) {
     fmt::print("{}: {}x{}, {} spp, {}, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
                passes.complete, integrator_info(settings.integrator).name, mode, stats.seconds, stats.rays,
                rays_per_second, fmt::join(o.outputs, ", "));
+    if (stats.iterations > 0)
+      fmt::print("  {} iterations: {} light paths, {} photons, {} merges, radius {:.3g} mm at the last\n",
+                 stats.iterations, stats.light_paths, stats.photons, stats.merges, stats.radius_m * 1e3);
+  }
   return 0;
 }
 

@@ -23,6 +23,7 @@
 // light subpath behind it (the light strategies' sum B, its predecessor's place and densities) is
 // kept in the photon record, as Georgiev's recursive dVCM/dVM quantities keep it.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <mutex>
 #include <numbers>
@@ -267,6 +268,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
     std::vector<std::vector<Photon<N>>> tiles_photons;
     std::mutex tiles_mutex;
     for_each_tile(PixelRegion{0, 0, width, height}, stage(0), stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+      // (Cancelled here, the iteration is dropped whole below.)
       std::vector<Photon<N>> mine;
       std::vector<Vertex<N>> lp;
       std::vector<double> sums;
@@ -286,6 +288,12 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
       const std::lock_guard<std::mutex> lock(tiles_mutex);
       tiles_photons.push_back(std::move(mine));
     });
+    // Ctrl-C: the image keeps whole iterations only; the progress says how many, which the film's
+    // splat normalisation reads.
+    if (control.cancel && control.cancel->load()) {
+      if (control.progress) control.progress(static_cast<double>(it - range.begin) / iterations);
+      return;
+    }
     std::size_t count = 0;
     for (const auto& t : tiles_photons) count += t.size();
     require_memory(count * sizeof(Photon<N>) * 2,
@@ -297,9 +305,14 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
     surface_grid.build(std::move(on_surfaces), r);
     medium_grid.build(std::move(in_media), r);
 
-    // 2. The camera subpaths of the region: connections and merges.
+    // 2. The camera subpaths of the region: connections and merges (not cancelled: an iteration
+    // begun is finished).
     const double norm_surface = 1.0 / merging.eta_surface, norm_medium = 1.0 / merging.eta_medium;
-    for_each_tile(region, stage(1), stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+    RenderControl camera_control = stage(1);
+    camera_control.cancel = nullptr;
+    std::atomic<std::uint64_t> merges{0};
+    for_each_tile(region, camera_control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+      std::uint64_t merged = 0;
       std::vector<Vertex<N>> camera_path, light_path;
       SampledWavelengths<N> wc = w;
       for (int y = tile.y0; y < tile.y1; ++y)
@@ -341,6 +354,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
               const SampledSpectrum<N> c =
                   pt.beta * f * q.beta * ((pt.dispersed || q.dispersed) ? keep : SampledSpectrum<N>::constant(1.0f));
               if (c.is_zero()) return;
+              ++merged;
               l += c * static_cast<float>(merge_weight(b, scene, camera_path, t, q) /
                                           mean_ratio(scene, pt.r_u * q.r_u));
             };
@@ -348,7 +362,13 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
           }
           add_camera_sample(film, tables, wc, x, y, l);
         }
+      merges += merged;
     });
+    ++stats.iterations;
+    stats.light_paths += static_cast<std::uint64_t>(light_paths);
+    stats.photons += count;
+    stats.merges += merges.load();
+    stats.radius_m = r;
   }
 }
 
