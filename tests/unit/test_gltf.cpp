@@ -100,6 +100,16 @@ TEST(Gltf, VolumeSlabMatchesThePerChannelClosedFormInRgb3) {
   }
 }
 
+// The lifted σ_a is −ln(c)/d exactly at the rgb3 lines (docs/assets.md).
+TEST(Gltf, VolumeAbsorptionIsExactAtTheRgb3Lines) {
+  const fs::path dir = test::scratch_dir("gltf_lines");
+  const SceneDesc d = parse_scene(backlit(gltf_object(write_slab(dir, kDistanceM)), "rgb3"), dir / "s.json");
+  const Spectrum& sigma = d.media.at(*d.objects.at(0).inside).sigma_a_per_m;
+  const std::array<double, 3> c{kColour.x, kColour.y, kColour.z};
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_NEAR(eval(sigma, kRgb3WavelengthsNm[i]), -std::log(c[i]) / kDistanceM, 1e-9) << i;
+}
+
 TEST(Gltf, VolumeSlabMatchesTheClosedFormInFullAtTheAttenuationDistance) {
   const fs::path dir = test::scratch_dir("gltf_full");
   for (const double t : {0.5 * kDistanceM, kDistanceM, 3.0 * kDistanceM}) {
