@@ -207,6 +207,19 @@ TEST(Gltf, MaterialsAreOverriddenByName) {
   }
 }
 
+// Two nodes instancing one mesh share its medium, and one asset placed twice gets two.
+TEST(Gltf, InstancesAndPlacementsShareOrSeparateTheirMedia) {
+  const fs::path dir = test::scratch_dir("gltf_instances");
+  GltfDoc g = volume_slab(0.01);
+  g.node({{"mesh", 0}, {"translation", {0, 0.05, 0}}, {"scale", {0.1, 0.01, 0.1}}});
+  g.write(dir / "two.glb");
+  const std::string one = gltf_object(dir / "two.glb");
+  const SceneDesc d = parse_scene(backlit(one + "," + one, "rgb3"), dir / "s.json");
+  ASSERT_EQ(d.objects.size(), 5u);
+  EXPECT_EQ(d.objects[0].inside, d.objects[1].inside);
+  EXPECT_NE(d.objects[0].inside, d.objects[2].inside);
+}
+
 TEST(Gltf, DracoMeshesAreDecoded) {
   const fs::path dir = test::scratch_dir("gltf_draco");
   draco::TriangleSoupMeshBuilder mb;

@@ -17,6 +17,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <set>
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
@@ -591,7 +592,7 @@ MediumInput volume_medium(const GltfMaterial& g, const Place& at) {
 }
 
 void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive& p, const GltfObjectInput& in,
-                   const Source& where) {
+                   const Source& where, std::set<std::string>& declared) {
   ObjectDesc o;
   o.name = fmt::format("{}: {}", asset_name(in.file), p.place);
   o.shape = p.shape;
@@ -615,8 +616,10 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
   } else if (g.transmission > 0.0) {
     if (g.thickness == 0.0) return;  // thin-walled: index-matched, nothing to render (docs/assets.md)
-    const std::string medium = fmt::format("{}: materials[{}] {}", asset_name(in.file), p.material, g.name);
-    b.medium(medium, volume_medium(g, at), at.source());
+    // One medium per material and placement: primitives and instances share it.
+    const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
+                                           asset_name(in.file), p.material, g.name);
+    if (declared.insert(medium).second) b.medium(medium, volume_medium(g, at), at.source());
     o.inside = medium;
     o.roughness = g.roughness * g.roughness;
   } else if (g.metallic >= 0.5) {
@@ -663,7 +666,8 @@ void add_asset_objects(SceneBuilder& b, const GltfAsset& asset, const GltfObject
   for (const auto& [name, ov] : in.materials)
     if (std::find(names.begin(), names.end(), name) == names.end())
       (where / "materials" / name).fail("{} has no material '{}'{}", in.file.filename().string(), name, suggestion(name, names));
-  for (const GltfPrimitive& p : asset.primitives) add_primitive(b, asset, p, in, where);
+  std::set<std::string> declared;  // the media made of the asset's volumes
+  for (const GltfPrimitive& p : asset.primitives) add_primitive(b, asset, p, in, where, declared);
 }
 
 }  // namespace
