@@ -24,6 +24,8 @@ packages=(
   fonts-dejavu-core    # a font for plot labels and the report screenshot
   libopenmpi-dev       # distributed rendering (mpirun -np N bouguer render); optional at configure time
   openmpi-bin          # mpirun, for the distributed tests
+  libtinygltf-dev      # glTF 2.0 assets (header only)
+  libdraco-dev         # Draco-compressed glTF meshes (KHR_draco_mesh_compression)
 )
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang libclang-rt-14-dev)  # libFuzzer, ASan, UBSan (make fuzz only)

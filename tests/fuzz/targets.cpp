@@ -19,6 +19,7 @@
 #include "bouguer/media/majorant.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/environment.h"
+#include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/material_file.h"
 #include "bouguer/spectra/cie.h"
@@ -144,6 +145,26 @@ void scene(std::string_view bytes, const fs::path& dir) {
           compiled.bounds.radius_m);
 }
 
+// A .glb asset (its JSON and binary chunks; a .gltf's JSON alone when it does not start with the
+// GLB magic): what the reader accepts is finite, its indices in range, and the builder takes it.
+void gltf(std::string_view bytes, const fs::path& dir) {
+  const bool glb = bytes.substr(0, 4) == "glTF";
+  const fs::path path = write(dir, glb ? "input.glb" : "input.gltf", bytes);
+  const GltfAsset asset = read_gltf(path);
+  for (const GltfPrimitive& p : asset.primitives) {
+    const Mesh& m = p.shape.mesh;
+    for (const Vec3& v : m.positions) check_vec3(v, "vertex");
+    for (const auto& t : m.triangles)
+      for (const auto k : t) require(k < m.positions.size(), "index {} of {}", k, m.positions.size());
+    require(p.shape.normals.empty() || p.shape.normals.size() == m.positions.size(), "normals");
+    require(p.material < int(asset.materials.size()), "material {}", p.material);
+  }
+  for (const GltfCamera& c : asset.cameras) check_vec3(c.position_m, "camera");
+  SceneBuilder b(path);
+  load_gltf_scene(path, b);
+  (void)std::move(b).build();
+}
+
 // A .vdb file: its first float grid ("density" when it has one) as a grid field, walked along a
 // few rays as the renderer does. Every value it gives is finite, >= 0 and within the maxima, and
 // the tracking majorant's pieces bound the column density.
@@ -192,7 +213,7 @@ const std::vector<Target>& targets() {
   static const std::vector<Target> all = {
       {"spectrum_csv", spectrum_csv}, {"material_csv", material_csv}, {"obj", obj}, {"ply_ascii", ply},
       {"ply_binary", ply},            {"exr", exr},                   {"pfm", pfm}, {"environment", environment},
-      {"scene", scene},           {"vdb", vdb},
+      {"scene", scene},           {"vdb", vdb},                   {"gltf", gltf},
   };
   return all;
 }

@@ -1,5 +1,7 @@
 #include "bouguer/scene/loader.h"
 
+#include "bouguer/scene/gltf.h"
+
 #include <fmt/ranges.h>
 
 #include <algorithm>
@@ -667,6 +669,31 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   return o;  // its roles and media are checked by the builder
 }
 
+// {"gltf": "bottle.glb", "transform": [...], "materials": {"Glass": {"inside": "glass"}}}: an asset's
+// primitives as objects, its materials overridden by name with an object's roles.
+GltfObjectInput gltf_object(const json& j, const Where& w) {
+  expect_keys(j, w, {"gltf", "transform", "materials"});
+  GltfObjectInput in;
+  in.file = w.resolve(text(j["gltf"], w / "gltf"));
+  if (j.contains("transform")) in.transform = transform(j["transform"], w / "transform");
+  if (j.contains("materials")) {
+    const Where wm = w / "materials";
+    if (!j["materials"].is_object()) wm.fail("expected an object of glTF material names");
+    for (const auto& [name, m] : j["materials"].items()) {
+      const Where wn = wm / name;
+      expect_keys(m, wn, {"inside", "outside", "material", "emission", "roughness"});
+      GltfMaterialOverride ov;
+      if (m.contains("inside")) ov.inside = text(m["inside"], wn / "inside");
+      if (m.contains("outside")) ov.outside = text(m["outside"], wn / "outside");
+      if (m.contains("material")) ov.material = material(m["material"], wn / "material");
+      if (m.contains("emission")) ov.emission = emission(m["emission"], wn / "emission", true);
+      if (m.contains("roughness")) ov.roughness = number(m["roughness"], wn / "roughness");
+      in.materials[name] = ov;
+    }
+  }
+  return in;
+}
+
 }  // namespace
 
 static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b) {
@@ -684,7 +711,11 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
   if (!root.contains("objects")) top.fail("needs 'objects'");
   const Where wo = top / "objects";
   array(root["objects"], wo);
-  for (std::size_t i = 0; i < root["objects"].size(); ++i) b.object(object(root["objects"][i], wo[i], i), wo[i]);
+  for (std::size_t i = 0; i < root["objects"].size(); ++i) {
+    const json& o = root["objects"][i];
+    if (o.is_object() && o.contains("gltf")) add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
+    else b.object(object(o, wo[i], i), wo[i]);
+  }
   if (root.contains("lights")) {
     const Where wl = top / "lights";
     array(root["lights"], wl);
@@ -705,8 +736,15 @@ SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
   return std::move(b).build();
 }
 
-SceneDesc load_scene(const fs::path& path) { return parse_scene(read_text_file(path), path); }
+SceneDesc load_scene(const fs::path& path) {
+  SceneBuilder b(path);
+  load_scene(path, b);
+  return std::move(b).build();
+}
 
-void load_scene(const fs::path& path, SceneBuilder& builder) { read_scene(read_text_file(path), path, builder); }
+void load_scene(const fs::path& path, SceneBuilder& builder) {
+  if (is_gltf_file(path)) return load_gltf_scene(path, builder);  // an asset as the whole scene
+  read_scene(read_text_file(path), path, builder);
+}
 
 }  // namespace bouguer

@@ -1,0 +1,740 @@
+// glTF 2.0 through tinygltf (JSON, GLB chunks, base64 buffers) and Draco; every index, count,
+// offset and stride checked here before it is used, since tinygltf checks few of them.
+#include "bouguer/scene/gltf.h"
+
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#define TINYGLTF_NOEXCEPTION
+#include <draco/compression/decode.h>
+#include <fmt/format.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <set>
+
+#include "bouguer/core/error.h"
+#include "bouguer/core/strings.h"
+#include "bouguer/io/csv.h"
+#include "bouguer/io/limits.h"
+#include "bouguer/spectra/rgb_to_spectrum.h"
+
+namespace bouguer {
+namespace {
+namespace fs = std::filesystem;
+using tinygltf::Model;
+using tinygltf::Value;
+
+// A place in the asset, as a Source for the builder's messages and our own.
+struct Place {
+  const fs::path* file;
+  std::string path;
+  Place operator/(const std::string& key) const { return {file, path.empty() ? key : path + "." + key}; }
+  Place operator[](std::size_t i) const { return {file, fmt::format("{}[{}]", path, i)}; }
+  Source source() const { return {*file, path}; }
+  template <typename... Args>
+  [[noreturn]] void fail(fmt::format_string<Args...> f, Args&&... args) const {
+    source().fail(f, std::forward<Args>(args)...);
+  }
+};
+
+// Textures are not read: keep the image's reference, decode nothing (without a loader tinygltf
+// refuses every asset with an embedded image).
+bool keep_image_reference(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                          void*) {
+  return true;
+}
+
+// External buffers through the project's checked reader (regular files, bounded size).
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  try {
+    const std::string bytes = read_file_bytes(path, kMaxMeshFileBytes);
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const Error& e) {
+    *err = e.what();
+    return false;
+  }
+}
+bool file_exists(const std::string& path, void*) { return fs::exists(path); }
+std::string expand_path(const std::string& path, void*) { return path; }
+bool no_writes(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+
+std::string first_line(const std::string& text) {
+  const std::string s = text.substr(0, text.find('\n'));
+  return s.empty() ? std::string("the asset could not be parsed") : s;
+}
+
+Model parse_model(const fs::path& path) {
+  const std::string bytes = read_file_bytes(path, kMaxMeshFileBytes);
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(keep_image_reference, nullptr);
+  loader.SetFsCallbacks({file_exists, expand_path, read_whole_file, no_writes, nullptr});
+  loader.SetStoreOriginalJSONForExtrasAndExtensions(false);
+  Model model;
+  std::string err, warn;
+  const std::string base = path.parent_path().string();
+  const auto size = static_cast<unsigned int>(bytes.size());
+  bool ok = false;
+  try {
+    ok = path.extension() == ".glb"
+             ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                           size, base)
+             : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, base);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  if (!ok) fail("{}: {}", path.string(), first_line(err));
+  return model;
+}
+
+// ---- numbers -------------------------------------------------------------------------------------
+
+double finite(double v, const Place& at) {
+  if (!std::isfinite(v)) at.fail("not a finite number ({})", v);
+  return v;
+}
+
+Vec3 vec3(const std::vector<double>& v, const Place& at, Vec3 fallback) {
+  if (v.empty()) return fallback;
+  if (v.size() < 3) at.fail("needs 3 numbers (got {})", v.size());
+  return {finite(v[0], at[0]), finite(v[1], at[1]), finite(v[2], at[2])};
+}
+
+const Value* member(const tinygltf::ExtensionMap& ext, const std::string& name) {
+  const auto it = ext.find(name);
+  return it == ext.end() ? nullptr : &it->second;
+}
+
+std::optional<double> number(const Value& v, const std::string& key, const Place& at) {
+  if (!v.IsObject() || !v.Has(key)) return std::nullopt;
+  const Value& n = v.Get(key);
+  if (!n.IsNumber()) (at / key).fail("expected a number");
+  return finite(n.GetNumberAsDouble(), at / key);
+}
+
+std::optional<Vec3> number3(const Value& v, const std::string& key, const Place& at) {
+  if (!v.IsObject() || !v.Has(key)) return std::nullopt;
+  const Value& a = v.Get(key);
+  if (!a.IsArray() || a.ArrayLen() != 3) (at / key).fail("expected 3 numbers");
+  std::array<double, 3> c{};
+  for (int i = 0; i < 3; ++i) {
+    if (!a.Get(i).IsNumber()) (at / key)[std::size_t(i)].fail("expected a number");
+    c[std::size_t(i)] = finite(a.Get(i).GetNumberAsDouble(), (at / key)[std::size_t(i)]);
+  }
+  return Vec3{c[0], c[1], c[2]};
+}
+
+std::size_t checked_index(int index, std::size_t count, const Place& at, const char* what) {
+  if (index < 0 || std::size_t(index) >= count) at.fail("{} {} does not exist (the asset has {})", what, index, count);
+  return std::size_t(index);
+}
+
+// ---- accessors -----------------------------------------------------------------------------------
+
+std::size_t component_bytes(int type) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+  }
+}
+
+double component(const unsigned char* p, int type, bool normalized) {
+  auto read = [&](auto v) {
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  };
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return double(read(float{}));
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return double(read(std::uint32_t{}));
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      const double v = read(std::uint16_t{});
+      return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      const double v = read(std::uint8_t{});
+      return normalized ? v / 255.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      const double v = read(std::int16_t{});
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    default: {
+      const double v = read(std::int8_t{});
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+  }
+}
+
+// The accessor's elements as `components` numbers each, of one of the allowed component types,
+// every byte they read inside its buffer view and buffer.
+std::vector<double> read_accessor(const Model& m, int index, int components, std::initializer_list<int> types,
+                                  const Place& at) {
+  const Place where = Place{at.file, ""} / "accessors";
+  const std::size_t ai = checked_index(index, m.accessors.size(), at, "accessor");
+  const tinygltf::Accessor& a = m.accessors[ai];
+  const Place pa = where[ai];
+  if (tinygltf::GetNumComponentsInType(std::uint32_t(a.type)) != components)
+    pa.fail("type {} where {} components are needed ({})", a.type, components, at.path);
+  if (std::find(types.begin(), types.end(), a.componentType) == types.end())
+    (pa / "componentType").fail("{} is not accepted here ({})", a.componentType, at.path);
+  if (a.sparse.isSparse) (pa / "sparse").fail("sparse accessors are not supported");
+  if (a.count == 0) (pa / "count").fail("must be at least 1");
+  if (a.count > kMaxMeshVertices * 3) (pa / "count").fail("{} exceeds the limit of {}", a.count, kMaxMeshVertices * 3);
+  const std::size_t csize = component_bytes(a.componentType);
+  const std::size_t element = csize * std::size_t(components);
+  std::vector<double> out;
+  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2)
+    out.assign(a.count * std::size_t(components), 0.0);
+    return out;
+  }
+  const std::size_t vi = checked_index(a.bufferView, m.bufferViews.size(), pa / "bufferView", "bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[vi];
+  const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
+  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), pv / "buffer", "buffer");
+  const std::size_t buffer_bytes = m.buffers[bi].data.size();
+  if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
+    pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
+            bi, buffer_bytes);
+  const std::size_t stride = v.byteStride == 0 ? element : v.byteStride;
+  if (stride < element) (pv / "byteStride").fail("{} is less than accessors[{}]'s element of {} bytes", stride, ai, element);
+  if (a.byteOffset % csize != 0) (pa / "byteOffset").fail("{} is not a multiple of {}", a.byteOffset, csize);
+  const std::uint64_t needed = std::uint64_t(a.byteOffset) + std::uint64_t(a.count - 1) * stride + element;
+  if (needed > v.byteLength)
+    (pa / "count")
+        .fail("{} exceeds bufferView {} ({} bytes from offset {} hold {} of stride {})", a.count, vi, v.byteLength,
+              a.byteOffset, v.byteLength < a.byteOffset + element ? 0 : (v.byteLength - a.byteOffset - element) / stride + 1,
+              stride);
+  const unsigned char* base = m.buffers[bi].data.data() + v.byteOffset + a.byteOffset;
+  out.resize(a.count * std::size_t(components));
+  for (std::size_t i = 0; i < a.count; ++i)
+    for (int c = 0; c < components; ++c)
+      out[i * std::size_t(components) + std::size_t(c)] =
+          component(base + i * stride + std::size_t(c) * csize, a.componentType, a.normalized);
+  return out;
+}
+
+// ---- transforms ----------------------------------------------------------------------------------
+
+Transform node_transform(const tinygltf::Node& n, const Place& at) {
+  Transform t;
+  if (!n.matrix.empty()) {
+    if (n.matrix.size() != 16) (at / "matrix").fail("needs 16 numbers (got {})", n.matrix.size());
+    for (std::size_t i = 0; i < 16; ++i) finite(n.matrix[i], (at / "matrix")[i]);
+    for (std::size_t c = 0; c < 3; ++c)
+      for (std::size_t r = 0; r < 3; ++r) t.linear.m[r][c] = n.matrix[c * 4 + r];  // column-major
+    t.translation = {n.matrix[12], n.matrix[13], n.matrix[14]};
+    if (n.matrix[3] != 0 || n.matrix[7] != 0 || n.matrix[11] != 0 || n.matrix[15] != 1)
+      (at / "matrix").fail("the last row must be [0, 0, 0, 1]");
+  } else {
+    const Vec3 s = vec3(n.scale, at / "scale", {1, 1, 1});
+    std::array<double, 4> q{0, 0, 0, 1};  // x, y, z, w
+    if (!n.rotation.empty()) {
+      if (n.rotation.size() != 4) (at / "rotation").fail("needs 4 numbers (got {})", n.rotation.size());
+      for (std::size_t i = 0; i < 4; ++i) q[i] = finite(n.rotation[i], (at / "rotation")[i]);
+      const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      if (!(std::abs(norm - 1.0) < 1e-3)) (at / "rotation").fail("must be a unit quaternion (its norm is {})", norm);
+      for (double& c : q) c /= norm;
+    }
+    const auto [x, y, z, w] = q;
+    const Mat3 r{{{{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                   {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                   {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}}}};
+    t.linear = r * Mat3::diagonal(s);
+    t.translation = vec3(n.translation, at / "translation", {0, 0, 0});
+  }
+  if (!(std::abs(t.determinant()) > 1e-300)) at.fail("a singular transform collapses what the node holds");
+  return t;
+}
+
+Mat3 transposed(const Mat3& a) {
+  Mat3 r;
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j) r.m[i][j] = a.m[j][i];
+  return r;
+}
+
+// ---- meshes --------------------------------------------------------------------------------------
+
+struct Attributes {
+  std::vector<double> positions, normals, uvs, indices;
+  bool has_indices = false;
+};
+
+Attributes draco_attributes(const Model& m, const Value& ext, const Place& at) {
+  const Place pe = at / "extensions" / "KHR_draco_mesh_compression";
+  if (!ext.IsObject() || !ext.Get("bufferView").IsInt() || !ext.Get("attributes").IsObject())
+    pe.fail("needs 'bufferView' and 'attributes'");
+  const std::size_t vi = checked_index(ext.Get("bufferView").Get<int>(), m.bufferViews.size(), pe / "bufferView", "bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[vi];
+  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), (Place{at.file, ""} / "bufferViews")[vi], "buffer");
+  const auto& data = m.buffers[bi].data;
+  if (v.byteOffset > data.size() || v.byteLength > data.size() - v.byteOffset)
+    (Place{at.file, ""} / "bufferViews")[vi].fail("lies beyond buffer {} ({} bytes)", bi, data.size());
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(data.data() + v.byteOffset), v.byteLength);
+  draco::Decoder decoder;
+  auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!decoded.ok()) pe.fail("Draco could not decode it: {}", decoded.status().error_msg_string());
+  const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+  if (mesh->num_points() == 0 || mesh->num_points() > kMaxMeshVertices || mesh->num_faces() > kMaxMeshTriangles)
+    pe.fail("{} points and {} faces (the limits are {} and {})", mesh->num_points(), mesh->num_faces(),
+            kMaxMeshVertices, kMaxMeshTriangles);
+  Attributes out;
+  auto attribute = [&](const char* name, int components, std::vector<double>& dst) {
+    const Value& id = ext.Get("attributes").Get(name);
+    if (!id.IsInt()) return;
+    const draco::PointAttribute* a = mesh->GetAttributeByUniqueId(std::uint32_t(id.Get<int>()));
+    if (!a || a->num_components() != components)
+      (pe / "attributes" / name).fail("no Draco attribute {} of {} components", id.Get<int>(), components);
+    dst.resize(std::size_t(mesh->num_points()) * std::size_t(components));
+    float value[4] = {};
+    for (draco::PointIndex i(0); i < mesh->num_points(); ++i) {
+      if (!a->ConvertValue<float>(a->mapped_index(i), std::int8_t(components), value))
+        (pe / "attributes" / name).fail("cannot be read as numbers");
+      for (int c = 0; c < components; ++c) dst[i.value() * std::size_t(components) + std::size_t(c)] = value[c];
+    }
+  };
+  attribute("POSITION", 3, out.positions);
+  if (out.positions.empty()) (pe / "attributes").fail("needs POSITION");
+  attribute("NORMAL", 3, out.normals);
+  attribute("TEXCOORD_0", 2, out.uvs);
+  out.has_indices = true;
+  out.indices.reserve(std::size_t(mesh->num_faces()) * 3);
+  for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) out.indices.push_back(double(mesh->face(f)[k].value()));
+  return out;
+}
+
+Attributes primitive_attributes(const Model& m, const tinygltf::Primitive& p, const Place& at) {
+  if (const Value* draco = member(p.extensions, "KHR_draco_mesh_compression")) return draco_attributes(m, *draco, at);
+  const auto find = [&](const char* name) {
+    const auto it = p.attributes.find(name);
+    return it == p.attributes.end() ? -1 : it->second;
+  };
+  const int position = find("POSITION");
+  if (position < 0) (at / "attributes").fail("needs POSITION");
+  Attributes out;
+  const Place pa = at / "attributes";
+  out.positions = read_accessor(m, position, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, pa / "POSITION");
+  const std::size_t n = out.positions.size() / 3;
+  auto same_count = [&](const std::vector<double>& v, int components, const char* name) {
+    if (v.size() != n * std::size_t(components))
+      (pa / name).fail("{} elements where POSITION has {}", v.size() / std::size_t(components), n);
+  };
+  if (const int normal = find("NORMAL"); normal >= 0) {
+    out.normals = read_accessor(m, normal, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, pa / "NORMAL");
+    same_count(out.normals, 3, "NORMAL");
+  }
+  if (const int uv = find("TEXCOORD_0"); uv >= 0) {
+    out.uvs = read_accessor(m, uv, 2,
+                            {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+                            pa / "TEXCOORD_0");
+    same_count(out.uvs, 2, "TEXCOORD_0");
+  }
+  if (p.indices >= 0) {
+    out.has_indices = true;
+    out.indices = read_accessor(m, p.indices, 1,
+                                {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+                                at / "indices");
+  }
+  return out;
+}
+
+// The primitive's triangles with the node's transform applied (normals by its inverse transpose).
+GltfPrimitive make_primitive(const Model& m, const tinygltf::Primitive& p, const Transform& to_asset,
+                             const Place& at) {
+  if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES)
+    (at / "mode").fail("mode {} is not supported (only triangles, 4)", p.mode);
+  Attributes a = primitive_attributes(m, p, at);
+  const std::size_t n = a.positions.size() / 3;
+  if (n > kMaxMeshVertices) at.fail("{} vertices exceed the limit of {}", n, kMaxMeshVertices);
+  if (!a.has_indices) {
+    a.indices.resize(n);
+    for (std::size_t i = 0; i < n; ++i) a.indices[i] = double(i);
+  }
+  if (a.indices.size() % 3 != 0) (at / "indices").fail("{} indices are not whole triangles", a.indices.size());
+  GltfPrimitive out;
+  out.place = at.path;
+  out.material = p.material;
+  Mesh& mesh = out.shape.mesh;
+  mesh.positions.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 v{a.positions[3 * i], a.positions[3 * i + 1], a.positions[3 * i + 2]};
+    if (!(std::abs(v.x) <= kMaxMeshCoordinate && std::abs(v.y) <= kMaxMeshCoordinate &&
+          std::abs(v.z) <= kMaxMeshCoordinate))
+      (at / "attributes" / "POSITION").fail("vertex {} ({}, {}, {}) is not finite or beyond {}", i, v.x, v.y, v.z,
+                                             kMaxMeshCoordinate);
+    mesh.positions[i] = to_asset.apply(v);
+  }
+  const bool mirror = to_asset.determinant() < 0.0;
+  mesh.triangles.resize(a.indices.size() / 3);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double index = a.indices[3 * t + k];
+      if (!(index < double(n)))
+        (at / "indices").fail("index {} at {} is out of range (the primitive has {} vertices)", index, 3 * t + k, n);
+      mesh.triangles[t][mirror ? 2 - k : k] = std::uint32_t(index);
+    }
+  if (!a.normals.empty()) {
+    const Mat3 normal_matrix = transposed(inverse(to_asset.linear));
+    out.shape.normals.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 nn = normal_matrix * Vec3{a.normals[3 * i], a.normals[3 * i + 1], a.normals[3 * i + 2]};
+      const double l = length(nn);
+      if (!(l > 0.0 && std::isfinite(l))) (at / "attributes" / "NORMAL").fail("normal {} is zero or not finite", i);
+      out.shape.normals[i] = nn / l;
+    }
+  }
+  if (!a.uvs.empty()) {
+    out.shape.uvs.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      out.shape.uvs[i] = {finite(a.uvs[2 * i], at / "attributes" / "TEXCOORD_0"),
+                          finite(a.uvs[2 * i + 1], at / "attributes" / "TEXCOORD_0")};
+    }
+  }
+  return out;
+}
+
+// ---- materials -----------------------------------------------------------------------------------
+
+GltfMaterial material(const tinygltf::Material& g, const Place& at) {
+  GltfMaterial mat;
+  mat.name = g.name;
+  const auto& pbr = g.pbrMetallicRoughness;
+  const Place pp = at / "pbrMetallicRoughness";
+  if (!pbr.baseColorFactor.empty()) mat.base_color = vec3(pbr.baseColorFactor, pp / "baseColorFactor", {1, 1, 1});
+  mat.metallic = finite(pbr.metallicFactor, pp / "metallicFactor");
+  mat.roughness = finite(pbr.roughnessFactor, pp / "roughnessFactor");
+  mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
+  const Place pe = at / "extensions";
+  if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
+    mat.emissive_strength = number(*e, "emissiveStrength", pe / "KHR_materials_emissive_strength").value_or(1.0);
+  if (const Value* e = member(g.extensions, "KHR_materials_transmission"))
+    mat.transmission = number(*e, "transmissionFactor", pe / "KHR_materials_transmission").value_or(0.0);
+  if (const Value* e = member(g.extensions, "KHR_materials_ior")) mat.ior = number(*e, "ior", pe / "KHR_materials_ior").value_or(1.5);
+  if (const Value* e = member(g.extensions, "KHR_materials_dispersion"))
+    mat.dispersion = number(*e, "dispersion", pe / "KHR_materials_dispersion").value_or(0.0);
+  if (const Value* e = member(g.extensions, "KHR_materials_volume")) {
+    const Place pv = pe / "KHR_materials_volume";
+    mat.thickness = number(*e, "thicknessFactor", pv).value_or(0.0);
+    mat.attenuation_color = number3(*e, "attenuationColor", pv).value_or(Vec3{1, 1, 1});
+    mat.attenuation_distance_m = number(*e, "attenuationDistance", pv);
+  }
+  return mat;
+}
+
+// ---- the node tree -------------------------------------------------------------------------------
+
+constexpr std::size_t kMaxNodeDepth = 1024;  // the walk recurses: bound its stack
+
+struct Walker {
+  const Model& m;
+  const fs::path& file;
+  GltfAsset& out;
+  std::vector<bool> visited;
+  std::uint64_t triangles = 0;
+
+  Place place(const char* what, std::size_t i) const { return (Place{&file, ""} / what)[i]; }
+
+  void node(std::size_t index, const Transform& parent, std::size_t depth) {
+    const Place at = place("nodes", index);
+    if (visited[index]) at.fail("is reached twice (the nodes must form a tree)");
+    if (depth > kMaxNodeDepth) at.fail("lies deeper than {} nodes", kMaxNodeDepth);
+    visited[index] = true;
+    const tinygltf::Node& n = m.nodes[index];
+    const Transform to_asset = node_transform(n, at).then(parent);
+    if (n.mesh >= 0) mesh(checked_index(n.mesh, m.meshes.size(), at / "mesh", "mesh"), to_asset, at);
+    if (n.camera >= 0) camera(checked_index(n.camera, m.cameras.size(), at / "camera", "camera"), to_asset);
+    if (const Value* l = member(n.extensions, "KHR_lights_punctual")) light(*l, to_asset, at);
+    for (std::size_t c = 0; c < n.children.size(); ++c)
+      node(checked_index(n.children[c], m.nodes.size(), (at / "children")[c], "node"), to_asset, depth + 1);
+  }
+
+  void mesh(std::size_t index, const Transform& to_asset, const Place& node_at) {
+    const tinygltf::Mesh& mesh = m.meshes[index];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const Place at = (place("meshes", index) / "primitives")[p];
+      GltfPrimitive prim = make_primitive(m, mesh.primitives[p], to_asset, at);
+      if (prim.material >= 0) checked_index(prim.material, m.materials.size(), at / "material", "material");
+      triangles += prim.shape.mesh.triangles.size();
+      if (triangles > kMaxMeshTriangles) at.fail("the asset's triangles exceed the limit of {}", kMaxMeshTriangles);
+      prim.place = node_at.path + " " + at.path;
+      out.primitives.push_back(std::move(prim));
+    }
+  }
+
+  void camera(std::size_t index, const Transform& to_asset) {
+    const tinygltf::Camera& c = m.cameras[index];
+    if (c.type != "perspective") return;  // orthographic glTF cameras are not read
+    const Place at = place("cameras", index) / "perspective";
+    GltfCamera cam;
+    cam.position_m = to_asset.translation;
+    cam.forward = normalize(to_asset.linear * Vec3{0, 0, -1});
+    cam.up = normalize(to_asset.linear * Vec3{0, 1, 0});
+    cam.yfov_rad = finite(c.perspective.yfov, at / "yfov");
+    if (!(cam.yfov_rad > 0.0 && cam.yfov_rad < 3.1)) (at / "yfov").fail("must lie between 0 and π (got {})", cam.yfov_rad);
+    cam.aspect = finite(c.perspective.aspectRatio, at / "aspectRatio");
+    if (cam.aspect < 0.0 || cam.aspect > 100.0) (at / "aspectRatio").fail("must be positive (got {})", cam.aspect);
+    out.cameras.push_back(cam);
+  }
+
+  void light(const Value& ext, const Transform& to_asset, const Place& node_at) {
+    const Place pe = node_at / "extensions" / "KHR_lights_punctual";
+    if (!ext.IsObject() || !ext.Get("light").IsInt()) (pe / "light").fail("expected a light index");
+    const std::size_t index = checked_index(ext.Get("light").Get<int>(), m.lights.size(), pe / "light", "light");
+    const tinygltf::Light& l = m.lights[index];
+    const Place at = (Place{&file, ""} / "extensions" / "KHR_lights_punctual" / "lights")[index];
+    GltfLight g;
+    g.place = at.path;
+    if (l.type == "point") g.type = DeltaLightType::point;
+    else if (l.type == "spot") g.type = DeltaLightType::spot;
+    else if (l.type == "directional") g.type = DeltaLightType::distant;
+    else (at / "type").fail("unknown light type '{}' (point, spot, directional)", l.type);
+    g.position_m = to_asset.translation;
+    g.direction = normalize(to_asset.linear * Vec3{0, 0, -1});
+    g.color = vec3(l.color, at / "color", {1, 1, 1});
+    g.intensity = finite(l.intensity, at / "intensity");
+    g.inner_cone_rad = finite(l.spot.innerConeAngle, at / "spot" / "innerConeAngle");
+    g.outer_cone_rad = finite(l.spot.outerConeAngle, at / "spot" / "outerConeAngle");
+    out.lights.push_back(g);
+  }
+};
+
+// ---- into the builder ----------------------------------------------------------------------------
+
+std::string asset_name(const fs::path& file) { return file.filename().string(); }
+
+// A metal's F0 = base colour at normal incidence, as a conductor of n = 1: F0 = k²/(4 + k²).
+ConductorInput metal(const GltfMaterial& g) {
+  const Vec3 f0{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
+                std::clamp(g.base_color.z, 0.0, 1.0)};
+  const SigmoidPolynomial lifted = rgb_to_reflectance(f0);
+  TableInput k;
+  for (double nm = 360.0; nm <= 830.0; nm += 5.0) {
+    const double r = std::min(lifted(nm), 0.999);
+    k.wavelength_nm.push_back(nm);
+    k.value.push_back(2.0 * std::sqrt(r / (1.0 - r)));
+  }
+  return {1.0, k, g.roughness * g.roughness};
+}
+
+// σ_a(λ) of an attenuation colour c at distance d: the transmittance over d is the smooth
+// reflectance-like lift of c (a sigmoid in (0, 1), so σ_a ≥ 0 and its colour under D65 is c),
+// plus narrow Gaussians (2 nm wide) at the rgb3 lines (700.0, 546.1, 435.8 nm) sized to make it
+// exactly c there, so the paper's RGB mode gives c per channel; they move the full-mode colour by
+// well under 1 % (docs/assets.md). Tabulated at 1 nm and at the lines.
+TableInput volume_sigma_a(const Vec3& c, double d) {
+  constexpr std::array<double, 3> lines_nm{700.0, 546.1, 435.8};
+  constexpr double width_nm = 2.0;
+  const SigmoidPolynomial lifted = rgb_to_reflectance(c);
+  const std::array<double, 3> want{c.x, c.y, c.z};
+  auto bump = [&](std::size_t i, double nm) {
+    const double x = (nm - lines_nm[i]) / width_nm;
+    return std::exp(-0.5 * x * x);
+  };
+  // Solve Σ_j a_j bump_j(λ_i) = residual_i (optical depth over d); the matrix is the identity
+  // to 1e-300 at these spacings, so one pass suffices, and a second makes it exact to rounding.
+  std::array<double, 3> residual{}, a{};
+  for (std::size_t i = 0; i < 3; ++i) residual[i] = std::log(lifted(lines_nm[i])) - std::log(want[i]);
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t i = 0; i < 3; ++i) {
+      double others = 0.0;
+      for (std::size_t j = 0; j < 3; ++j)
+        if (j != i) others += a[j] * bump(j, lines_nm[i]);
+      a[i] = residual[i] - others;
+    }
+  TableInput t;
+  for (int nm = 360; nm <= 830; ++nm) {
+    if (nm == 436) t.wavelength_nm.push_back(435.8);
+    if (nm == 547) t.wavelength_nm.push_back(546.1);
+    t.wavelength_nm.push_back(nm);
+  }
+  for (double nm : t.wavelength_nm) {
+    double depth = -std::log(lifted(nm));
+    for (std::size_t i = 0; i < 3; ++i) depth += a[i] * bump(i, nm);
+    t.value.push_back(std::max(0.0, depth) / d);
+  }
+  return t;
+}
+
+// A transmissive material with a volume: its medium, σ_a = −ln(c)/d lifted as the internal
+// transmittance c at thickness d (docs/assets.md).
+MediumInput volume_medium(const GltfMaterial& g, const Place& at) {
+  const Place pv = at / "extensions" / "KHR_materials_volume";
+  MediumInput m;
+  if (g.dispersion > 0.0) m.ior = AbbeInput{g.ior, 20.0 / g.dispersion};
+  else m.ior = g.ior;
+  if (g.dispersion < 0.0) (at / "extensions" / "KHR_materials_dispersion" / "dispersion").fail("must not be negative");
+  if (g.attenuation_distance_m) {
+    if (!(*g.attenuation_distance_m > 0.0))
+      (pv / "attenuationDistance").fail("must be positive (got {}; leave it out for no absorption)", *g.attenuation_distance_m);
+    const std::array<double, 3> c{g.attenuation_color.x, g.attenuation_color.y, g.attenuation_color.z};
+    for (std::size_t i = 0; i < 3; ++i)
+      if (!(c[i] > 0.0 && c[i] <= 1.0))
+        (pv / "attenuationColor")[i].fail("must lie in (0, 1] (got {}; 0 would absorb everything)", c[i]);
+    m.absorption.push_back({AbsorptionValuesInput{volume_sigma_a(g.attenuation_color, *g.attenuation_distance_m), "attenuation_per_m", std::nullopt}, std::nullopt});
+  }
+  return m;
+}
+
+void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive& p, const GltfObjectInput& in,
+                   const Source& where, std::set<std::string>& declared) {
+  ObjectDesc o;
+  o.name = fmt::format("{}: {}", asset_name(in.file), p.place);
+  o.shape = p.shape;
+  o.transform = in.transform;
+  const Source ws = where / "gltf" / p.place;
+  const GltfMaterial fallback;
+  const GltfMaterial& g = p.material >= 0 ? asset.materials[std::size_t(p.material)] : fallback;
+  const Place at = (Place{&in.file, ""} / "materials")[std::size_t(std::max(p.material, 0))];
+  if (const auto it = in.materials.find(g.name); p.material >= 0 && it != in.materials.end()) {
+    const GltfMaterialOverride& ov = it->second;
+    const Source wo = where / "materials" / g.name;
+    o.inside = ov.inside;
+    o.outside = ov.outside;
+    o.roughness = ov.roughness;
+    o.material = ov.material;
+    o.emission = ov.emission;
+    b.object(std::move(o), wo);
+    return;
+  }
+  if (std::max({g.emissive.x, g.emissive.y, g.emissive.z}) * g.emissive_strength > 0.0) {
+    o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
+  } else if (g.transmission > 0.0) {
+    if (g.thickness == 0.0) return;  // thin-walled: index-matched, nothing to render (docs/assets.md)
+    // One medium per material and placement: primitives and instances share it.
+    const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
+                                           asset_name(in.file), p.material, g.name);
+    if (declared.insert(medium).second) b.medium(medium, volume_medium(g, at), at.source());
+    o.inside = medium;
+    o.roughness = g.roughness * g.roughness;
+  } else if (g.metallic >= 0.5) {
+    o.material = resolve_surface_material(metal(g), at.source() / "pbrMetallicRoughness");
+  } else {
+    o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, at.source() / "pbrMetallicRoughness");
+  }
+  b.object(std::move(o), ws);
+}
+
+}  // namespace
+
+bool is_gltf_file(const fs::path& path) { return path.extension() == ".gltf" || path.extension() == ".glb"; }
+
+GltfAsset read_gltf(const fs::path& path) {
+  const Model m = parse_model(path);
+  GltfAsset out;
+  for (std::size_t i = 0; i < m.materials.size(); ++i)
+    out.materials.push_back(material(m.materials[i], (Place{&path, ""} / "materials")[i]));
+  Walker w{m, path, out, std::vector<bool>(m.nodes.size(), false)};
+  std::vector<int> roots;
+  if (!m.scenes.empty()) {
+    const std::size_t s = m.defaultScene < 0 ? 0 : checked_index(m.defaultScene, m.scenes.size(), Place{&path, "scene"}, "scene");
+    roots = m.scenes[s].nodes;
+  } else {  // no scenes: every node that is no node's child
+    std::vector<bool> child(m.nodes.size(), false);
+    for (const auto& n : m.nodes)
+      for (int c : n.children)
+        if (c >= 0 && std::size_t(c) < child.size()) child[std::size_t(c)] = true;
+    for (std::size_t i = 0; i < m.nodes.size(); ++i)
+      if (!child[i]) roots.push_back(int(i));
+  }
+  for (std::size_t r = 0; r < roots.size(); ++r)
+    w.node(checked_index(roots[r], m.nodes.size(), (Place{&path, "scenes"} / "nodes")[r], "node"), Transform{}, 0);
+  if (out.primitives.empty()) fail("{}: the scene holds no triangles", path.string());
+  return out;
+}
+
+namespace {
+
+void add_asset_objects(SceneBuilder& b, const GltfAsset& asset, const GltfObjectInput& in, const Source& where) {
+  std::vector<std::string> names;
+  for (const GltfMaterial& m : asset.materials) names.push_back(m.name);
+  for (const auto& [name, ov] : in.materials)
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      (where / "materials" / name).fail("{} has no material '{}'{}", in.file.filename().string(), name, suggestion(name, names));
+  std::set<std::string> declared;  // the media made of the asset's volumes
+  for (const GltfPrimitive& p : asset.primitives) add_primitive(b, asset, p, in, where, declared);
+}
+
+}  // namespace
+
+void add_gltf_objects(SceneBuilder& b, const GltfObjectInput& in, const Source& where) {
+  GltfAsset asset;
+  try {
+    asset = read_gltf(in.file);
+  } catch (const Error& e) {
+    (where / "gltf").fail("{}", e.what());
+  }
+  add_asset_objects(b, asset, in, where);
+}
+
+namespace {
+
+void frame_asset(SceneBuilder& b, const GltfAsset& asset, const Source& where) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const GltfPrimitive& p : asset.primitives)
+    for (const Vec3& v : p.shape.mesh.positions) {
+      lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+      hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    }
+  const Vec3 centre = (lo + hi) * 0.5;
+  const double radius = std::max(0.5 * length(hi - lo), kMinSceneLengthM);
+  CameraDesc c;
+  c.fov_deg = 40.0;
+  const double distance = 1.1 * radius / std::sin(0.5 * c.fov_deg * std::numbers::pi / 180.0);
+  c.look_at_m = centre;
+  c.position_m = centre + normalize(Vec3{0.0, 0.35, 1.0}) * distance;  // glTF's front is +z, up +y
+  b.camera(c, where);
+}
+
+}  // namespace
+
+void load_gltf_scene(const fs::path& path, SceneBuilder& b) {
+  const GltfAsset asset = read_gltf(path);
+  const Source top{path, ""};
+  if (!asset.cameras.empty()) {
+    const GltfCamera& g = asset.cameras.front();
+    CameraDesc c;
+    c.position_m = g.position_m;
+    c.look_at_m = g.position_m + g.forward;
+    c.up = g.up;
+    const double aspect = g.aspect > 0.0 ? g.aspect : double(c.width_px) / c.height_px;
+    // Bouguer's angle spans the shorter side; glTF's yfov the height.
+    c.fov_deg = (aspect >= 1.0 ? g.yfov_rad : 2.0 * std::atan(aspect * std::tan(0.5 * g.yfov_rad))) * 180.0 / std::numbers::pi;
+    b.camera(c, top / "cameras");
+    if (g.aspect > 0.0) b.resolution(std::llround(480.0 * std::max(aspect, 1.0)), std::llround(480.0 / std::min(aspect, 1.0)), top / "cameras");
+  } else {
+    frame_asset(b, asset, top);
+  }
+  for (const GltfLight& g : asset.lights) {
+    DeltaLightDesc l;
+    l.type = g.type;
+    l.position_m = g.position_m;
+    l.direction = g.direction;
+    l.cone_deg = g.outer_cone_rad * 180.0 / std::numbers::pi;
+    l.falloff_deg = std::min(g.inner_cone_rad, g.outer_cone_rad) * 180.0 / std::numbers::pi;
+    // Candela and lux are Bouguer's luminance units as they are (docs/assets.md).
+    l.intensity = resolve_emission(EmissionInput{RgbInput{g.color}, g.intensity}, top / g.place).radiance;
+    b.light(l, top / g.place);
+  }
+  if (asset.lights.empty())  // the default studio: a uniform white (D65) background of luminance 1
+    b.background(resolve_emission(EmissionInput{RgbInput{{1, 1, 1}}, 1.0}, top), top);
+  b.integrator("path", top);
+  add_asset_objects(b, asset, GltfObjectInput{path, Transform{}, {}}, top);
+}
+
+}  // namespace bouguer

@@ -1,0 +1,97 @@
+#pragma once
+// glTF 2.0 assets (.gltf with its buffers, .glb; Draco meshes) into the SceneBuilder's plain inputs.
+// One job: read the asset, bounded (the file's size, and every index, count, offset and stride it
+// declares checked against what it has before anything is allocated), into plain records in the
+// asset's metres with its node transforms applied; then hand them to the builder as objects,
+// media, a camera and lights, whose values the builder checks. What each glTF quantity becomes
+// is in docs/assets.md. Every error is one line naming the file and the place in it:
+//   bottle.glb: accessors[3]: count 10 exceeds bufferView 1 (64 bytes hold 5 of stride 12)
+// Textures are not read: the image loader keeps each image's reference and decodes nothing.
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bouguer/geometry/shapes.h"
+#include "bouguer/geometry/transform.h"
+#include "bouguer/scene/builder.h"
+#include "bouguer/scene/description.h"
+#include "bouguer/scene/values.h"
+
+namespace bouguer {
+
+// A glTF material's factors (textures ignored), with the extensions Bouguer reads.
+struct GltfMaterial {
+  std::string name;
+  Vec3 base_color{1, 1, 1};  // linear
+  double metallic = 1.0, roughness = 1.0;
+  Vec3 emissive{0, 0, 0};  // linear, times emissive_strength (KHR_materials_emissive_strength)
+  double emissive_strength = 1.0;
+  double transmission = 0.0;  // KHR_materials_transmission
+  double thickness = 0.0;     // KHR_materials_volume: 0 is thin-walled
+  Vec3 attenuation_color{1, 1, 1};
+  std::optional<double> attenuation_distance_m;  // none: no absorption
+  double ior = 1.5;         // KHR_materials_ior
+  double dispersion = 0.0;  // KHR_materials_dispersion: 20 / V_d
+};
+
+// One triangle primitive under one node, in the asset's frame (the node's world transform applied).
+struct GltfPrimitive {
+  TriangleMeshShape shape;
+  int material = -1;  // into GltfAsset::materials; -1: the default material
+  std::string place;  // "nodes[2].mesh 0.primitives[1]"
+};
+
+struct GltfCamera {
+  Vec3 position_m, forward, up;  // the node's −z and +y in the asset's frame
+  double yfov_rad = 0.8;
+  double aspect = 0.0;  // width / height; 0 when the asset does not say
+};
+
+struct GltfLight {
+  DeltaLightType type = DeltaLightType::point;
+  Vec3 position_m, direction{0, 0, -1};
+  Vec3 color{1, 1, 1};
+  double intensity = 1.0;  // candela (point, spot) or lux (directional)
+  double inner_cone_rad = 0.0, outer_cone_rad = 0.785398163397448;
+  std::string place;  // "extensions.KHR_lights_punctual.lights[0]"
+};
+
+struct GltfAsset {
+  std::vector<GltfMaterial> materials;
+  std::vector<GltfPrimitive> primitives;
+  std::vector<GltfCamera> cameras;  // in node order
+  std::vector<GltfLight> lights;    // in node order
+};
+
+bool is_gltf_file(const std::filesystem::path& path);  // by extension: .gltf or .glb
+
+// The asset's default scene (or its root nodes), checked; an Error of one line otherwise.
+GltfAsset read_gltf(const std::filesystem::path& path);
+
+// What a Bouguer scene gives instead of a glTF material, by the material's name: one role, as an
+// object takes it (scene-format.md).
+struct GltfMaterialOverride {
+  std::optional<std::string> inside, outside;
+  std::optional<MaterialDesc> material;  // resolved by the front end (resolve_surface_material)
+  std::optional<EmissionDesc> emission;
+  double roughness = 0.0;
+};
+
+struct GltfObjectInput {
+  std::filesystem::path file;  // resolved against the scene's folder
+  Transform transform;         // after the asset's own node transforms
+  std::map<std::string, GltfMaterialOverride> materials;
+};
+
+// The asset's primitives as objects (and the media its transmissive materials need), each
+// material overridden by name where the scene says; `where` is the scene's object.
+void add_gltf_objects(SceneBuilder& b, const GltfObjectInput& in, const Source& where);
+
+// The asset as a whole scene (bouguer render asset.glb): its objects, its first camera (or one
+// framing its bounds), its lights (or the default studio: a uniform white background), the path
+// tracer.
+void load_gltf_scene(const std::filesystem::path& path, SceneBuilder& b);
+
+}  // namespace bouguer
