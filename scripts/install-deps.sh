@@ -24,6 +24,11 @@ packages=(
   fonts-dejavu-core    # a font for plot labels and the report screenshot
   libopenmpi-dev       # distributed rendering (mpirun -np N bouguer render); optional at configure time
   openmpi-bin          # mpirun, for the distributed tests
+  pybind11-dev         # the Python module (import bouguer); optional at configure time
+  python3-dev          # its headers
+  python3-numpy        # its arrays
+  python3-pytest       # its tests (tests/python)
+  python3-matplotlib   # the Python examples (examples/python), run by the tests
 )
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang libclang-rt-14-dev)  # libFuzzer, ASan, UBSan (make fuzz only)
