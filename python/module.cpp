@@ -218,6 +218,7 @@ PYBIND11_MODULE(bouguer, m) {
                            s.compiled->camera.height_px);
       });
 
+  register_tools(m);
   m.def("load", &load, py::arg("path"), "Load and compile a scene file (JSON, docs/scene-format.md)");
   m.def("load_dict", &load_dict, py::arg("scene"), py::arg("base") = py::none(),
         "Load and compile a scene from a dict with the JSON schema; relative paths against `base` (default: the "
