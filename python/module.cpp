@@ -7,6 +7,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -19,11 +20,13 @@
 #include <thread>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 #include "bouguer/core/error.h"
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "bouguer/scene/update.h"
 #include "python/module.h"
 
 namespace py = pybind11;
@@ -213,6 +216,46 @@ PYBIND11_MODULE(bouguer, m) {
       .def_property_readonly("seed", [](const Scene& s) { return s.desc.render.seed; })
       .def_property_readonly("integrator", [](const Scene& s) { return std::string(bouguer::integrator_info(s.desc.render.integrator).name); })
       .def_property_readonly("spectral", [](const Scene& s) { return std::string(bouguer::spectral_mode_name(s.desc.render.spectral)); })
+      .def_property_readonly("media",
+                             [](const Scene& s) {
+                               std::vector<std::string> names;
+                               for (const auto& [name, medium] : s.desc.media) names.push_back(name);
+                               return names;
+                             })
+      .def(
+          "set_absorption_scale",
+          [](Scene& s, const std::string& medium, double factor) {
+            bouguer::set_absorption_scale(*s.compiled, s.desc, medium, factor,
+                                          bouguer::Source::option("set_absorption_scale"));
+          },
+          py::arg("medium"), py::arg("factor"),
+          "Multiply a medium's absorption by factor against the scene as loaded (a concentration sweep: σ_a is "
+          "linear in concentration); only its spectra change, nothing is compiled again")
+      .def_property_readonly("camera",
+                             [](const Scene& s) {
+                               const bouguer::CameraDesc& c = s.compiled->camera;
+                               py::dict d;
+                               d["position_m"] = std::vector<double>{c.position_m.x, c.position_m.y, c.position_m.z};
+                               d["look_at_m"] = std::vector<double>{c.look_at_m.x, c.look_at_m.y, c.look_at_m.z};
+                               d["up"] = std::vector<double>{c.up.x, c.up.y, c.up.z};
+                               d["fov_deg"] = c.fov_deg;
+                               return d;
+                             })
+      .def(
+          "set_camera",
+          [](Scene& s, std::optional<std::array<double, 3>> position_m, std::optional<std::array<double, 3>> look_at_m,
+             std::optional<std::array<double, 3>> up, std::optional<double> fov_deg) {
+            bouguer::CameraDesc c = s.compiled->camera;
+            auto vec = [](const std::array<double, 3>& v) { return bouguer::Vec3{v[0], v[1], v[2]}; };
+            if (position_m) c.position_m = vec(*position_m);
+            if (look_at_m) c.look_at_m = vec(*look_at_m);
+            if (up) c.up = vec(*up);
+            if (fov_deg) c.fov_deg = *fov_deg;
+            bouguer::set_camera(*s.compiled, s.desc, c, bouguer::Source::option("set_camera"));
+          },
+          py::kw_only(), py::arg("position_m") = py::none(), py::arg("look_at_m") = py::none(),
+          py::arg("up") = py::none(), py::arg("fov_deg") = py::none(),
+          "Move the camera (metres, degrees) for the next renders; the geometry is not compiled again")
       .def("__repr__", [](const Scene& s) {
         return fmt::format("<bouguer.Scene {} {}x{}>", s.desc.file.string(), s.compiled->camera.width_px,
                            s.compiled->camera.height_px);

@@ -1,0 +1,74 @@
+#include "bouguer/scene/update.h"
+
+#include <cmath>
+#include <variant>
+#include <vector>
+
+#include "bouguer/core/error.h"
+#include "bouguer/io/limits.h"
+#include "bouguer/scene/builder.h"
+
+namespace bouguer {
+namespace {
+
+SceneMedium& compiled_medium(RenderScene& scene, const std::string& name, const Source& where, const SceneDesc& desc) {
+  for (SceneMedium& m : scene.media)
+    if (m.name == name) return m;
+  where.fail("no medium '{}' in the scene ({})", name, medium_names(desc));
+}
+
+// The absorption spectra of a compiled medium with the description's spectrum each came from,
+// in the order compile lowered them (scene/compile.cpp: lower_medium, lower_scattering).
+std::vector<std::pair<int, const Spectrum*>> absorption_spectra(const SceneMedium& m, const MediumDesc& d) {
+  std::vector<std::pair<int, const Spectrum*>> out;
+  if (const auto* h = std::get_if<HomogeneousMedium>(&m.medium)) {
+    if (h->sigma_a >= 0) out.emplace_back(h->sigma_a, &d.sigma_a_per_m);
+    return out;
+  }
+  const std::vector<FieldAbsorber>& absorbers = std::holds_alternative<FieldMedium>(m.medium)
+                                                    ? std::get<FieldMedium>(m.medium).absorbers
+                                                    : std::get<ScatteringMedium>(m.medium).absorbers;
+  // A scattering medium with a uniform absorption lowers it as its first absorber, σ_a itself;
+  // the absorbers after the medium's own are its scatterers' (not the medium's absorption).
+  if (d.field_absorbers.empty()) {
+    if (d.absorbing && !absorbers.empty()) out.emplace_back(absorbers.front().epsilon, &d.sigma_a_per_m);
+    return out;
+  }
+  for (std::size_t i = 0; i < absorbers.size() && i < d.field_absorbers.size(); ++i)
+    out.emplace_back(absorbers[i].epsilon, &d.field_absorbers[i].epsilon_per_m);
+  return out;
+}
+
+}  // namespace
+
+std::string medium_names(const SceneDesc& desc) {
+  std::string names;
+  for (const auto& [name, m] : desc.media) names += (names.empty() ? "" : ", ") + name;
+  return names;
+}
+
+void set_absorption_scale(RenderScene& scene, const SceneDesc& desc, const std::string& name, double factor,
+                          const Source& where) {
+  const auto found = desc.media.find(name);
+  if (found == desc.media.end()) where.fail("no medium '{}' in the scene ({})", name, medium_names(desc));
+  if (!std::isfinite(factor) || factor < 0.0) where.fail("the absorption scale must be a finite number >= 0 (got {})", factor);
+  SceneMedium& m = compiled_medium(scene, name, where, desc);
+  const auto spectra = absorption_spectra(m, found->second);
+  // Every spectrum is checked before any is changed: a failed update leaves the scene as it was.
+  std::vector<Spectrum> updated;
+  for (const auto& [id, source] : spectra) {
+    updated.push_back(scaled(*source, factor));
+    if (!(max_value(updated.back()) <= kMaxCoefficientPerM))
+      where.fail("σ_a times {:g} exceeds {:g} per metre (docs/limits.md)", factor, kMaxCoefficientPerM);
+  }
+  for (std::size_t i = 0; i < spectra.size(); ++i)
+    scene.spectra[static_cast<std::size_t>(spectra[i].first)].source = std::move(updated[i]);
+}
+
+void set_camera(RenderScene& scene, const SceneDesc& desc, const CameraDesc& camera, const Source& where) {
+  SceneBuilder check(desc.file);
+  check.camera(camera, where);
+  scene.camera = camera;
+}
+
+}  // namespace bouguer
