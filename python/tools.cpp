@@ -13,6 +13,7 @@
 #include "bouguer/analysis/slab_colour.h"
 #include "bouguer/core/error.h"
 #include "bouguer/render/compare.h"
+#include "bouguer/media/library.h"
 #include "bouguer/scene/material_file.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/cielab.h"
@@ -180,6 +181,7 @@ void register_tools(py::module_& m) {
       [](const std::string& name, std::optional<double> concentration) { return resolve_material(name, concentration); },
       py::arg("name"), py::arg("concentration") = py::none(),
       "A library material (bouguer material list) or a material CSV file; molar ones need concentration in mol/L");
+  m.def("material_names", &library_material_names, "The names of the material library (bouguer material list)");
   m.def("color", &color, py::arg("spectrum"), py::arg("wavelengths_nm") = py::none(), py::arg("observer") = "1931",
         "XYZ, xy, linear Rec.709, sRGB hex and CIELAB (white D65, Y = 1) of an illuminant's name or of values at "
         "wavelengths_nm");
