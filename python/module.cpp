@@ -231,6 +231,15 @@ PYBIND11_MODULE(bouguer, m) {
           py::arg("medium"), py::arg("factor"),
           "Multiply a medium's absorption by factor against the scene as loaded (a concentration sweep: σ_a is "
           "linear in concentration); only its spectra change, nothing is compiled again")
+      .def(
+          "set_emission_scale",
+          [](Scene& s, const std::string& object, double factor) {
+            bouguer::set_emission_scale(*s.compiled, s.desc, object, factor,
+                                        bouguer::Source::option("set_emission_scale"));
+          },
+          py::arg("object"), py::arg("factor"),
+          "Multiply the emission of an emitter object (or \"background\") by factor against the scene as loaded; "
+          "the light powers follow, nothing is compiled again")
       .def_property_readonly("camera",
                              [](const Scene& s) {
                                const bouguer::CameraDesc& c = s.compiled->camera;

@@ -70,3 +70,19 @@ def test_a_sweep_of_100_renders_holds_memory_flat(small_scene):
     growth_kib = peak_rss_kib() - before
     assert growth_kib < 8 * 1024, f"peak RSS grew by {growth_kib} KiB over 100 renders"
     assert means[0] > means[-1]  # more absorption, darker
+
+
+def test_emission_scale_in_place_renders_as_a_fresh_load(small_scene):
+    small_scene["objects"][2]["emission"] = {"spectrum": {"rgb": [1.0, 0.9, 0.8]}, "scale": 1.0}
+    small_scene["background"] = {"spectrum": {"rgb": [0.2, 0.3, 0.4]}, "scale": 1.0}
+    scene = bouguer.load_dict(small_scene)
+    scene.set_emission_scale("light", 2.5)
+    scene.set_emission_scale("background", 0.5)
+    small_scene["objects"][2]["emission"]["scale"] = 2.5
+    small_scene["background"]["scale"] = 0.5
+    fresh = bouguer.load_dict(small_scene)
+    for integrator in ["path", "light"]:  # next-event and light paths both draw lights by power
+        np.testing.assert_array_equal(bouguer.render(scene, integrator=integrator),
+                                      bouguer.render(fresh, integrator=integrator))
+    with pytest.raises(bouguer.Error, match="no emitter 'ball'.*light"):
+        scene.set_emission_scale("ball", 2.0)

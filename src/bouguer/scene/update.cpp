@@ -1,5 +1,6 @@
 #include "bouguer/scene/update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <variant>
 #include <vector>
@@ -7,6 +8,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/scene/builder.h"
+#include "bouguer/spectra/cie.h"
 
 namespace bouguer {
 namespace {
@@ -63,6 +65,51 @@ void set_absorption_scale(RenderScene& scene, const SceneDesc& desc, const std::
   }
   for (std::size_t i = 0; i < spectra.size(); ++i)
     scene.spectra[static_cast<std::size_t>(spectra[i].first)].source = std::move(updated[i]);
+}
+
+void set_emission_scale(RenderScene& scene, const SceneDesc& desc, const std::string& object, double factor,
+                        const Source& where) {
+  if (!std::isfinite(factor) || factor < 0.0) where.fail("the emission scale must be a finite number >= 0 (got {})", factor);
+  int spectrum = -1;
+  const Spectrum* source = nullptr;
+  if (object == "background") {
+    if (scene.background_light < 0) where.fail("the scene's background is an environment map (its scale is not updated)");
+    spectrum = std::get<BackgroundLight>(scene.lights[static_cast<std::size_t>(scene.background_light)]).radiance;
+    source = &desc.background.radiance;
+  } else {
+    std::string emitters;
+    for (const ObjectDesc& o : desc.objects)
+      if (o.emission) emitters += (emitters.empty() ? "" : ", ") + o.name;
+    const auto found = std::find_if(desc.objects.begin(), desc.objects.end(),
+                                    [&](const ObjectDesc& o) { return o.name == object && o.emission; });
+    if (found == desc.objects.end())
+      where.fail("no emitter '{}' in the scene (emitters: {}; or \"background\")", object, emitters.empty() ? "none" : emitters);
+    for (const Surface& s : scene.surfaces)
+      if (s.kind == SurfaceKind::emitter && s.object == object && s.first_light >= 0) {
+        spectrum = std::get<AreaLight>(scene.lights[static_cast<std::size_t>(s.first_light)]).radiance;
+        break;
+      }
+    if (spectrum < 0) where.fail("the emitter '{}' has no area in the compiled scene", object);
+    source = &found->emission->radiance;
+  }
+  Spectrum updated = scaled(*source, factor);
+  if (!std::isfinite(max_value(updated))) where.fail("the emission times {:g} is not finite", factor);
+  scene.spectra[static_cast<std::size_t>(spectrum)].source = std::move(updated);
+  set_light_distributions(scene);
+}
+
+void set_light_distributions(RenderScene& s) {
+  std::vector<double> luminance_of(s.spectra.size(), 0.0);
+  for (std::size_t i = 0; i < s.spectra.size(); ++i)
+    if (const auto* sp = std::get_if<Spectrum>(&s.spectra[i].source)) luminance_of[i] = luminance(*sp);
+  std::vector<bool> area, all(s.lights.size(), true);
+  s.light_power.clear();
+  for (const Light& l : s.lights) {
+    s.light_power.push_back(power(l, s.bounds, [&](int id) { return id < 0 ? 0.0 : luminance_of[static_cast<std::size_t>(id)]; }));
+    area.push_back(std::holds_alternative<AreaLight>(l));
+  }
+  s.area_lights = LightDistribution::by_power(s.light_power, area);
+  s.emitters = LightDistribution::by_power(s.light_power, all);
 }
 
 void set_camera(RenderScene& scene, const SceneDesc& desc, const CameraDesc& camera, const Source& where) {

@@ -1,7 +1,8 @@
 #pragma once
 // Changing a compiled scene in place (Mitsuba's traverse/update habit): what a sweep of renders
 // changes between frames, without compiling the geometry again. Each update rewrites only the
-// parts of the RenderScene that depend on the value (a medium's absorption spectra, the camera),
+// parts of the RenderScene that depend on the value (a medium's absorption spectra, an emitter's
+// spectrum and the light powers, the camera),
 // from the SceneDesc the scene was compiled from, so that the scene renders exactly as a fresh
 // compile of the description with that value would; the description is left as loaded.
 // Errors are bouguer::Error naming `where` (as the builder's checks do).
@@ -22,6 +23,15 @@ std::string medium_names(const SceneDesc& desc);
 // scattering are unchanged.
 void set_absorption_scale(RenderScene& scene, const SceneDesc& desc, const std::string& name, double factor,
                           const Source& where);
+
+// Multiplies the emission of `object` (an emitter) or of "background" by `factor` against the
+// description (factor 1: as loaded); the light powers and selection distributions follow.
+void set_emission_scale(RenderScene& scene, const SceneDesc& desc, const std::string& object, double factor,
+                        const Source& where);
+
+// The light powers (luminance flux, for the scene's bounds) and the two light-selection
+// distributions from the lights' spectra: compile's last step, and again after an emission changes.
+void set_light_distributions(RenderScene& scene);
 
 // The camera for the next renders: checked as the scene file's camera is (SceneBuilder::camera).
 void set_camera(RenderScene& scene, const SceneDesc& desc, const CameraDesc& camera, const Source& where);
