@@ -26,6 +26,11 @@ packages=(
   openmpi-bin          # mpirun, for the distributed tests
   libtinygltf-dev      # glTF 2.0 assets (header only)
   libdraco-dev         # Draco-compressed glTF meshes (KHR_draco_mesh_compression)
+  pybind11-dev         # the Python module (import bouguer); optional at configure time
+  python3-dev          # its headers
+  python3-numpy        # its arrays
+  python3-pytest       # its tests (tests/python)
+  python3-matplotlib   # the Python examples (examples/python), run by the tests
 )
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang libclang-rt-14-dev)  # libFuzzer, ASan, UBSan (make fuzz only)

@@ -9,6 +9,7 @@
 #include "bouguer/core/memory.h"
 #include "bouguer/io/limits.h"
 #include "bouguer/scene/builder.h"
+#include "bouguer/scene/update.h"
 #include "bouguer/spectra/cie.h"
 
 namespace bouguer {
@@ -144,16 +145,7 @@ SceneBounds bounds_of(const RenderScene& s) {
 
 void add_lights_distributions(RenderScene& s) {
   s.bounds = bounds_of(s);
-  std::vector<double> luminance_of(s.spectra.size(), 0.0);
-  for (std::size_t i = 0; i < s.spectra.size(); ++i)
-    if (const auto* sp = std::get_if<Spectrum>(&s.spectra[i].source)) luminance_of[i] = luminance(*sp);
-  std::vector<bool> area, all(s.lights.size(), true);
-  for (const Light& l : s.lights) {
-    s.light_power.push_back(power(l, s.bounds, [&](int id) { return id < 0 ? 0.0 : luminance_of[static_cast<std::size_t>(id)]; }));
-    area.push_back(std::holds_alternative<AreaLight>(l));
-  }
-  s.area_lights = LightDistribution::by_power(s.light_power, area);
-  s.emitters = LightDistribution::by_power(s.light_power, all);
+  set_light_distributions(s);  // scene/update.cpp: also after a light's scale changes
 }
 
 // ---- the steps of compile, in order --------------------------------------------------------

@@ -3,7 +3,8 @@
 // triangles in one RayScene; every geometry id maps to a Surface that says what it is and which
 // media lie on its two sides; every spectrum becomes an id into `spectra`, which a render turns
 // into flat tables for its spectral mode (render/spectral_tables.h). Nothing here is looked up
-// by name during rendering, and nothing changes a compiled scene: render settings are separate.
+// by name during rendering, and nothing changes a compiled scene during a render (between renders
+// scene/update.h may rewrite spectra, the light powers or the camera): render settings are separate.
 #include <cstdint>
 #include <memory>
 #include <string>

@@ -1,0 +1,142 @@
+"""bouguer.load / load_dict / render against the command line."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import bouguer
+from conftest import BINARY, read_pfm
+
+
+def cli_render(scene_path, out, *args):
+    subprocess.run([BINARY, "render", str(scene_path), "-o", str(out), "--quiet", *args], check=True)
+    return read_pfm(out)
+
+
+@pytest.mark.parametrize("integrator", ["whitted", "path", "light", "bdpt"])
+def test_module_image_is_the_cli_image_bit_for_bit(tmp_path, small_scene, integrator):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    expected = cli_render(path, tmp_path / "cli.pfm", "--integrator", integrator, "--seed", "11", "--threads", "2")
+    image = bouguer.render(bouguer.load(path), integrator=integrator, seed=11, threads=1)
+    assert image.dtype == np.float32 and image.shape == (16, 24, 3)
+    assert image.max() > 0.0
+    np.testing.assert_array_equal(image, expected)
+
+
+def test_overrides_are_the_cli_options(tmp_path, small_scene):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    expected = cli_render(path, tmp_path / "cli.pfm", "--spp", "3", "--resolution", "10x7", "--spectral", "full",
+                          "--max-depth", "3")
+    scene = bouguer.load(path)
+    image = bouguer.render(scene, spp=3, resolution=(10, 7), spectral="full", max_depth=3)
+    np.testing.assert_array_equal(image, expected)
+    # The resolution is for that render only.
+    assert scene.resolution == (24, 16)
+    assert bouguer.render(scene, spp=1).shape == (16, 24, 3)
+
+
+def test_spectra_come_with_their_wavelengths(small_scene):
+    scene = bouguer.load_dict(small_scene)
+    rgb, spectra, wavelengths_nm = bouguer.render(scene, spp=1, spectral="full", spectra=True)
+    assert spectra.shape[:2] == rgb.shape[:2] and spectra.shape[2] == wavelengths_nm.shape[0]
+    assert spectra.dtype == np.float32
+    assert np.all(np.diff(wavelengths_nm) > 0) and 360 <= wavelengths_nm[0] and wavelengths_nm[-1] <= 830
+    assert spectra.max() > 0.0
+    np.testing.assert_array_equal(rgb, bouguer.render(scene, spp=1, spectral="full"))
+
+
+def test_a_dict_equals_its_json_twin(tmp_path, small_scene):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    from_file = bouguer.render(bouguer.load(path), threads=2)
+    from_dict = bouguer.render(bouguer.load_dict(small_scene), threads=1)
+    np.testing.assert_array_equal(from_file, from_dict)
+
+
+def test_relative_paths_in_a_dict_are_against_base(tmp_path, small_scene):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "tri.obj").write_text("v -0.01 0 0\nv 0.01 0 0\nv 0 0.01 0\nf 1 2 3\n")
+    small_scene["objects"].append({"name": "tri", "shape": {"type": "mesh", "file": "sub/tri.obj"},
+                                   "material": {"type": "diffuse", "reflectance": 0.5}})
+    scene = bouguer.load_dict(small_scene, base=tmp_path)
+    assert bouguer.render(scene, spp=1).shape == (16, 24, 3)
+    with pytest.raises(bouguer.Error, match="tri.obj"):
+        bouguer.load_dict(small_scene, base=tmp_path / "sub")
+
+
+def test_bad_dicts_raise_with_the_key_path(small_scene):
+    small_scene["objects"][0]["shape"]["radius"] = "-3 mm"
+    with pytest.raises(bouguer.Error, match=r"objects\[0\]\.shape\.radius") as caught:
+        bouguer.load_dict(small_scene)
+    assert "\n" not in str(caught.value)
+    assert isinstance(caught.value, ValueError)
+
+
+def test_unknown_keys_raise_with_a_suggestion(small_scene):
+    small_scene["camera"]["fov_dg"] = 30
+    with pytest.raises(bouguer.Error, match=r"camera.*fov_deg"):
+        bouguer.load_dict(small_scene)
+
+
+def test_a_bad_file_raises_the_cli_message(tmp_path, small_scene):
+    small_scene["render"]["integrator"] = "pathh"
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps(small_scene))
+    cli = subprocess.run([BINARY, "render", str(path), "-o", str(tmp_path / "x.png")], capture_output=True, text=True)
+    assert cli.returncode == 1
+    with pytest.raises(bouguer.Error) as caught:
+        bouguer.load(path)
+    assert cli.stderr.strip() == f"bouguer: error: {caught.value}"
+
+
+def test_bad_render_arguments_raise(small_scene):
+    scene = bouguer.load_dict(small_scene)
+    with pytest.raises(bouguer.Error, match="spp"):
+        bouguer.render(scene, spp=0)
+    with pytest.raises(bouguer.Error, match="integrator"):
+        bouguer.render(scene, integrator="nope")
+    with pytest.raises(bouguer.Error, match="resolution"):
+        bouguer.render(scene, resolution=(0, 5))
+
+
+def test_progress_is_reported_and_an_exception_in_it_stops_the_render(small_scene):
+    scene = bouguer.load_dict(small_scene)
+    seen = []
+    bouguer.render(scene, spp=2, progress=seen.append)
+    assert seen and seen[-1] == 1.0 and seen == sorted(seen)
+
+    def stop(_fraction):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        bouguer.render(scene, spp=64, resolution=(64, 64), progress=stop)
+    # The scene renders again afterwards.
+    assert bouguer.render(scene, spp=1).shape == (16, 24, 3)
+
+
+def test_ctrl_c_stops_the_render_cleanly(small_scene):
+    import _thread
+    import threading
+    import time
+
+    scene = bouguer.load_dict(small_scene)
+    # Another Python thread runs during the render (the GIL is released) and interrupts it as Ctrl-C would.
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        bouguer.render(scene, spp=1 << 20, resolution=(64, 64), threads=2)
+    assert time.monotonic() - start < 10.0
+    timer.join()
+    assert bouguer.render(scene, spp=1).shape == (16, 24, 3)
+
+
+def test_many_samples_in_passes_are_the_cli_image(tmp_path, small_scene):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    expected = cli_render(path, tmp_path / "cli.pfm", "--spp", "300", "--resolution", "6x4", "--integrator", "light")
+    image = bouguer.render(bouguer.load(path), spp=300, resolution=(6, 4), integrator="light", threads=2)
+    np.testing.assert_array_equal(image, expected)
