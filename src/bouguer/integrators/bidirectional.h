@@ -36,6 +36,13 @@ namespace bouguer::bidir {
 
 constexpr double sq(double x) { return x * x; }
 
+// Merging (vcm.cpp): the ratio of a merging strategy's density at a vertex to that of the
+// connection just before it is p_light(x)·η, η = (light subpaths)·(the kernel's area πr², or its
+// volume 4/3·πr³ at a medium vertex). Off (η = 0) in bdpt.
+struct Merging {
+  double eta_surface = 0.0, eta_medium = 0.0;
+};
+
 inline bool is_delta_light(const Light& light) {
   return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
          std::holds_alternative<DistantLight>(light);
@@ -88,12 +95,6 @@ class Bdpt {
   double mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled, int s,
                     int t, double tau) const;
 
-  // Merging (vcm.cpp): the ratio of a merging strategy's density at a vertex to that of the
-  // connection just before it is p_light(x)·η, η = (light subpaths)·(the kernel's area πr², or
-  // its volume 4/3·πr³ at a medium vertex). Off (η = 0) in bdpt.
-  struct Merging {
-    double eta_surface = 0.0, eta_medium = 0.0;
-  };
   void set_merging(const Merging& m) { merging_ = m; }
   bool merges() const { return merging_.eta_surface > 0.0; }
   // Whether a subpath vertex can be merged at: a medium vertex, or a surface that is not specular.
@@ -444,7 +445,7 @@ void check_path(const Bdpt<N>& bdpt, const RenderScene& scene, const std::vector
 // merging strategies' η, merge_weight as check_path's.
 template <std::size_t N, typename MergeWeight>
 void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample,
-               const typename Bdpt<N>::Merging& merging, MergeWeight&& merge_weight, BdptMisCheck& out) {
+               const Merging& merging, MergeWeight&& merge_weight, BdptMisCheck& out) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth};

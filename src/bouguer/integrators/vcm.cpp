@@ -221,6 +221,11 @@ double initial_radius(const RenderScene& scene, const RenderSettings& settings) 
   return 2.0 * footprint;
 }
 
+// The merging strategies' η of an iteration with radius r over `light_paths` light subpaths.
+bidir::Merging merging_at(double r, double light_paths) {
+  return {light_paths * std::numbers::pi * r * r, light_paths * 4.0 / 3.0 * std::numbers::pi * r * r * r};
+}
+
 // The radius of iteration `it` (0-based): r_1·(it + 1)^((α − 1)/2).
 double iteration_radius(double r1, int it) { return r1 * std::pow(static_cast<double>(it) + 1.0, 0.5 * (kAlpha - 1.0)); }
 
@@ -251,9 +256,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
     const SampledSpectrum<N> keep = begin_sample(view, w, dispersion_u, irng, sigma_mean, kept);
     const WalkMedia media{sigma_mean};
     const double r = iteration_radius(r1, it);
-    typename Bdpt<N>::Merging merging;
-    merging.eta_surface = light_paths * std::numbers::pi * r * r;
-    merging.eta_medium = light_paths * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const bidir::Merging merging = merging_at(r, light_paths);
     const SampledWavelengths<N>* kept_ptr = scene.dispersive ? &kept : nullptr;
     auto stage = [&](int k) {
       RenderControl c{control.threads, control.cancel, {}};
@@ -378,10 +381,8 @@ BdptMisCheck vcm_mis_check(const RenderScene& scene, const RenderSettings& setti
   BdptMisCheck out;
   with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
     const double r = iteration_radius(initial_radius(scene, settings), sample);
-    const double light_paths = static_cast<double>(scene.camera.width_px) * scene.camera.height_px;
-    typename Bdpt<N>::Merging merging;
-    merging.eta_surface = light_paths * std::numbers::pi * r * r;
-    merging.eta_medium = light_paths * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const bidir::Merging merging =
+        merging_at(r, static_cast<double>(scene.camera.width_px) * scene.camera.height_px);
     std::vector<double> sums;
     bidir::mis_check<N>(
         scene, settings, x, y, sample, merging,
