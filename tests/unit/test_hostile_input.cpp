@@ -121,7 +121,9 @@ TEST(HostileInput, PlyAndObjVerticesAreFiniteAndInRange) {
 
 // The welder hashes coordinates into grid cells: huge and NaN coordinates must not overflow.
 TEST(HostileInput, WelderKeepsFarAndNanVerticesApart) {
-  Mesh m{{{0, 0, 0}, {1e300, 0, 0}, {-1e300, 0, 0}, {std::nan(""), 0, 0}}, {{0, 1, 2}, {0, 1, 3}}};
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1e300, 0, 0}, {-1e300, 0, 0}, {std::nan(""), 0, 0}};
+  m.triangles = {{0, 1, 2}, {0, 1, 3}};
   EXPECT_EQ(welded(m, 1e-12).positions.size(), 4u);
 }
 

@@ -138,5 +138,53 @@ TEST(RayScene, ThinSliversAndLargeScenesWithoutLeaksOrAcne) {
   }
 }
 
+// A hit interpolates the mesh's normals and UVs with Embree's barycentrics; where a mesh has none,
+// the shading normal is the geometric one and the UVs are the barycentrics.
+TEST(RayScene, HitsInterpolateNormalsAndUvs) {
+  Mesh tri;
+  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  tri.triangles = {{0, 1, 2}};
+  Mesh with = tri;
+  with.normals = {{0, 0, 1}, normalize(Vec3{1, 0, 1}), normalize(Vec3{0, 1, 1})};
+  with.uvs = {{0.5, 0.5}, {1.5, 0.5}, {0.5, 2.5}};
+  RayScene scene;
+  scene.add(tri);
+  scene.add(transformed(with, Transform::translate({0, 0, 1})));
+  scene.commit();
+  const Vec3 down{0, 0, -1};
+  const auto near = scene.intersect(Ray{{0.25, 0.5, 2}, down});  // the one with attributes, at z = 1
+  ASSERT_TRUE(near);
+  EXPECT_EQ(near->geometry, 1u);
+  EXPECT_NEAR(near->barycentric[0], 0.25, 1e-6);
+  EXPECT_NEAR(near->barycentric[1], 0.5, 1e-6);
+  EXPECT_NEAR(near->uv[0], 0.5 + 0.25, 1e-6);
+  EXPECT_NEAR(near->uv[1], 0.5 + 2.0 * 0.5, 1e-6);
+  const Vec3 n = normalize(Vec3{0, 0, 1} * 0.25 + normalize(Vec3{1, 0, 1}) * 0.25 + normalize(Vec3{0, 1, 1}) * 0.5);
+  EXPECT_NEAR(length(near->shading_normal - n), 0.0, 1e-6);
+  const auto far = scene.intersect(Ray{{0.25, 0.5, 0.5}, down});
+  ASSERT_TRUE(far);
+  EXPECT_EQ(far->geometry, 0u);
+  EXPECT_NEAR(length(far->shading_normal - far->normal), 0.0, 1e-12);
+  EXPECT_NEAR(far->uv[0], 0.25, 1e-6);
+  EXPECT_NEAR(far->uv[1], 0.5, 1e-6);
+}
+
+// Normals go through the inverse transpose and stay on the geometric normal's side, mirrored or not.
+TEST(Transform, NormalsFollowTheSurfaceUnderScaleAndMirror) {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 1}};
+  m.triangles = {{0, 1, 2}};
+  m.normals.assign(3, normalize(cross(m.positions[1] - m.positions[0], m.positions[2] - m.positions[0])));
+  for (const Vec3 s : {Vec3{1, 3, 0.5}, Vec3{-1, 2, 1}}) {
+    const Mesh t = transformed(m, Transform::scale(s));
+    const auto& tr = t.triangles[0];
+    const Vec3 ng = normalize(cross(t.positions[tr[1]] - t.positions[tr[0]], t.positions[tr[2]] - t.positions[tr[0]]));
+    for (const Vec3& n : t.normals) {
+      EXPECT_NEAR(length(n), 1.0, 1e-12);
+      EXPECT_NEAR(dot(n, ng), 1.0, 1e-12) << "a flat triangle's normal stays its geometric normal";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouguer

@@ -11,12 +11,21 @@ namespace bouguer {
 
 void append(Mesh& dst, const Mesh& src) {
   const auto base = static_cast<std::uint32_t>(dst.positions.size());
+  const bool first = dst.positions.empty();
+  auto join = [&](auto& a, const auto& b) {
+    if (first) a = b;
+    else if (!a.empty() && !b.empty()) a.insert(a.end(), b.begin(), b.end());
+    else a.clear();
+  };
+  join(dst.normals, src.normals);
+  join(dst.uvs, src.uvs);
   dst.positions.insert(dst.positions.end(), src.positions.begin(), src.positions.end());
   for (const auto& t : src.triangles) dst.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
 
 Mesh flipped(Mesh m) {
   for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  for (auto& n : m.normals) n = -n;  // shading normals stay on the geometric normal's side
   return m;
 }
 

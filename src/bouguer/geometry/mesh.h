@@ -14,8 +14,13 @@ namespace bouguer {
 struct Mesh {
   std::vector<Vec3> positions;  // metres
   std::vector<std::array<std::uint32_t, 3>> triangles;
+  // Optional per-vertex attributes, each empty or one per position: unit shading normals (on the
+  // side of the geometric normal) and texture coordinates. A hit interpolates them.
+  std::vector<Vec3> normals;
+  std::vector<std::array<double, 2>> uvs;
 };
 
+// Appends src's triangles; an attribute is kept only when both meshes have it (or dst is empty).
 void append(Mesh& dst, const Mesh& src);
 Mesh flipped(Mesh m);
 

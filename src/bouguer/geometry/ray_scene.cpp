@@ -82,6 +82,21 @@ std::optional<Hit> RayScene::intersect(const Ray& ray) const {
   h.primitive = rh.hit.primID;
   h.point = p0 * (1.0 - rh.hit.u - rh.hit.v) + p1 * double(rh.hit.u) + p2 * double(rh.hit.v);
   h.normal = normalize(cross(p1 - p0, p2 - p0));
+  const double b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1.0 - b1 - b2;
+  h.barycentric = {b1, b2};
+  h.shading_normal = h.normal;
+  if (!m.normals.empty()) {
+    const Vec3 n = m.normals[tri[0]] * b0 + m.normals[tri[1]] * b1 + m.normals[tri[2]] * b2;
+    const double l = length(n);
+    // Opposite vertex normals can cancel; a shading normal is never on the far side of the face.
+    if (l > 1e-12 && dot(n, h.normal) > 0.0) h.shading_normal = n / l;
+  }
+  if (!m.uvs.empty()) {
+    const auto &t0 = m.uvs[tri[0]], &t1 = m.uvs[tri[1]], &t2 = m.uvs[tri[2]];
+    h.uv = {b0 * t0[0] + b1 * t1[0] + b2 * t2[0], b0 * t0[1] + b1 * t1[1] + b2 * t2[1]};
+  } else {
+    h.uv = {b1, b2};
+  }
   return h;
 }
 

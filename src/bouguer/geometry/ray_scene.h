@@ -2,6 +2,7 @@
 // Ray queries against all triangles of a scene (Embree 3 behind this one interface; no other
 // file includes Embree). Geometry ids are given out in the order meshes are added.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -24,6 +25,12 @@ struct Hit {
   std::uint32_t primitive = 0;
   Vec3 point;                 // recomputed from the triangle's barycentrics (more exact than o + t·d)
   Vec3 normal;                // unit geometric normal; outward for closed, consistently wound meshes
+  std::array<double, 2> barycentric{0.0, 0.0};  // (b1, b2) of the triangle's vertices 1 and 2
+  // Unit shading normal, on the side of `normal`: interpolated from the mesh's normals, or `normal`
+  // where the mesh has none.
+  Vec3 shading_normal;
+  // Texture coordinates: interpolated from the mesh's UVs, or the barycentrics where it has none.
+  std::array<double, 2> uv{0.0, 0.0};
 };
 
 class RayScene {

@@ -146,7 +146,11 @@ Mesh make_quad(const QuadShape& q, const std::string& what) {
   require_positive(q.width_m, "size", what);
   require_positive(q.height_m, "size", what);
   const double w = q.width_m / 2, h = q.height_m / 2;
-  return {{{-w, -h, 0}, {w, -h, 0}, {w, h, 0}, {-w, h, 0}}, {{0, 1, 2}, {0, 2, 3}}};
+  Mesh m;
+  m.positions = {{-w, -h, 0}, {w, -h, 0}, {w, h, 0}, {-w, h, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // the quad's own parametrisation, for textures
+  return m;
 }
 
 Mesh make_disk(const DiskShape& d, const std::string& what) {
@@ -436,7 +440,22 @@ Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what) {
   for (std::size_t t = 0; t < s.mesh.triangles.size(); ++t)
     for (const std::uint32_t v : s.mesh.triangles[t])
       if (v >= n) fail("{}: triangle {} names vertex {}, but there are {}", what, t, v, n);
-  return s.mesh;
+  Mesh m = s.mesh;
+  m.normals.clear();
+  m.uvs.clear();
+  if (!s.normals.empty()) {
+    m.normals.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3& v = s.normals[i];
+      const double l = length(v);
+      if (!std::isfinite(l) || l == 0.0) fail("{}: normal {} is not a finite, non-zero vector", what, i);
+      m.normals.push_back(v / l);
+    }
+  }
+  for (std::size_t i = 0; i < s.uvs.size(); ++i)
+    if (!std::isfinite(s.uvs[i][0]) || !std::isfinite(s.uvs[i][1])) fail("{}: UV {} is not finite", what, i);
+  m.uvs = s.uvs;
+  return m;
 }
 
 }  // namespace

@@ -41,8 +41,8 @@ struct VesselShape {
 };
 struct MeshShape { std::filesystem::path path; };
 // Triangles already in memory (a front end's own mesh: glTF, Python): positions in metres, and
-// per-vertex normals and UVs when the source has them (kept for shading and textures; the
-// renderer uses the geometric normal today). Empty normals/uvs, or one per position.
+// per-vertex normals and UVs when the source has them (carried to the hit as Mesh attributes).
+// Empty normals/uvs, or one per position.
 struct TriangleMeshShape {
   Mesh mesh;
   std::vector<Vec3> normals;

@@ -31,7 +31,21 @@ double Transform::determinant() const {
 
 Mesh transformed(Mesh m, const Transform& t) {
   for (Vec3& p : m.positions) p = t.apply(p);
-  return t.determinant() < 0.0 ? flipped(std::move(m)) : m;
+  if (!m.normals.empty()) {
+    // Normals by the inverse transpose: that keeps them on the geometric normal's side, mirrored
+    // or not, so the winding below is reversed without flipping them again.
+    const Mat3 inv = inverse(t.linear);
+    for (Vec3& n : m.normals) {
+      const Vec3 tn{inv.m[0][0] * n.x + inv.m[1][0] * n.y + inv.m[2][0] * n.z,
+                    inv.m[0][1] * n.x + inv.m[1][1] * n.y + inv.m[2][1] * n.z,
+                    inv.m[0][2] * n.x + inv.m[1][2] * n.y + inv.m[2][2] * n.z};
+      const double l = length(tn);
+      n = l > 0.0 ? tn / l : n;
+    }
+  }
+  if (t.determinant() < 0.0)
+    for (auto& tri : m.triangles) std::swap(tri[1], tri[2]);
+  return m;
 }
 
 }  // namespace bouguer
