@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "bouguer/core/error.h"
-#include "bouguer/render/render.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/update.h"

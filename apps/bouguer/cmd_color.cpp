@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bouguer/core/error.h"
-#include "bouguer/io/spectrum_csv.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/spectra/spectrum_csv.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/cielab.h"
 #include "bouguer/spectra/color_space.h"

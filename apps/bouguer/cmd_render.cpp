@@ -16,7 +16,7 @@
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/output_set.h"
-#include "bouguer/render/render.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "commands.h"

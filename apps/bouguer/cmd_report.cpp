@@ -16,7 +16,7 @@
 #include "bouguer/io/output_set.h"
 #include "bouguer/plot/material_plot.h"
 #include "bouguer/render/compare.h"
-#include "bouguer/render/render.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/spectra/cie.h"

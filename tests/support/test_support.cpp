@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "bouguer/core/error.h"
-#include "bouguer/render/render.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 

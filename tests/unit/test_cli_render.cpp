@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bouguer/io/image_io.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "support/test_support.h"
 
 namespace bouguer {

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "bouguer/core/error.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/spectra/spectrum_csv.h"
 #include "support/test_support.h"
 
 namespace bouguer {

@@ -10,9 +10,9 @@
 
 #include "bouguer/io/image_io.h"
 #include "bouguer/render/render.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "bouguer/scene/compile.h"
-#include "bouguer/scene/environment.h"
+#include "bouguer/lights/environment.h"
 #include "bouguer/scene/loader.h"
 #include "support/test_support.h"
 

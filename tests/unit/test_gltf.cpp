@@ -12,7 +12,7 @@
 #include <numbers>
 
 #include "bouguer/materials/fresnel.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/spectra/cie.h"

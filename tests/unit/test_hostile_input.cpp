@@ -1,6 +1,6 @@
 // Files made to break the readers (found by hand and by fuzzing, tests/fuzz): each is refused with
 // one line naming the file and what is wrong, within a small memory budget, and never read past
-// its end. The limits are those of docs/limits.md (io/limits.h).
+// its end. The limits are those of docs/limits.md (core/limits.h).
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfChannelList.h>
@@ -15,11 +15,11 @@
 #include "bouguer/core/error.h"
 #include "bouguer/geometry/mesh.h"
 #include "bouguer/geometry/shapes.h"
-#include "bouguer/io/csv.h"
+#include "bouguer/core/csv.h"
 #include "bouguer/io/image_io.h"
-#include "bouguer/io/limits.h"
-#include "bouguer/io/spectrum_csv.h"
-#include "bouguer/scene/environment.h"
+#include "bouguer/core/limits.h"
+#include "bouguer/spectra/spectrum_csv.h"
+#include "bouguer/lights/environment.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/material_file.h"
 #include "support/test_support.h"

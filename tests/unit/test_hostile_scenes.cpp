@@ -10,7 +10,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/render/film.h"
-#include "bouguer/render/render.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "support/test_support.h"

@@ -12,7 +12,7 @@
 #include "bouguer/render/camera.h"
 #include "bouguer/render/compare.h"
 #include "bouguer/render/render.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/spectra/cie.h"

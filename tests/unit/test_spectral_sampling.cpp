@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "bouguer/media/library.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "bouguer/spectra/cie.h"
 #include "bouguer/spectra/cielab.h"
 #include "bouguer/spectra/color_space.h"

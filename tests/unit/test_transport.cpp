@@ -13,7 +13,7 @@
 #include "bouguer/materials/surface_bsdf.h"
 #include "bouguer/render/camera.h"
 #include "bouguer/render/compare.h"
-#include "bouguer/render/render.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "support/test_scenes.h"

@@ -23,8 +23,8 @@
 #include "bouguer/core/memory.h"
 #include "bouguer/core/module.h"
 #include "bouguer/distributed/mpi_module.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/render/render.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/integrators/render_into.h"
 
 namespace bouguer::distributed {
 namespace {

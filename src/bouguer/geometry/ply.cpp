@@ -9,8 +9,8 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/core/limits.h"
 
 namespace bouguer {
 namespace {

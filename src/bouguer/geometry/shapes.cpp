@@ -11,8 +11,8 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/geometry/ply.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/core/limits.h"
 
 namespace bouguer {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "bouguer/scene/environment.h"
+#include "bouguer/lights/environment.h"
 
 namespace bouguer {
 

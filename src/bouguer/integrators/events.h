@@ -14,7 +14,7 @@
 #include "bouguer/media/scattering.h"
 #include "bouguer/render/camera.h"
 #include "bouguer/render/film.h"
-#include "bouguer/render/rng.h"
+#include "bouguer/core/rng.h"
 #include "bouguer/scene/compile.h"
 
 namespace bouguer {

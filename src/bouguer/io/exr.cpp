@@ -19,8 +19,8 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/spectra/color_space.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "bouguer/render/film.h"
+#include "bouguer/io/image.h"
 
 namespace bouguer {
 

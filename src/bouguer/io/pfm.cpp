@@ -9,7 +9,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/io/atomic_file.h"
-#include "bouguer/io/csv.h"
+#include "bouguer/core/csv.h"
 #include "bouguer/io/image_io.h"
 
 namespace bouguer {

@@ -8,8 +8,8 @@
 
 #include "bouguer/core/memory.h"
 #include "bouguer/core/module.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/io/vdb_module.h"
 
 namespace bouguer {

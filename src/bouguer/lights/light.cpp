@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "bouguer/core/frame.h"
-#include "bouguer/materials/bsdf.h"
-#include "bouguer/scene/environment.h"
+#include "bouguer/core/warp.h"
+#include "bouguer/lights/environment.h"
 
 namespace bouguer {
 namespace {

@@ -38,11 +38,6 @@ std::optional<Vec3> transmission_half_vector(const Oriented& o) {
 
 }  // namespace
 
-Vec3 sample_cosine_hemisphere(double u1, double u2) {
-  const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
-  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u1))};
-}
-
 // ---- diffuse -----------------------------------------------------------------------------------
 
 double DiffuseBsdf::eval(const Vec3& wo, const Vec3& wi) const {

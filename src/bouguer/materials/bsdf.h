@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "bouguer/core/math.h"
+#include "bouguer/core/warp.h"
 #include "bouguer/materials/microfacet.h"
 
 namespace bouguer {
@@ -21,9 +22,6 @@ struct BsdfSample {
   double weight = 0.0;  // eval / pdf (Fresnel excluded for conductors, see ConductorBsdf)
   bool transmitted = false;
 };
-
-// Cosine-weighted hemisphere (Malley's method) and its density.
-Vec3 sample_cosine_hemisphere(double u1, double u2);
 
 // Lambertian: eval = R/π |cos θi| with R = 1 here (callers multiply the spectral reflectance).
 struct DiffuseBsdf {

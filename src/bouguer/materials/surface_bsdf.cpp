@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "bouguer/materials/fresnel.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 
 namespace bouguer {
 namespace {

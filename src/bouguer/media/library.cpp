@@ -2,8 +2,8 @@
 
 #include <array>
 
-#include "bouguer/io/csv.h"
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/spectra/spectrum_csv.h"
 
 namespace bouguer::data {
 extern const std::string_view red_glass, light_blue_glass, red_wine, white_wine, water, orange_glass, deep_red_glass,

@@ -3,7 +3,7 @@
 // the same verbs: a homogeneous absorber, and absorbers whose concentration varies in space; a
 // scattering medium is a new alternative here, not a new branch in the integrators.
 //
-// Spectra are referred to by id into the scene's spectral tables (render/spectral_tables.h),
+// Spectra are referred to by id into the scene's spectral tables (scene/spectral_tables.h),
 // which are passed in with the path's wavelengths: a medium holds no per-mode data.
 #include <array>
 #include <cmath>

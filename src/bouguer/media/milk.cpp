@@ -3,8 +3,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "bouguer/io/csv.h"
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/spectra/spectrum_csv.h"
 
 namespace bouguer::data {
 extern const std::string_view milk_inputs;

@@ -23,7 +23,7 @@
 
 #include "bouguer/media/majorant.h"
 #include "bouguer/media/medium.h"
-#include "bouguer/render/rng.h"
+#include "bouguer/core/rng.h"
 
 namespace bouguer {
 

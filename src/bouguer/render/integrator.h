@@ -2,8 +2,9 @@
 // One interface for every estimator: render a pixel region and a sample range of a compiled scene
 // into a film. Each sample is seeded by (seed, pixel, sample index), so any split of the work —
 // threads, sample ranges rendered one after another into one film, pixel regions, processes that
-// each render whole pixels (distributed/) — gives the bit-identical image. The name → integrator and name → spectral mode tables below are the only
-// lists of them: the scene loader, the command line and the documentation read these.
+// each render whole pixels (distributed/) — gives the bit-identical image. The name → integrator and name → spectral mode tables are in
+// scene/render_modes.h; each integrator's render function is bound to its name in
+// integrators/render_into.cpp.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -13,6 +14,7 @@
 
 #include "bouguer/render/film.h"
 #include "bouguer/scene/compile.h"
+#include "bouguer/scene/render_modes.h"
 
 namespace bouguer {
 
@@ -46,31 +48,5 @@ struct RenderStats {
 using RenderFn = void (*)(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                           const RenderControl&, RenderStats&);
 
-struct IntegratorInfo {
-  IntegratorType type;
-  std::string_view name;
-  std::string_view summary;
-  RenderFn render;
-  bool rough_interfaces;  // whether it handles rough dielectric interfaces
-  bool splats;            // whether its light arrives through the film's splat buffer
-  bool scattering_media;  // whether it renders media that scatter
-};
-
-std::span<const IntegratorInfo> integrator_table();
-const IntegratorInfo* find_integrator(std::string_view name);
-const IntegratorInfo& integrator_info(IntegratorType type);
-
-struct SpectralModeInfo {
-  SpectralMode mode;
-  std::string_view name;
-  std::string_view summary;
-};
-std::span<const SpectralModeInfo> spectral_mode_table();
-const SpectralModeInfo* find_spectral_mode(std::string_view name);
-std::string_view spectral_mode_name(SpectralMode mode);
-
-// "a, b or c": the names of a table, for messages and help texts.
-std::string integrator_names();
-std::string spectral_mode_names();
 
 }  // namespace bouguer

@@ -11,75 +11,13 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/memory.h"
-#include "bouguer/integrators/integrators.h"
 
 namespace bouguer {
 namespace {
 
 constexpr int kTileSize = 16;
 
-constexpr IntegratorInfo kIntegrators[] = {
-    {IntegratorType::whitted, "whitted", "the paper's ray tracer: Fresnel-split interfaces, direct light by shadow rays",
-     render_whitted, false, false, false},
-    {IntegratorType::path, "path", "unbiased spectral path tracing with next-event estimation and MIS", render_path,
-     true, false, true},
-    {IntegratorType::light, "light",
-     "light tracing: paths from the lamps connected to the camera (caustics on diffuse surfaces)", render_light, true,
-     true, true},
-    {IntegratorType::bdpt, "bdpt",
-     "bidirectional path tracing: every connection of a camera and a light subpath, MIS (light through glass)",
-     render_bdpt, true, true, true},
-    {IntegratorType::vcm, "vcm",
-     "vertex connection and merging: bdpt and photon mapping under one MIS (caustics seen through glass)",
-     render_vcm, true, true, true},
-};
-
-constexpr SpectralModeInfo kSpectralModes[] = {
-    {SpectralMode::full, "full", "96 bins over 360-830 nm carried by every path"},
-    {SpectralMode::hero, "hero", "4 wavelengths sampled per path (hero wavelength sampling)"},
-    {SpectralMode::rgb3, "rgb3", "the paper's RGB: absorption at 700.0, 546.1 and 435.8 nm"},
-};
-
-template <typename Table>
-std::string names_of(const Table& table) {
-  std::string s;
-  for (std::size_t i = 0; i < std::size(table); ++i)
-    s += (i == 0 ? "" : i + 1 == std::size(table) ? " or " : ", ") + std::string(table[i].name);
-  return s;
-}
-
 }  // namespace
-
-std::span<const IntegratorInfo> integrator_table() { return kIntegrators; }
-
-const IntegratorInfo* find_integrator(std::string_view name) {
-  for (const IntegratorInfo& i : kIntegrators)
-    if (i.name == name) return &i;
-  return nullptr;
-}
-
-const IntegratorInfo& integrator_info(IntegratorType type) {
-  for (const IntegratorInfo& i : kIntegrators)
-    if (i.type == type) return i;
-  fail("internal error: integrator {} has no table entry", static_cast<int>(type));
-}
-
-std::span<const SpectralModeInfo> spectral_mode_table() { return kSpectralModes; }
-
-const SpectralModeInfo* find_spectral_mode(std::string_view name) {
-  for (const SpectralModeInfo& m : kSpectralModes)
-    if (m.name == name) return &m;
-  return nullptr;
-}
-
-std::string_view spectral_mode_name(SpectralMode mode) {
-  for (const SpectralModeInfo& m : kSpectralModes)
-    if (m.mode == mode) return m.name;
-  return "?";
-}
-
-std::string integrator_names() { return names_of(kIntegrators); }
-std::string spectral_mode_names() { return names_of(kSpectralModes); }
 
 void for_each_tile(PixelRegion region, const RenderControl& control, RenderStats& stats,
                    const std::function<void(const PixelRegion& tile, std::uint64_t& rays)>& tile) {
@@ -140,26 +78,8 @@ FilmBuffer make_film(const RenderScene& scene, const RenderSettings& /*settings*
   return FilmBuffer(scene.camera.width_px, scene.camera.height_px, std::move(wavelengths));
 }
 
-void render_into(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
-                 SampleRange samples, const RenderControl& control, RenderStats& stats) {
-  const auto start = std::chrono::steady_clock::now();
-  region.x1 = std::min(region.x1, film.width());
-  region.y1 = std::min(region.y1, film.height());
-  samples.end = std::min(samples.end, settings.spp);
-  if (samples.begin < samples.end) integrator_info(settings.integrator).render(scene, settings, film, region, samples, control, stats);
-  stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 Film resolve(const FilmBuffer& film, int samples_done) {
   return film.resolve(samples_done > 0 ? 1.0 / samples_done : 0.0);
-}
-
-Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
-            RenderStats& stats, bool keep_spectra) {
-  check_settings(scene, settings, keep_spectra);
-  FilmBuffer film = make_film(scene, settings, keep_spectra);
-  render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, control, stats);
-  return resolve(film, settings.spp);
 }
 
 }  // namespace bouguer

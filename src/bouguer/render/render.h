@@ -1,6 +1,6 @@
 #pragma once
 // Rendering a compiled scene: a film for the camera (keeping spectra when asked), filled by the
-// settings' integrator over any pixel region and sample range (render/integrator.h), then
+// settings' integrator over any pixel region and sample range (integrators/render_into.h), then
 // resolved into the image.
 #include <cstdint>
 
@@ -13,14 +13,6 @@ FilmBuffer make_film(const RenderScene& scene, const RenderSettings& settings, b
 
 // Checks that the settings fit the scene (an Error naming the scene file otherwise).
 void check_settings(const RenderScene& scene, const RenderSettings& settings, bool keep_spectra);
-
-// Renders `region` × `samples` into `film` with the settings' integrator; stats are added to.
-void render_into(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
-                 SampleRange samples, const RenderControl& control, RenderStats& stats);
-
-// The whole image in one call: every pixel, every sample.
-Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
-            RenderStats& stats, bool keep_spectra = false);
 
 // The image of a film after `samples_done` samples per pixel (splats scaled by 1 / that).
 Film resolve(const FilmBuffer& film, int samples_done);

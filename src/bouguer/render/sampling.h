@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "bouguer/render/integrator.h"
-#include "bouguer/render/rng.h"
+#include "bouguer/core/rng.h"
 
 namespace bouguer {
 
@@ -82,7 +82,7 @@ void with_carried_count(SpectralMode mode, F&& f);
 
 }  // namespace bouguer
 
-#include "bouguer/render/spectral_tables.h"
+#include "bouguer/scene/spectral_tables.h"
 
 namespace bouguer {
 template <typename F>

@@ -10,9 +10,9 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/media/medium.h"
-#include "bouguer/render/integrator.h"
+#include "bouguer/scene/render_modes.h"
 
 namespace bouguer {
 

@@ -7,7 +7,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/memory.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/scene/builder.h"
 #include "bouguer/scene/update.h"
 #include "bouguer/spectra/cie.h"

@@ -2,7 +2,7 @@
 // compile: SceneDesc -> RenderScene, the immutable scene every estimator reads. Shapes become
 // triangles in one RayScene; every geometry id maps to a Surface that says what it is and which
 // media lie on its two sides; every spectrum becomes an id into `spectra`, which a render turns
-// into flat tables for its spectral mode (render/spectral_tables.h). Nothing here is looked up
+// into flat tables for its spectral mode (scene/spectral_tables.h). Nothing here is looked up
 // by name during rendering, and nothing changes a compiled scene during a render (between renders
 // scene/update.h may rewrite spectra, the light powers or the camera): render settings are separate.
 #include <cstdint>
@@ -15,7 +15,7 @@
 #include "bouguer/lights/light.h"
 #include "bouguer/materials/bsdf.h"
 #include "bouguer/media/medium.h"
-#include "bouguer/render/spectral_tables.h"
+#include "bouguer/scene/spectral_tables.h"
 #include "bouguer/scene/description.h"
 
 namespace bouguer {

@@ -18,7 +18,7 @@
 #include "bouguer/media/concentration_field.h"
 #include "bouguer/media/ior.h"
 #include "bouguer/media/phase.h"
-#include "bouguer/scene/environment.h"
+#include "bouguer/lights/environment.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/spectra/spectrum.h"
 

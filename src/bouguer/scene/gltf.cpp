@@ -21,8 +21,8 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {

@@ -11,9 +11,9 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/csv.h"
+#include "bouguer/core/csv.h"
 #include "bouguer/io/json.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/io/vdb.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/scene/builder.h"
@@ -162,7 +162,7 @@ EmissionDesc emission(const json& j, const Where& w, bool allow_two_sided) {
   return resolve_emission(emission_input(j, w, allow_two_sided), w);
 }
 
-// {"environment": "sky.exr", "scale": 1, "rotate_deg": 0}: a lat-long map (scene/environment.h).
+// {"environment": "sky.exr", "scale": 1, "rotate_deg": 0}: a lat-long map (lights/environment.h).
 EnvironmentDesc environment(const json& j, const Where& w) {
   expect_keys(j, w, {"environment", "scale", "rotate_deg"});
   EnvironmentDesc e;

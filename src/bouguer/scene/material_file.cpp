@@ -5,9 +5,9 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/limits.h"
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/core/limits.h"
+#include "bouguer/spectra/spectrum_csv.h"
 #include "bouguer/scene/values.h"
 
 namespace bouguer {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "bouguer/core/error.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/scene/builder.h"
 #include "bouguer/spectra/cie.h"
 

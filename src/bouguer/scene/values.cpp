@@ -10,8 +10,8 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/limits.h"
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/core/limits.h"
+#include "bouguer/spectra/spectrum_csv.h"
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"

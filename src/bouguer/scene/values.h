@@ -131,7 +131,7 @@ using MaterialInput = std::variant<DiffuseInput, ConductorInput>;
 // "5 mm", "0.5 cm", "1.2 um", "2 m" -> metres (an Error naming the text).
 double parse_length_m(const std::string& text);
 
-// A length within the scene's extent (io/limits.h); a positive one, at least the smallest length.
+// A length within the scene's extent (core/limits.h); a positive one, at least the smallest length.
 double resolve_length_m(const LengthInput& length, const Source& where);
 double resolve_positive_length_m(const LengthInput& length, const Source& where);
 

@@ -10,8 +10,8 @@
 #include <fmt/ranges.h>
 
 #include "bouguer/core/error.h"
-#include "bouguer/io/csv.h"
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/core/csv.h"
+#include "bouguer/spectra/spectrum_csv.h"
 
 namespace bouguer::data {
 // Embedded from data/cie by cmake/EmbedData.cmake.

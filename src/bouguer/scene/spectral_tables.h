@@ -13,9 +13,9 @@
 #include "bouguer/core/math.h"
 #include "bouguer/media/ior.h"
 #include "bouguer/media/optical_depth.h"
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
-#include "bouguer/scene/environment.h"
+#include "bouguer/lights/environment.h"
 #include "bouguer/spectra/spectrum.h"
 
 namespace bouguer {

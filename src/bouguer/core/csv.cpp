@@ -1,4 +1,4 @@
-#include "bouguer/io/csv.h"
+#include "bouguer/core/csv.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -1,4 +1,4 @@
-#include "bouguer/render/spectral_sampling.h"
+#include "bouguer/spectra/spectral_sampling.h"
 
 #include <algorithm>
 #include <cmath>

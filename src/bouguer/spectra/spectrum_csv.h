@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "bouguer/io/csv.h"
+#include "bouguer/core/csv.h"
 #include "bouguer/spectra/spectrum.h"
 
 namespace bouguer {
@@ -14,7 +14,7 @@ struct SpectrumCsvRules {
 
 // Column `column` (1 = the first after wavelength_nm) of a table as a spectrum. Errors name the
 // source and line: wavelengths outside kMinWavelengthNm..kMaxWavelengthNm or not increasing, NaN,
-// infinite or values beyond ±kMaxTableValue (io/limits.h), negative values where not allowed, a
+// infinite or values beyond ±kMaxTableValue (core/limits.h), negative values where not allowed, a
 // first column other than wavelength_nm.
 TabulatedSpectrum spectrum_from_csv(const CsvTable& table, std::size_t column = 1, SpectrumCsvRules rules = {});
 

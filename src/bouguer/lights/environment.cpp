@@ -1,4 +1,4 @@
-#include "bouguer/scene/environment.h"
+#include "bouguer/lights/environment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/io/image_io.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {

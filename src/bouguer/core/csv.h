@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 
 namespace bouguer {
 

@@ -1,10 +1,10 @@
-#include "bouguer/io/spectrum_csv.h"
+#include "bouguer/spectra/spectrum_csv.h"
 
 #include <cmath>
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
-#include "bouguer/io/limits.h"
+#include "bouguer/core/limits.h"
 
 namespace bouguer {
 

@@ -1,4 +1,4 @@
-#include "bouguer/render/spectral_tables.h"
+#include "bouguer/scene/spectral_tables.h"
 
 #include <algorithm>
 

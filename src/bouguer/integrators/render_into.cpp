@@ -1,0 +1,43 @@
+#include "bouguer/integrators/render_into.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "bouguer/core/error.h"
+#include "bouguer/integrators/integrators.h"
+
+namespace bouguer {
+namespace {
+
+RenderFn render_function(IntegratorType type) {
+  switch (type) {
+    case IntegratorType::whitted: return render_whitted;
+    case IntegratorType::path: return render_path;
+    case IntegratorType::light: return render_light;
+    case IntegratorType::bdpt: return render_bdpt;
+    case IntegratorType::vcm: return render_vcm;
+  }
+  fail("internal error: integrator {} has no render function", static_cast<int>(type));
+}
+
+}  // namespace
+
+void render_into(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
+                 SampleRange samples, const RenderControl& control, RenderStats& stats) {
+  const auto start = std::chrono::steady_clock::now();
+  region.x1 = std::min(region.x1, film.width());
+  region.y1 = std::min(region.y1, film.height());
+  samples.end = std::min(samples.end, settings.spp);
+  if (samples.begin < samples.end) render_function(settings.integrator)(scene, settings, film, region, samples, control, stats);
+  stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
+            RenderStats& stats, bool keep_spectra) {
+  check_settings(scene, settings, keep_spectra);
+  FilmBuffer film = make_film(scene, settings, keep_spectra);
+  render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, control, stats);
+  return resolve(film, settings.spp);
+}
+
+}  // namespace bouguer
