@@ -245,11 +245,13 @@ TEST(Gltf, DracoMeshesAreDecoded) {
   const int unique_id = int(mesh->attribute(pos)->unique_id());
   g.doc["accessors"].push_back({{"componentType", 5126}, {"count", mesh->num_points()}, {"type", "VEC3"},
                                 {"min", {-0.5, -0.5, -0.5}}, {"max", {0.5, 0.5, 0.5}}});
+  g.doc["accessors"].push_back({{"componentType", 5125}, {"count", 36}, {"type", "SCALAR"}});
   g.doc["meshes"].push_back(
       {{"primitives",
         {{{"attributes", {{"POSITION", 0}}},
-          // No "indices": tinygltf 2.7 refuses an indices accessor without a bufferView before it
-          // looks at extensions (docs/assets.md); the decoded mesh has its own faces.
+          // As conforming encoders write it: an indices accessor without a bufferView (the faces are
+          // in the Draco stream), which tinygltf 2.7 alone refuses (docs/assets.md).
+          {"indices", 1},
           {"extensions", {{"KHR_draco_mesh_compression", {{"bufferView", view}, {"attributes", {{"POSITION", unique_id}}}}}}}}}}});
   g.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
   g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};

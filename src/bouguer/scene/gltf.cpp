@@ -9,6 +9,7 @@
 #define TINYGLTF_NOEXCEPTION
 #include <draco/compression/decode.h>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -71,8 +72,70 @@ std::string first_line(const std::string& text) {
   return s.empty() ? std::string("the asset could not be parsed") : s;
 }
 
+// ---- Draco primitives' indices -------------------------------------------------------------------
+// A Draco primitive's faces come from its compressed stream; its `indices` accessor only declares a
+// count, and conforming encoders write it without a bufferView. tinygltf 2.7 refuses such an
+// accessor before it reads extensions, so the document is handed to it without those primitives'
+// `indices` (nothing here reads them). Anything that does not parse is passed through unchanged,
+// for tinygltf to refuse with its own message.
+bool drop_draco_indices(nlohmann::json& doc) {
+  const auto accessors = doc.find("accessors");
+  const auto meshes = doc.find("meshes");
+  if (accessors == doc.end() || !accessors->is_array() || meshes == doc.end() || !meshes->is_array()) return false;
+  bool changed = false;
+  for (auto& mesh : *meshes) {
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (auto& primitive : mesh["primitives"]) {
+      if (!primitive.is_object() || !primitive.contains("indices") || !primitive.contains("extensions")) continue;
+      const auto& ext = primitive["extensions"];
+      if (!ext.is_object() || !ext.contains("KHR_draco_mesh_compression")) continue;
+      const auto& index = primitive["indices"];
+      if (!index.is_number_unsigned() || index.get<std::uint64_t>() >= accessors->size()) continue;
+      const auto& accessor = (*accessors)[index.get<std::size_t>()];
+      if (!accessor.is_object() || accessor.contains("bufferView")) continue;
+      primitive.erase("indices");
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+std::uint32_t le32(const std::string& b, std::size_t at) {
+  std::uint32_t v = 0;
+  std::memcpy(&v, b.data() + at, 4);  // glTF is little-endian, as is every machine Bouguer builds on
+  return v;
+}
+void put_le32(std::string& b, std::uint32_t v) { b.append(reinterpret_cast<const char*>(&v), 4); }
+
+std::string without_draco_indices_json(const std::string& text) {
+  nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !drop_draco_indices(doc)) return text;
+  return doc.dump();
+}
+
+// A GLB: 12-byte header, a JSON chunk, then an optional BIN chunk kept byte for byte.
+std::string without_draco_indices_glb(const std::string& bytes) {
+  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || le32(bytes, 8) != bytes.size()) return bytes;
+  const std::uint32_t json_length = le32(bytes, 12);
+  if (le32(bytes, 16) != 0x4E4F534Au || json_length > bytes.size() - 20) return bytes;  // "JSON"
+  const std::string text = bytes.substr(20, json_length);
+  std::string json = without_draco_indices_json(text);
+  if (json == text) return bytes;
+  json.append((4 - json.size() % 4) % 4, ' ');  // chunks are 4-byte aligned, JSON padded with spaces
+  const std::string rest = bytes.substr(20 + std::size_t(json_length));
+  std::string out = bytes.substr(0, 8);
+  put_le32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + rest.size()));
+  put_le32(out, static_cast<std::uint32_t>(json.size()));
+  put_le32(out, 0x4E4F534Au);
+  out += json;
+  out += rest;
+  return out;
+}
+
 Model parse_model(const fs::path& path) {
-  const std::string bytes = read_file_bytes(path, kMaxMeshFileBytes);
+  const std::string file_bytes = read_file_bytes(path, kMaxMeshFileBytes);
+  const bool glb = path.extension() == ".glb";
+  const std::string bytes = glb ? without_draco_indices_glb(file_bytes) : without_draco_indices_json(file_bytes);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_image_reference, nullptr);
   loader.SetFsCallbacks({file_exists, expand_path, read_whole_file, no_writes, nullptr});
@@ -83,8 +146,7 @@ Model parse_model(const fs::path& path) {
   const auto size = static_cast<unsigned int>(bytes.size());
   bool ok = false;
   try {
-    ok = path.extension() == ".glb"
-             ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+    ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
                                            size, base)
              : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, base);
   } catch (const std::exception& e) {
