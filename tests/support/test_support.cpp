@@ -21,7 +21,10 @@ namespace bouguer::test {
 namespace fs = std::filesystem;
 
 fs::path scratch_dir(const std::string& test_name) {
-  const fs::path dir = fs::path(BOUGUER_TEST_TMP) / test_name;
+  // BOUGUER_TEST_SCRATCH moves every test's files elsewhere (scripts/validate-gltf.sh keeps the
+  // assets the tests write apart from a concurrent run's).
+  const char* root = std::getenv("BOUGUER_TEST_SCRATCH");
+  const fs::path dir = fs::path(root && *root ? root : BOUGUER_TEST_TMP) / test_name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
