@@ -68,6 +68,8 @@ void expect_like_the_vessel(const char* integrator, int spp, double tolerance) {
 
 TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselPathTracer) { expect_like_the_vessel("path", 1024, 0.5); }
 
+TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselWhitted) { expect_like_the_vessel("whitted", 16, 0.5); }
+
 TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselBidirectional) { expect_like_the_vessel("bdpt", 128, 0.5); }
 
 }  // namespace
