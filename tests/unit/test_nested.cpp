@@ -52,11 +52,12 @@ TEST(NestedMedia, LeavingASurfaceSetsTheBitByTheSideOfTheDirection) {
   EXPECT_EQ(inside_after(0, 63, -1.0), nested_bit(63));
 }
 
-std::string boxes_scene(const std::string& a_extra, const std::string& b_extra, const std::string& b_medium = "b") {
+std::string boxes_scene(const std::string& a_extra, const std::string& b_extra, const std::string& b_medium = "b",
+                        const char* floor_y = "0 mm", const char* integrator = "path") {
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, "100 mm", 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
                 "width": "40 mm", "resolution": [8, 8]}},
-    "render": {{"integrator": "path", "spectral": "rgb3", "spp": 4, "max_depth": 8}},
+    "render": {{"integrator": "{}", "spectral": "rgb3", "spp": 4, "max_depth": 8}},
     "world_medium": "clear",
     "media": {{"clear": {{"ior": 1.0}},
               "a": {{"ior": 1.0, "absorption": {{"unit": "attenuation_per_m", "wavelength_nm": [300, 900], "value": [10, 10]}}}},
@@ -67,12 +68,13 @@ std::string boxes_scene(const std::string& a_extra, const std::string& b_extra, 
       {{"name": "box b", "shape": {{"type": "box", "size": ["20 mm", "16 mm", "16 mm"]}},
         "transform": [{{"translate": ["10 mm", "20 mm", 0]}}], "inside": "{}"{}}},
       {{"name": "floor", "shape": {{"type": "quad", "size": ["1 m", "1 m"]}},
-        "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}], "material": {{"type": "diffuse", "reflectance": 0.5}}}}
+        "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}, {{"translate": [0, "{}", 0]}}],
+        "material": {{"type": "diffuse", "reflectance": 0.5}}}}
     ],
     "lights": [{{"type": "distant", "direction": [0, -1, 0], "spectrum": "E", "scale": 1}}],
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
-                     a_extra, b_medium, b_extra);
+                     integrator, a_extra, b_medium, b_extra, floor_y);
 }
 
 // The floor seen from above through two overlapping boxes of absorbing media that match the
@@ -112,6 +114,26 @@ TEST(NestedMedia, OverlapTakesTheHigherPrioritysMediumAlongCameraAndShadowRays) 
   std::printf("overlapping absorbers, T²: a %.5f (exact %.5f), b %.5f (%.5f), overlap b on top %.5f (%.5f), "
               "a on top %.5f (%.5f)\n",
               b_wins.a_alone, t_a, b_wins.b_alone, t_b, b_wins.overlap, t_b_in_a, a_wins.overlap, t_a);
+}
+
+// The floor raised to y = 20 mm, through the middle of both boxes: its shadow rays and
+// connections start inside them, from the set the camera path arrived with, in every estimator
+// that connects from a surface.
+TEST(NestedMedia, ConnectionsFromInsideNestedObjectsStartFromTheirSet) {
+  const double t_a = std::exp(-2.0 * 10.0 * 0.010), t_b = std::exp(-2.0 * 30.0 * 0.008);
+  const double t_b_in_a = std::exp(-2.0 * (10.0 * 0.002 + 30.0 * 0.008));
+  for (const char* integrator : {"whitted", "path", "bdpt"}) {
+    const BoxTransmittances b_wins =
+        measure(boxes_scene(R"(, "priority": 1)", R"(, "priority": 2)", "b", "20 mm", integrator));
+    EXPECT_NEAR(b_wins.a_alone, t_a, 1e-4) << integrator;
+    EXPECT_NEAR(b_wins.overlap, t_b_in_a, 1e-4) << integrator;
+    EXPECT_NEAR(b_wins.b_alone, t_b, 1e-4) << integrator;
+    const BoxTransmittances a_wins =
+        measure(boxes_scene(R"(, "priority": 7)", R"(, "priority": 2)", "b", "20 mm", integrator));
+    EXPECT_NEAR(a_wins.overlap, t_a, 1e-4) << integrator;
+    std::printf("floor inside the boxes, %s, T²: overlap b on top %.5f (exact %.5f), a on top %.5f (%.5f)\n",
+                integrator, b_wins.overlap, t_b_in_a, a_wins.overlap, t_a);
+  }
 }
 
 TEST(NestedMedia, CompileOrdersTheObjectsByPriorityAndMarksTheirSurfaces) {
