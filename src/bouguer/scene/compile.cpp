@@ -322,11 +322,27 @@ std::vector<int> order_nested(RenderScene& s, const std::vector<ObjectDesc>& obj
   return k_of;
 }
 
-// A nested object's surfaces: geometry ids [first, last), for the overlap check.
+// A nested object's surfaces: geometry ids [first, last), and their bounding box, for the
+// overlap check.
 struct NestedRange {
   std::uint32_t first = 0, last = 0;
   std::string name;
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
 };
+
+NestedRange nested_range(const RenderScene& s, std::uint32_t first, std::uint32_t last, const std::string& name) {
+  NestedRange r{first, last, name};
+  for (std::uint32_t g = first; g < last; ++g)
+    for (const Vec3& p : s.rays.mesh(g).positions)
+      for (std::size_t i = 0; i < 3; ++i) r.lo[i] = std::min(r.lo[i], p[i]), r.hi[i] = std::max(r.hi[i], p[i]);
+  return r;
+}
+
+bool boxes_overlap(const NestedRange& a, const NestedRange& b) {
+  for (std::size_t i = 0; i < 3; ++i)
+    if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
+  return true;
+}
 
 // How many times a ray from p along d crosses the surfaces of geometry ids [first, last).
 int crossings_of(const RenderScene& s, Vec3 p, const Vec3& d, std::uint32_t first, std::uint32_t last) {
@@ -362,7 +378,7 @@ void check_priority_ties(const RenderScene& s, const std::vector<NestedRange>& r
   for (std::size_t a = 0; a < ranges.size(); ++a)
     for (std::size_t b = a + 1; b < ranges.size(); ++b) {
       const NestedObject &na = s.nested[a], &nb = s.nested[b];
-      if (na.priority != nb.priority || na.inside == nb.inside) continue;
+      if (na.priority != nb.priority || na.inside == nb.inside || !boxes_overlap(ranges[a], ranges[b])) continue;
       if (vertex_inside(s, ranges[a], ranges[b]) || vertex_inside(s, ranges[b], ranges[a]))
         fail("{}: objects '{}' and '{}' overlap with the same priority {} and different media ('{}', '{}'): give one "
              "a higher priority",
@@ -386,7 +402,8 @@ void add_geometry(RenderScene& s, const SceneDesc& desc) {
     const auto first = static_cast<std::uint32_t>(s.surfaces.size());
     add_parts(s, o, parts, base, desc, albedo_index);
     if (base.nested >= 0)
-      ranges[static_cast<std::size_t>(base.nested)] = {first, static_cast<std::uint32_t>(s.surfaces.size()), o.name};
+      ranges[static_cast<std::size_t>(base.nested)] =
+          nested_range(s, first, static_cast<std::uint32_t>(s.surfaces.size()), o.name);
   }
   s.rays.commit();
   check_priority_ties(s, ranges, desc);
