@@ -118,8 +118,8 @@ TEST(NestedMedia, OverlapTakesTheHigherPrioritysMediumAlongCameraAndShadowRays) 
 
 // The floor raised to y = 20 mm, through the middle of both boxes: its shadow rays and
 // connections start inside them, from the set the camera path arrived with, in every estimator
-// that connects from a surface (vcm with a merging radius of 0.1 mm: its merges, against a delta
-// light, weigh nothing here).
+// that connects from a surface (vcm with a merging radius of 0.1 mm: against a delta light its
+// merges add nothing measurable at the tolerance).
 TEST(NestedMedia, ConnectionsFromInsideNestedObjectsStartFromTheirSet) {
   const double t_a = std::exp(-2.0 * 10.0 * 0.010), t_b = std::exp(-2.0 * 30.0 * 0.008);
   const double t_b_in_a = std::exp(-2.0 * (10.0 * 0.002 + 30.0 * 0.008));
