@@ -13,6 +13,7 @@
 
 #include "bouguer/materials/fresnel.h"
 #include "bouguer/spectra/spectral_sampling.h"
+#include "bouguer/scene/compile.h"
 #include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/spectra/cie.h"
@@ -182,6 +183,20 @@ TEST(Gltf, NodeTransformsPlaceVerticesWhereTheReferenceSays) {
     EXPECT_NEAR(got.y, want.y, 1e-12);
     EXPECT_NEAR(got.z, want.z, 1e-12);
   }
+}
+
+// Nested media: an override's priority reaches every primitive of its material.
+TEST(Gltf, MaterialOverridesCarryAPriority) {
+  const fs::path dir = test::scratch_dir("gltf_priority");
+  const fs::path file = write_slab(dir, 0.01);
+  const SceneDesc d = parse_scene(
+      backlit(fmt::format(R"({{"gltf": "{}", "materials": {{"Glass": {{"inside": "glass", "priority": 3}}}}}})",
+                          file.string()),
+              "rgb3"),
+      dir / "s.json");
+  ASSERT_EQ(d.objects.size(), 2u);
+  EXPECT_EQ(d.objects[0].priority, 3);
+  EXPECT_EQ(compile(d).nested.size(), 1u);
 }
 
 TEST(Gltf, MaterialsAreOverriddenByName) {

@@ -90,7 +90,7 @@ class Bdpt {
     return x.kind == VertexKind::surface ? x.event.medium_towards(wi) : x.medium;
   }
   PathVertex path_vertex(const Vertex<N>& x) const {
-    return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit};
+    return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit, x.inside};
   }
   double mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled, int s,
                     int t, double tau) const;

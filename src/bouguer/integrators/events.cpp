@@ -30,7 +30,9 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   const RenderScene& s = v.scene;
   Transmission<N> out;
   Vec3 start = from.point, origin = from.origin_towards(wi);
+  InsideSet inside = from.hit ? inside_towards(s, *from.hit, from.inside, wi) : from.inside;
   double remaining = distance_m;
+  Surface scratch;  // a nested object's surface as this connection sees it
   for (int crossing = 0;; ++crossing) {
     ++rays;
     // Stop just short of the target, so its own surface never blocks it.
@@ -45,9 +47,10 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
       out.tr *= travel(v, medium, Ray{start, wi}, length_m, w);
     if (out.tr.is_zero()) return std::nullopt;
     if (!hit) return out;
-    const Surface& surface = s.surfaces[hit->geometry];
+    const Surface& surface = surface_seen(s, *hit, inside, scratch);
     if (!surface.index_matched || crossing == kMaxCrossings) return std::nullopt;  // then it counts as blocked
     medium = dot(wi, hit->normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+    inside = inside_towards(s, *hit, inside, wi);
     remaining = std::max(0.0, remaining - length_m);
     start = hit->point;
     origin = offset_ray_origin(*hit, wi);
@@ -130,21 +133,22 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
     return eval(e.bsdf, wo_local, wi_local, TransportMode::radiance);
   };
   return direct_light_at(
-      v, PathVertex{hit.point, &hit}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
+      v, PathVertex{hit.point, &hit, e.inside}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
       path_r_u, rng, rays, mis, environment);
 }
 
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                           const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          InsideSet inside) {
   // Light arriving along −wi continues along `direction` after the event.
   auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
     phase_pdf = phase_value(phase, -wi, -direction);
     return SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
   };
   return direct_light_at(
-      v, PathVertex{x, nullptr}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays, true,
+      v, PathVertex{x, nullptr, inside}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays, true,
       true);
 }
 
@@ -193,17 +197,18 @@ void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const Surfac
   if (!c) return;
   const SampledSpectrum<N> f =
       eval(e.bsdf, e.frame.to_local(wo), e.frame.to_local(c->wi), TransportMode::importance);
-  splat_towards(v, PathVertex{hit.point, &hit}, *c, e.medium_towards(c->wi), beta * f, w, path_r_u, rng, film, rays);
+  splat_towards(v, PathVertex{hit.point, &hit, e.inside}, *c, e.medium_towards(c->wi), beta * f, w, path_r_u, rng, film, rays);
 }
 
 template <std::size_t N>
 void splat_medium_to_camera(const SceneView<N>& v, const Vec3& x, const Vec3& direction, const PhaseFunction& phase,
                             int medium, const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
-                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
+                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays,
+                            InsideSet inside) {
   const auto c = v.camera.connect(x);
   if (!c) return;
   const auto p = static_cast<float>(phase_value(phase, direction, c->wi));
-  splat_towards(v, PathVertex{x, nullptr}, *c, medium, beta * p, w, path_r_u, rng, film, rays);
+  splat_towards(v, PathVertex{x, nullptr, inside}, *c, medium, beta * p, w, path_r_u, rng, film, rays);
 }
 
 template <std::size_t N>
@@ -226,7 +231,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                            std::uint64_t&, bool, bool);                                               \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&,                   \
                                                      const PhaseFunction&, int, const SampledWavelengths<N>&,         \
-                                                     const SampledSpectrum<N>&, Rng&, std::uint64_t&);                \
+                                                     const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);     \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
   template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
                                     double, Rng&);                                                                    \
@@ -235,7 +240,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                         const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&);                \
   template void splat_medium_to_camera(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int,      \
                                        const SampledSpectrum<N>&, const SampledWavelengths<N>&,                       \
-                                       const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&);                 \
+                                       const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&, InsideSet);      \
   template void splat_light_to_camera(const SceneView<N>&, const Hit&, const AreaLight&, int,                         \
                                       const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&,     \
                                       std::uint64_t&);

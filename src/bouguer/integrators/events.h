@@ -66,6 +66,7 @@ struct SurfaceEvent {
   Frame frame;
   Bsdf<N> bsdf;
   int medium_front = -1, medium_behind = -1;
+  InsideSet inside = 0;  // the nested objects the path was inside as it arrived (scene/nested.h)
   // The medium a direction leaving the surface travels in.
   int medium_towards(const Vec3& wi) const { return dot(wi, frame.n) > 0.0 ? medium_front : medium_behind; }
 };
@@ -80,6 +81,7 @@ SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surfa
 struct PathVertex {
   Vec3 point;
   const Hit* hit = nullptr;  // null: a point inside a medium
+  InsideSet inside = 0;      // the nested objects the path was inside there (at a surface: as it arrived)
   Vec3 origin_towards(const Vec3& d) const { return hit ? offset_ray_origin(*hit, d) : point; }
 };
 
@@ -96,7 +98,8 @@ struct Transmission {
 // the environment), starting in `medium`: nullopt when a surface blocks it. It crosses
 // index-matched interfaces (Surface::index_matched: medium boundaries that neither reflect nor
 // refract) into the medium beyond and stops at any other surface, glass included; so a medium
-// inside glass or behind a water surface gets no direct light (docs/rendering.md).
+// inside glass or behind a water surface gets no direct light (docs/rendering.md). Surfaces of
+// nested objects are seen as the path would see them (surface_seen), from the set `from.inside`.
 // With `sigma_mean` (σ̄_s by medium), it also sums the segment's mean scattering optical depth for
 // the MIS weights of the bidirectional estimators (Tungsten's generalised shadow ray with pdfs).
 template <std::size_t N>
@@ -120,7 +123,8 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                           const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays);
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          InsideSet inside = 0);
 
 // The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
 // where the ratios are not read); with `connection`, of the path's ratios times a connection's.
@@ -184,7 +188,8 @@ void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const Surfac
 template <std::size_t N>
 void splat_medium_to_camera(const SceneView<N>& v, const Vec3& x, const Vec3& direction, const PhaseFunction& phase,
                             int medium, const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
-                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays);
+                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays,
+                            InsideSet inside = 0);
 
 // A light path's first vertex on an area light (the lamp seen directly): `beta` is the emitted
 // radiance over the densities of choosing the light and the point; medium is the one in front.
@@ -207,6 +212,27 @@ bool survives_roulette(const RenderScene& scene, int depth, int medium, SampledS
   if (rng.next_double() >= survive) return false;
   beta /= survive;
   return true;
+}
+
+// The surface a path inside the nested objects `inside` meets at `hit`: the scene's, or for a
+// surface of a nested object a copy in `scratch` with the media on its two sides that the set
+// gives (scene/nested.h), index-matched where they match (a false intersection: the same medium on
+// both sides), so that it is crossed without a vertex, shadow rays included.
+inline const Surface& surface_seen(const RenderScene& scene, const Hit& hit, InsideSet inside, Surface& scratch) {
+  const Surface& s = scene.surfaces[hit.geometry];
+  if (s.nested < 0) return s;
+  const NestedSides sides = nested_sides(scene.nested, s.nested, inside);
+  scratch = s;
+  scratch.medium_front = sides.front;
+  scratch.medium_behind = sides.behind;
+  scratch.index_matched = indices_match(scene, sides.front, sides.behind);
+  return scratch;
+}
+
+// The set of a path that leaves the surface at `hit` along d: changed only at a nested object's.
+inline InsideSet inside_towards(const RenderScene& scene, const Hit& hit, InsideSet inside, const Vec3& d) {
+  const int k = scene.surfaces[hit.geometry].nested;
+  return k < 0 ? inside : inside_after(inside, k, dot(d, hit.normal));
 }
 
 // The medium a ray that hits `surface` has travelled through: crossing an interface, the one on

@@ -66,7 +66,7 @@ struct Radiance {
     if (x.kind == VertexKind::medium) {
       if (++scatterings > kMaxScatterings) return false;
       const PhaseFunction& phase = scattering_medium(scene, x.medium)->phase;
-      l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, state.mis.r_u, rng, rays);
+      l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, state.mis.r_u, rng, rays, x.inside);
     } else {
       if (++surfaces > v.max_depth) return false;
       if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true);

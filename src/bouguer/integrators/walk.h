@@ -31,6 +31,7 @@ struct Vertex {
   Hit hit;      // surfaces and area lights: where rays leave from
   SurfaceEvent<N> event{Frame(Vec3{0.0, 0.0, 1.0}), DiffuseReflection<N>{}};
   int medium = -1;            // medium vertices: the medium they sit in
+  InsideSet inside = 0;       // the nested objects the subpath was inside there (surfaces: as it arrived)
   double sigma_rho = 0.0;     // medium vertices: σ̄_s·ρ(x), the density of stopping here
   Vec3 wo;                    // unit, towards the previous vertex of the subpath (zero at its start)
   double tau_in = 0.0;        // σ̄_s·∫ρ over the segment from the previous vertex
@@ -74,6 +75,7 @@ struct WalkState {
   Ray ray;
   Vec3 start;
   int medium = -1;
+  InsideSet inside = 0;  // the nested objects the ray is inside (scene/nested.h)
   SampledSpectrum<N> beta = SampledSpectrum<N>::constant(1.0f);
   SpectralMis<N> mis;
   Vec3 from;  // the last vertex
@@ -138,6 +140,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     x.beta = state.beta;
     x.r_u = state.mis.r_u;
     x.dispersed = state.dispersed;
+    x.inside = state.inside;
     return x;
   };
   auto record = [&](Vertex<N>& x) {
@@ -150,6 +153,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     tau = 0.0;
     ++events;
   };
+  Surface scratch;  // a nested object's surface as this path sees it (kept: its name's storage is reused)
   for (;;) {
     ++rays;
     const auto hit = scene.rays.intersect(state.ray);
@@ -166,7 +170,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       }
       return;
     }
-    const Surface& surface = scene.surfaces[hit->geometry];
+    const Surface& surface = surface_seen(scene, *hit, state.inside, scratch);
     state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
     const Vec3 d = state.ray.direction;
     if (const auto x = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis)) {
@@ -199,6 +203,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       return;
     }
     if (surface.index_matched) {
+      state.inside = inside_towards(scene, *hit, state.inside, d);
       if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
       continue;
     }
@@ -211,12 +216,14 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     vx.normal = hit->normal;
     vx.hit = *hit;
     vx.event = surface_event(v, *hit, surface, wo, state.medium, state.dispersed ? *state.kept : w);
+    vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
                                         mean_ratio(scene, state.mis.r_u));
     if (!bsdf_pdf) return;
+    state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
       visit.reverse(vx.delta ? 0.0 : pdf(e.bsdf, e.frame.to_local(state.ray.direction), e.frame.to_local(wo)));
     state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;

@@ -25,8 +25,10 @@ class WhittedTracer {
   WhittedTracer(const SceneView<N>& v, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
       : v_(v), w_(w), rng_(rng), rays_(rays) {}
 
-  // Radiance along `ray`, which left the surface point `from` (the camera: its origin) in `medium`.
-  SampledSpectrum<N> radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight);
+  // Radiance along `ray`, which left the surface point `from` (the camera: its origin) in `medium`,
+  // inside the nested objects `inside`.
+  SampledSpectrum<N> radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight,
+                              InsideSet inside = 0);
 
  private:
   const SceneView<N>& v_;
@@ -36,13 +38,15 @@ class WhittedTracer {
 };
 
 template <std::size_t N>
-SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight) {
+SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight,
+                                              InsideSet inside) {
   const SceneView<N>& v = v_;
   const SampledWavelengths<N>& w = w_;
   ++rays_;
   const auto hit = v.scene.rays.intersect(ray);
   if (!hit) return escaped(v, medium, ray.direction, w);
-  const Surface& surface = v.scene.surfaces[hit->geometry];
+  Surface scratch;
+  const Surface& surface = surface_seen(v.scene, *hit, inside, scratch);
   medium = medium_arrived_through(surface, ray, *hit, medium);
   const SampledSpectrum<N> tr = travel_to(v, medium, from, ray.direction, hit->point, w);
   const Vec3 wo = -ray.direction;
@@ -59,7 +63,8 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     SampledSpectrum<N> l;
     if (w_reflected >= kMinPathWeight) {
       const Vec3 r = d.reflected();
-      l = f * radiance(hit->point, {offset_ray_origin(*hit, d.from_front), r}, medium, depth + 1, w_reflected);
+      l = f * radiance(hit->point, {offset_ray_origin(*hit, d.from_front), r}, medium, depth + 1, w_reflected,
+                       inside_towards(v.scene, *hit, inside, r));
     }
     if (f < 1.0f && w_refracted >= kMinPathWeight)
       if (const auto t = d.refracted()) {
@@ -68,11 +73,13 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
         // leaves it out: it judges what the branch adds once back in the camera's medium.
         const auto eta2 = static_cast<float>((d.eta_o * d.eta_o) / (d.eta_t * d.eta_t));
         l += (1.0f - f) * eta2 *
-             radiance(hit->point, {offset_ray_origin(*hit, !d.from_front), *t}, other, depth + 1, w_refracted);
+             radiance(hit->point, {offset_ray_origin(*hit, !d.from_front), *t}, other, depth + 1, w_refracted,
+                      inside_towards(v.scene, *hit, inside, *t));
       }
     return tr * l;
   }
-  const SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
+  SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
+  e.inside = inside;
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, false, false);
   if (depth >= v.max_depth) return {};
   // A smooth conductor: a mirror with its spectral Fresnel reflectance.
@@ -81,7 +88,8 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   const Vec3 r = e.frame.to_world(s->wi);
   const float w_reflected = weight * (tr * s->weight).max_value();
   if (w_reflected < kMinPathWeight) return {};
-  return tr * s->weight * radiance(hit->point, {offset_ray_origin(*hit, r), r}, e.medium_towards(r), depth + 1, w_reflected);
+  return tr * s->weight * radiance(hit->point, {offset_ray_origin(*hit, r), r}, e.medium_towards(r), depth + 1, w_reflected,
+                                     inside);
 }
 
 }  // namespace

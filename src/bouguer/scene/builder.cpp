@@ -11,6 +11,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/core/limits.h"
+#include "bouguer/scene/nested.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/scene/render_modes.h"
 
@@ -193,6 +194,13 @@ SceneBuilder& SceneBuilder::object(ObjectDesc o, const Source& where) {
   if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
     where.fail("a filled vessel needs 'contents' (the liquid's medium)");
   if (!vessel && o.contents) (where / "contents").fail("only a vessel has contents");
+  if (o.priority) {
+    if (!o.inside) (where / "priority").fail("belongs to interfaces ('inside')");
+    if (o.contents) (where / "priority").fail("a vessel with contents cannot take a priority: model the liquid as an object of its own");
+    if (o.roughness != 0.0) (where / "priority").fail("only smooth interfaces take a priority (roughness 0)");
+    if (*o.priority < 0 || *o.priority > kMaxPriority)
+      (where / "priority").fail("must be between 0 and {} (got {})", kMaxPriority, *o.priority);
+  }
   if (o.emission)
     if (const auto problem = beyond_limit(o.emission->radiance, kMaxEmission, "the emitted radiance"))
       (where / "emission").fail("{}", *problem);

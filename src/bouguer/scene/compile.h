@@ -17,6 +17,7 @@
 #include "bouguer/media/medium.h"
 #include "bouguer/scene/spectral_tables.h"
 #include "bouguer/scene/description.h"
+#include "bouguer/scene/nested.h"
 
 namespace bouguer {
 
@@ -33,6 +34,9 @@ struct Surface {
   // A smooth interface between two media of the same index: it neither reflects nor refracts, so
   // light crosses it unchanged and shadow rays pass through it (a medium boundary only).
   bool index_matched = false;
+  // A surface of an object with a priority: its index k in RenderScene::nested. Its media are
+  // then the path's (scene/nested.h), medium_front and medium_behind the ones it has alone.
+  int nested = -1;
   std::string object;      // for messages
 };
 
@@ -56,6 +60,7 @@ struct RenderScene {
   int world_medium = 0;
   bool dispersive = false;  // whether any medium's index varies with wavelength
   bool scatters = false;    // whether any medium scatters (the estimators then track it)
+  std::vector<NestedObject> nested;  // the objects with a priority, by priority (scene/nested.h)
   std::vector<SurfaceMaterial> materials;
   std::shared_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
   std::vector<Light> lights;
@@ -78,5 +83,9 @@ struct RenderScene {
 // and the environment map or background, and the light distributions by power. Reads no file
 // but the mesh files that shapes name; the environment map comes read in `desc`.
 RenderScene compile(const SceneDesc& desc);
+
+// Whether an interface between media a and b neither reflects nor refracts: the same medium, or
+// two of the same index at every wavelength.
+bool indices_match(const RenderScene& s, int a, int b);
 
 }  // namespace bouguer

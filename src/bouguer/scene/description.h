@@ -106,6 +106,9 @@ struct ObjectDesc {
   std::optional<EmissionDesc> emission;
   std::optional<MaterialDesc> material;
   double roughness = 0.0;  // interfaces: GGX alpha of the dielectric boundary (0: smooth)
+  // Interfaces: where objects with priorities overlap, the higher one's medium fills the overlap
+  // (scene/nested.h). None: the object's surfaces keep the media of its two sides, as always.
+  std::optional<int> priority;
 };
 
 // Lights without area (they cannot be hit, only sampled). Spectra use the normalisation of

@@ -669,6 +669,7 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     o.inside = ov.inside;
     o.outside = ov.outside;
     o.roughness = ov.roughness;
+    o.priority = ov.priority;
     o.material = ov.material;
     o.emission = ov.emission;
     b.object(std::move(o), wo);

@@ -17,6 +17,7 @@
 #include "bouguer/io/vdb.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/scene/builder.h"
+#include "bouguer/scene/nested.h"
 #include "bouguer/scene/values.h"
 
 namespace bouguer {
@@ -654,7 +655,8 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
 
 ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   expect_keys(j, w,
-              {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material", "roughness"});
+              {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material", "roughness",
+               "priority"});
   ObjectDesc o;
   o.name = j.contains("name") ? text(j["name"], w / "name") : fmt::format("object {}", index);
   if (!j.contains("shape")) w.fail("needs 'shape'");
@@ -666,6 +668,7 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   if (j.contains("emission")) o.emission = emission(j["emission"], w / "emission", true);
   if (j.contains("material")) o.material = material(j["material"], w / "material");
   if (j.contains("roughness")) o.roughness = number(j["roughness"], w / "roughness");
+  if (j.contains("priority")) o.priority = integer(j["priority"], w / "priority", 0, kMaxPriority);
   return o;  // its roles and media are checked by the builder
 }
 
@@ -681,13 +684,14 @@ GltfObjectInput gltf_object(const json& j, const Where& w) {
     if (!j["materials"].is_object()) wm.fail("expected an object of glTF material names");
     for (const auto& [name, m] : j["materials"].items()) {
       const Where wn = wm / name;
-      expect_keys(m, wn, {"inside", "outside", "material", "emission", "roughness"});
+      expect_keys(m, wn, {"inside", "outside", "material", "emission", "roughness", "priority"});
       GltfMaterialOverride ov;
       if (m.contains("inside")) ov.inside = text(m["inside"], wn / "inside");
       if (m.contains("outside")) ov.outside = text(m["outside"], wn / "outside");
       if (m.contains("material")) ov.material = material(m["material"], wn / "material");
       if (m.contains("emission")) ov.emission = emission(m["emission"], wn / "emission", true);
       if (m.contains("roughness")) ov.roughness = number(m["roughness"], wn / "roughness");
+      if (m.contains("priority")) ov.priority = integer(m["priority"], wn / "priority", 0, kMaxPriority);
       in.materials[name] = ov;
     }
   }
