@@ -135,9 +135,10 @@ void add_delta_light(RenderScene& s, const DeltaLightDesc& l) {
 
 SceneBounds bounds_of(const RenderScene& s) {
   Vec3 lo{1e300, 1e300, 1e300}, hi = -lo;
-  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g)
-    for (const Vec3& p : s.rays.mesh(g).positions)
-      for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
+    const auto [glo, ghi] = s.rays.bounds(g);
+    for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], glo[i]), hi[i] = std::max(hi[i], ghi[i]);
+  }
   if (s.surfaces.empty()) return {};
   const Vec3 centre = (lo + hi) * 0.5;
   return {centre, std::max(length(hi - centre), 1e-3)};
@@ -235,9 +236,9 @@ std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, st
   return parts;
 }
 
-// What the object's surfaces are (an interface, which must be closed; an emitter; an opaque
-// material), the same for all its parts but their media.
-Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>& parts, const SceneDesc& desc) {
+// What the object's surfaces are (an interface, which must be a closed shape; an emitter; an
+// opaque material), the same for all its parts but their media.
+Surface object_surface(RenderScene& s, const ObjectDesc& o, const SceneDesc& desc) {
   Surface base;
   base.object = o.name;
   base.roughness = o.roughness;
@@ -246,7 +247,6 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<Sh
       fail("{}: object '{}': a flat shape cannot bound medium '{}'; use it as an emitter or a material, or use a "
            "closed shape",
            desc.file.string(), o.name, *o.inside);
-    check_closed(parts, o, desc);
   } else if (o.emission) {
     base.kind = SurfaceKind::emitter;
   } else {
@@ -301,13 +301,46 @@ void add_parts(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>
   }
 }
 
+// A sphere, cylinder or disk that is not an emitter stays exact: emitters are sampled by
+// triangle (lights/light.h), so they are always tessellated.
+std::optional<AnalyticShape> analytic_shape(const ObjectDesc& o, const SceneDesc& desc) {
+  if (o.emission) return std::nullopt;
+  const auto surface = analytic_surface(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
+  if (!surface) return std::nullopt;
+  if (!(std::abs(o.transform.determinant()) > 0.0))
+    fail("{}: object '{}': its transform is singular", desc.file.string(), o.name);
+  return AnalyticShape{*surface, o.transform};
+}
+
+// An analytic shape is one part, closed by construction (a sphere or a capped cylinder) or flat
+// (a disk, refused as a medium's boundary by object_surface): nothing to weld or check.
+void add_analytic(RenderScene& s, const ObjectDesc& o, const AnalyticShape& shape, const Surface& base,
+                  const SceneDesc& desc, AlbedoIndex& albedo_index) {
+  Surface surface = base;
+  surface.medium_behind = o.inside ? medium_index(s, *o.inside) : -1;
+  surface.medium_front = medium_index(s, o.outside.value_or(desc.world_medium));
+  set_interface_optics(s, surface, albedo_index);
+  const std::uint32_t id = s.rays.add(shape);
+  if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
+  const auto [lo, hi] = s.rays.bounds(id);
+  Mesh corners;
+  corners.positions = {lo, hi};
+  check_world_positions(corners, desc, o);
+  s.surfaces.push_back(surface);
+}
+
 void add_geometry(RenderScene& s, const SceneDesc& desc) {
   AlbedoIndex albedo_index;
   std::uint64_t triangles = 0;
   const std::uint64_t available = memory_available_bytes();
   for (const ObjectDesc& o : objects_with_spot_disks(desc)) {
+    if (const auto shape = analytic_shape(o, desc)) {
+      add_analytic(s, o, *shape, object_surface(s, o, desc), desc, albedo_index);
+      continue;
+    }
     const std::vector<ShapePart> parts = tessellate(o, desc, triangles, available);
-    const Surface base = object_surface(s, o, parts, desc);
+    const Surface base = object_surface(s, o, desc);
+    if (o.inside) check_closed(parts, o, desc);
     add_parts(s, o, parts, base, desc, albedo_index);
   }
   s.rays.commit();
