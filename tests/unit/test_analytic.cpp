@@ -99,6 +99,13 @@ TEST(AnalyticSurface, TransformedSphereInRayScene) {
     EXPECT_NEAR(length(h->normal - normalize(gradient)), 0.0, 1e-12);
     EXPECT_EQ(h->shading_normal, h->normal);
   }
+  // A mirroring transform keeps the normal outward (the inverse transpose needs no flip).
+  RayScene mirrored;
+  mirrored.add(AnalyticShape{SphereSurface{1.0}, Transform::scale({-1.0, 1.0, 1.0})});
+  mirrored.commit();
+  const auto m = mirrored.intersect({Vec3{0.3, 0.2, 5}, Vec3{0, 0, -1}});
+  ASSERT_TRUE(m);
+  EXPECT_GT(dot(m->normal, m->point), 0.99);
   const auto [lo, hi] = scene.bounds(id);
   EXPECT_LE(lo.z, 3.0 - 0.5);
   EXPECT_GE(hi.z, 3.0 + 0.5);
