@@ -4,7 +4,7 @@
 # Benchmarks report; they never fail on a time.
 # BENCH_BASELINE=path/to/an/older/bouguer adds its time for each row, rendered alternately with the
 # current build's on the same machine, and the change (for "no scene slower by more than 5 %").
-# BENCH_SECTIONS picks some of "micro scenes showcase" (default all).
+# BENCH_SECTIONS picks some of "micro scenes showcase mesh" (default all).
 # BENCH_RUNS=N renders each row N times and keeps the fastest (default 3 with a baseline, else 1).
 set -euo pipefail
 build=${1:-build}
@@ -23,7 +23,7 @@ replace_section() {
     !skip { print }' "$doc" > "$doc.tmp" && mv "$doc.tmp" "$doc"
 }
 
-sections=${BENCH_SECTIONS:-micro scenes showcase}
+sections=${BENCH_SECTIONS:-micro scenes showcase mesh}
 wants() { [[ " $sections " == *" $1 "* ]]; }
 
 if wants micro; then
@@ -117,5 +117,13 @@ render_stats() {
 if wants scenes; then bench_table "scenes/paper/*.json" 512x512 16 "full rgb3" | replace_section scenes; fi
 if wants showcase; then
   bench_table "scenes/showcase/*.json" 480x360 64 "full hero" --integrator path | replace_section showcase
+fi
+if wants mesh; then
+  {
+    echo "Measured on $today, $machine, Release build, on a machine shared with other work;"
+    echo "\`$build/bench/bouguer_bench_mesh\` (bench/bench_mesh_setup.cpp), the fastest of BENCH_RUNS (${BENCH_RUNS:-3})."
+    echo
+    BENCH_RUNS=${BENCH_RUNS:-3} "$build/bench/bouguer_bench_mesh"
+  } | replace_section mesh
 fi
 echo "bench: figures written to $doc"

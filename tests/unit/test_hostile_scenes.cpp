@@ -301,10 +301,11 @@ TEST(HostileScene, ARenderTooLargeForMemoryIsRefusedBeforeItAllocates) {
   EXPECT_TRUE(has(outcome, "error: s.json: a 16384x16384 image needs about 20.0 GiB of memory; ")) << outcome;
   EXPECT_TRUE(has(outcome, " is available")) << outcome;
 
-  // 20 000 spheres in a 2 MB scene: 184 million triangles, refused before most are made.
+  // 20 000 tessellated spheres in a 2 MB scene: 184 million triangles, refused before most are
+  // made (analytic spheres, the default, keep no triangles).
   std::string many = R"({"media": {"g": {"ior": 1.5}}, "objects": [)";
   for (int i = 0; i < 20000; ++i)
-    many += fmt::format(R"({}{{"shape": {{"type": "sphere", "radius": "1 mm"}}, "inside": "g", "transform": [{{"translate": [{}, 0, 0]}}]}})",
+    many += fmt::format(R"({}{{"shape": {{"type": "sphere", "radius": "1 mm", "tessellate": true}}, "inside": "g", "transform": [{{"translate": [{}, 0, 0]}}]}})",
                         i ? "," : "", 0.003 * i);
   many += "]}";
   const std::string spheres = test::run_with_memory_budget([&] { (void)compile(parse_scene(many, "s.json")); },

@@ -92,6 +92,31 @@ TEST(Shapes, ClosednessCheckFindsOpenFlippedAndInwardMeshes) {
   std::swap(one_flipped.triangles[0][1], one_flipped.triangles[0][2]);
   EXPECT_NE(closed_surface_problem(one_flipped), std::nullopt);
   EXPECT_NE(closed_surface_problem(flipped(box))->find("inward"), std::string::npos);
+  // The counts: a box less one triangle has 3 boundary edges; one reversed triangle makes 3 edges
+  // used twice in the same direction.
+  EXPECT_EQ(*closed_surface_problem(open), "the surface is open (3 boundary edges); an interface must be closed");
+  EXPECT_EQ(*closed_surface_problem(one_flipped),
+            "3 edges are shared by faces of opposite orientation or by more than two faces");
+}
+
+// The welder's grid cells are wider than the tolerance: vertices within the tolerance merge also
+// across a cell's faces, edges and corners (here at x, y, z = 0, where cells meet), and vertices
+// farther apart stay apart.
+TEST(Shapes, WelderMergesAcrossCellBoundariesOnlyWithinTheTolerance) {
+  const double tol = 1e-3, e = 0.4 * tol;
+  Mesh m;
+  m.positions = {{-e, 5 * tol, 5 * tol}, {e, 5 * tol, 5 * tol},   // across x = 0: 0.8 tol apart
+                 {5 * tol, -e, 5 * tol}, {5 * tol, e, 5 * tol},   // across y = 0
+                 {-e, -e, -e},           {e, e, e},               // across a corner: 1.39 tol apart
+                 {-e / 2, -e / 2, -e / 2},                         // 0.35 tol from the corner one
+                 {9 * tol, 9 * tol, 9 * tol}, {9 * tol + 1.1 * tol, 9 * tol, 9 * tol}};  // 1.1 tol apart
+  for (std::uint32_t i = 0; i + 2 < m.positions.size(); ++i) m.triangles.push_back({i, i + 1, i + 2});
+  const Mesh w = welded(m, tol);
+  // Merged: 1 into 0, 3 into 2, 6 into 4; 5 is 1.39 tol from 4, so it stays.
+  EXPECT_EQ(w.positions.size(), 6u);
+  EXPECT_EQ(w.positions[0], m.positions[0]);
+  EXPECT_EQ(w.positions[1], m.positions[2]);
+  EXPECT_EQ(w.positions[2], m.positions[4]);
 }
 
 TEST(Shapes, ObjAndPlyMeshesLoad) {

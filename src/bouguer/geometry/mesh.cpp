@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <unordered_map>
+#include <cassert>
+#include <cstdint>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -29,43 +30,97 @@ Mesh flipped(Mesh m) {
   return m;
 }
 
-Mesh welded(const Mesh& m, double tolerance_m) {
-  // Grid hashing: a vertex merges with an earlier one in its own or a neighbouring cell.
+namespace {
+
+// Open-addressing hash map from a grid cell to the chain of representatives in it (head and tail,
+// so a chain keeps insertion order): one flat array, no allocation per cell.
+class CellTable {
+ public:
   struct Key {
-    long long x, y, z;
-    bool operator<(const Key& o) const { return std::tie(x, y, z) < std::tie(o.x, o.y, o.z); }
+    long long x = 0, y = 0, z = 0;
+    bool operator==(const Key&) const = default;
   };
-  // Cells beyond ±2^62 (a coordinate far larger than the tolerance) all share the outermost cell;
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+
+  explicit CellTable(std::size_t expected) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * expected) capacity *= 2;
+    slots_.resize(capacity);
+  }
+  // The cell's first representative, or kNone.
+  std::uint32_t head(const Key& k) const {
+    const Slot& s = slots_[find(k)];
+    return s.used ? s.head : kNone;
+  }
+  // Appends representative r to the cell's chain; next[] links a chain.
+  void append(const Key& k, std::uint32_t r, std::vector<std::uint32_t>& next) {
+    Slot& s = slots_[find(k)];
+    if (!s.used) s = {k, r, r, true};
+    else next[s.tail] = r, s.tail = r;
+  }
+
+ private:
+  struct Slot {
+    Key key;
+    std::uint32_t head = kNone, tail = kNone;
+    bool used = false;
+  };
+  std::size_t find(const Key& k) const {
+    const std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9e3779b97f4a7c15ull ^
+                            static_cast<std::uint64_t>(k.y) * 0xc2b2ae3d27d4eb4full ^
+                            static_cast<std::uint64_t>(k.z) * 0x165667b19e3779f9ull;
+    std::size_t i = static_cast<std::size_t>(h ^ (h >> 29)) & (slots_.size() - 1);
+    while (slots_[i].used && !(slots_[i].key == k)) i = (i + 1) & (slots_.size() - 1);
+    return i;
+  }
+  std::vector<Slot> slots_;
+};
+
+}  // namespace
+
+Mesh welded(const Mesh& m, double tolerance_m) {
+  // Grid hashing with cells kCell tolerances wide: a vertex merges with the first earlier
+  // representative within the tolerance in its own cell, or in a neighbouring one when it lies
+  // within the tolerance of their common face (rarely: so most vertices look in one cell).
+  constexpr double kCell = 16.0;
+  // Cells beyond ±2^58 (a coordinate far larger than the tolerance) all share the outermost cell;
   // llround of such a value, or of NaN, would be undefined.
-  auto index = [&](double v) {
+  auto scaled = [&](double v) {
     const double q = v / tolerance_m;
-    return !std::isnan(q) ? std::llround(std::clamp(q, -0x1p62, 0x1p62)) : 0LL;
+    return !std::isnan(q) ? std::clamp(q, -0x1p62, 0x1p62) : 0.0;
   };
-  auto cell = [&](const Vec3& p) { return Key{index(p.x), index(p.y), index(p.z)}; };
-  std::map<Key, std::vector<std::uint32_t>> grid;
+  CellTable grid(m.positions.size());
+  std::vector<std::uint32_t> next;
   Mesh out;
   std::vector<std::uint32_t> remap(m.positions.size());
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
     const Vec3& p = m.positions[i];
-    const Key k = cell(p);
-    std::optional<std::uint32_t> found;
-    for (long long dx = -1; dx <= 1 && !found; ++dx)
-      for (long long dy = -1; dy <= 1 && !found; ++dy)
-        for (long long dz = -1; dz <= 1 && !found; ++dz) {
-          const auto it = grid.find({k.x + dx, k.y + dy, k.z + dz});
-          if (it == grid.end()) continue;
-          for (const std::uint32_t j : it->second)
+    std::array<double, 3> q{};
+    std::array<long long, 3> cell{};
+    std::array<int, 3> lo{}, hi{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      q[a] = scaled(p[a]);
+      cell[a] = static_cast<long long>(std::floor(q[a] / kCell));
+      const double within = q[a] - static_cast<double>(cell[a]) * kCell;  // in [0, kCell)
+      lo[a] = within <= 1.0 + 1e-9 ? -1 : 0;
+      hi[a] = within >= kCell - 1.0 - 1e-9 ? 1 : 0;
+    }
+    std::uint32_t found = CellTable::kNone;
+    for (int dx = lo[0]; dx <= hi[0] && found == CellTable::kNone; ++dx)
+      for (int dy = lo[1]; dy <= hi[1] && found == CellTable::kNone; ++dy)
+        for (int dz = lo[2]; dz <= hi[2] && found == CellTable::kNone; ++dz)
+          for (std::uint32_t j = grid.head({cell[0] + dx, cell[1] + dy, cell[2] + dz}); j != CellTable::kNone; j = next[j])
             if (length(out.positions[j] - p) <= tolerance_m) {
               found = j;
               break;
             }
-        }
-    if (!found) {
+    if (found == CellTable::kNone) {
       found = static_cast<std::uint32_t>(out.positions.size());
       out.positions.push_back(p);
-      grid[k].push_back(*found);
+      next.push_back(CellTable::kNone);
+      grid.append({cell[0], cell[1], cell[2]}, found, next);
     }
-    remap[i] = *found;
+    remap[i] = found;
   }
   for (const auto& t : m.triangles) {
     const std::array<std::uint32_t, 3> r = {remap[t[0]], remap[t[1]], remap[t[2]]};
@@ -83,15 +138,27 @@ double signed_volume(const Mesh& m) {
 
 std::optional<std::string> closed_surface_problem(const Mesh& m) {
   if (m.triangles.empty()) return "it has no triangles";
-  std::unordered_map<std::uint64_t, int> directed;
-  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+  // Every directed edge as its undirected key and its direction in the lowest bit, sorted: each
+  // undirected edge's uses then lie together, and a closed, consistently wound surface uses each
+  // one once in each direction. Vertex indices fit 31 bits: a scene holds at most 2^28 triangles.
+  assert(m.positions.size() < (std::size_t{1} << 31));
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * m.triangles.size());
   for (const auto& t : m.triangles)
-    for (int e = 0; e < 3; ++e) ++directed[key(t[e], t[(e + 1) % 3])];
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[e], b = t[(e + 1) % 3];
+      edges.push_back((std::uint64_t{std::min(a, b)} << 32) | (std::uint64_t{std::max(a, b)} << 1) | (a < b ? 1u : 0u));
+    }
+  std::sort(edges.begin(), edges.end());
   std::size_t open = 0, flipped_edges = 0;
-  for (const auto& [k, count] : directed) {
-    const auto a = static_cast<std::uint32_t>(k >> 32), b = static_cast<std::uint32_t>(k & 0xffffffffu);
-    if (count > 1) ++flipped_edges;
-    else if (!directed.contains(key(b, a))) ++open;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t count[2] = {0, 0};
+    const std::uint64_t edge = edges[i] >> 1;
+    for (; i < edges.size() && edges[i] >> 1 == edge; ++i) ++count[edges[i] & 1u];
+    for (int d = 0; d < 2; ++d) {
+      if (count[d] > 1) ++flipped_edges;                    // a directed edge used twice
+      else if (count[d] == 1 && count[1 - d] == 0) ++open;  // used once, never the other way
+    }
   }
   if (open > 0) return fmt::format("the surface is open ({} boundary edges); an interface must be closed", open);
   if (flipped_edges > 0)

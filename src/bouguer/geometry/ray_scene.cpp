@@ -9,11 +9,97 @@
 #include "bouguer/core/error.h"
 
 namespace bouguer {
+namespace {
+
+// An analytic geometry as Embree's user data: the shape, its frames and its world box.
+struct AnalyticRecord {
+  AnalyticShape shape;
+  Mat3 to_local;         // inverse of the linear part
+  Mat3 normal_to_world;  // its transpose: normals go by the inverse transpose
+  unsigned geometry = RTC_INVALID_GEOMETRY_ID;
+  std::array<Vec3, 2> world_bounds;
+};
+
+// Embree's context extended with the query's double-precision ray (Embree's is float) and the
+// analytic hit last accepted, which is the nearest analytic one: each accepted hit shortens tfar.
+struct QueryContext {
+  RTCIntersectContext embree;  // first, so Embree's context pointer is this struct's
+  const Ray* ray = nullptr;
+  LocalHit analytic;
+  unsigned analytic_geometry = RTC_INVALID_GEOMETRY_ID;
+};
+
+Mat3 transpose(const Mat3& a) {
+  Mat3 t;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) t.m[i][j] = a.m[j][i];
+  return t;
+}
+
+std::array<Vec3, 2> world_bounds(const AnalyticShape& shape) {
+  const auto [lo, hi] = local_bounds(shape.surface);
+  Vec3 wlo{1e300, 1e300, 1e300}, whi = -wlo;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p = shape.to_world.apply({corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z});
+    for (std::size_t i = 0; i < 3; ++i) wlo[i] = std::min(wlo[i], p[i]), whi[i] = std::max(whi[i], p[i]);
+  }
+  return {wlo, whi};
+}
+
+// The ray in the shape's local frame, unnormalised, so that t is the world ray's t.
+std::optional<LocalHit> intersect_record(const AnalyticRecord& r, const Ray& ray, double t_max) {
+  const Vec3 o = r.to_local * (ray.origin - r.shape.to_world.translation);
+  return intersect_local(r.shape.surface, o, r.to_local * ray.direction, 0.0, t_max);
+}
+
+void analytic_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* r = static_cast<const AnalyticRecord*>(args->geometryUserPtr);
+  // Rounded outwards to float, and padded a little more for Embree's own float arithmetic.
+  auto down = [](double x) { return std::nextafter(static_cast<float>(x - 1e-7 * std::abs(x)), -INFINITY); };
+  auto up = [](double x) { return std::nextafter(static_cast<float>(x + 1e-7 * std::abs(x)), INFINITY); };
+  const auto& [lo, hi] = r->world_bounds;
+  *args->bounds_o = RTCBounds{down(lo.x), down(lo.y), down(lo.z), 0.0f, up(hi.x), up(hi.y), up(hi.z), 0.0f};
+}
+
+void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
+  if (args->N != 1 || !args->valid[0]) return;  // RayScene traces single rays only
+  auto* context = reinterpret_cast<QueryContext*>(args->context);
+  const auto* r = static_cast<const AnalyticRecord*>(args->geometryUserPtr);
+  auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  // The double t_max while nothing is hit (tfar is it rounded to float), tfar after.
+  const double t_max = std::min(context->ray->t_max, static_cast<double>(rh->ray.tfar));
+  const auto h = intersect_record(*r, *context->ray, t_max);
+  if (!h) return;
+  rh->ray.tfar = static_cast<float>(h->t);
+  const Vec3 n = r->normal_to_world * h->normal;
+  rh->hit.Ng_x = static_cast<float>(n.x), rh->hit.Ng_y = static_cast<float>(n.y), rh->hit.Ng_z = static_cast<float>(n.z);
+  rh->hit.u = 0.0f, rh->hit.v = 0.0f;
+  rh->hit.primID = static_cast<unsigned>(h->part);
+  rh->hit.geomID = r->geometry;
+  rh->hit.instID[0] = args->context->instID[0];
+  context->analytic = *h;
+  context->analytic_geometry = r->geometry;
+}
+
+Hit analytic_hit(const AnalyticRecord& r, const LocalHit& local) {
+  Hit h;
+  h.t = local.t;
+  h.geometry = r.geometry;
+  h.primitive = static_cast<std::uint32_t>(local.part);
+  h.point = r.shape.to_world.apply(local.point);
+  h.normal = normalize(r.normal_to_world * local.normal);
+  h.shading_normal = h.normal;
+  h.uv = local.uv;
+  return h;
+}
+
+}  // namespace
 
 struct RayScene::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
-  std::vector<Mesh> meshes;
+  std::vector<Mesh> meshes;                                // by geometry id; empty for analytic ones
+  std::vector<std::unique_ptr<AnalyticRecord>> analytic;  // by geometry id; null for meshes (fixed addresses for Embree)
 
   Impl() {
     device = rtcNewDevice(nullptr);
@@ -48,16 +134,45 @@ std::uint32_t RayScene::add(const Mesh& mesh) {
   const unsigned id = rtcAttachGeometry(impl_->scene, g);
   rtcReleaseGeometry(g);
   impl_->meshes.push_back(mesh);
+  impl_->analytic.emplace_back();
   return id;
+}
+
+std::uint32_t RayScene::add(const AnalyticShape& shape) {
+  auto record = std::make_unique<AnalyticRecord>();
+  record->shape = shape;
+  record->to_local = inverse(shape.to_world.linear);
+  record->normal_to_world = transpose(record->to_local);
+  record->world_bounds = world_bounds(shape);
+  RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, 1);
+  rtcSetGeometryUserData(g, record.get());
+  rtcSetGeometryBoundsFunction(g, analytic_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, analytic_intersect);
+  rtcCommitGeometry(g);
+  record->geometry = rtcAttachGeometry(impl_->scene, g);
+  rtcReleaseGeometry(g);
+  impl_->meshes.emplace_back();
+  impl_->analytic.push_back(std::move(record));
+  return impl_->analytic.back()->geometry;
 }
 
 void RayScene::commit() { rtcCommitScene(impl_->scene); }
 
 const Mesh& RayScene::mesh(std::uint32_t geometry) const { return impl_->meshes[geometry]; }
 
+std::array<Vec3, 2> RayScene::bounds(std::uint32_t geometry) const {
+  if (const auto& r = impl_->analytic[geometry]) return r->world_bounds;
+  Vec3 lo{1e300, 1e300, 1e300}, hi = -lo;
+  for (const Vec3& p : impl_->meshes[geometry].positions)
+    for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  return {lo, hi};
+}
+
 std::optional<Hit> RayScene::intersect(const Ray& ray) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.ray = &ray;
   RTCRayHit rh{};
   rh.ray.org_x = static_cast<float>(ray.origin.x);
   rh.ray.org_y = static_cast<float>(ray.origin.y);
@@ -70,8 +185,9 @@ std::optional<Hit> RayScene::intersect(const Ray& ray) const {
   rh.ray.mask = 0xffffffffu;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &rh);
+  rtcIntersect1(impl_->scene, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  if (rh.hit.geomID == context.analytic_geometry) return analytic_hit(*impl_->analytic[rh.hit.geomID], context.analytic);
 
   const Mesh& m = impl_->meshes[rh.hit.geomID];
   const auto& tri = m.triangles[rh.hit.primID];

@@ -1,6 +1,7 @@
 #pragma once
-// Ray queries against all triangles of a scene (Embree 3 behind this one interface; no other
-// file includes Embree). Geometry ids are given out in the order meshes are added.
+// Ray queries against all triangles and analytic surfaces of a scene (Embree 3 behind this one
+// interface; no other file includes Embree). Geometry ids are given out in the order meshes and
+// analytic shapes are added.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "bouguer/geometry/analytic.h"
 #include "bouguer/geometry/mesh.h"
 
 namespace bouguer {
@@ -22,14 +24,19 @@ struct Ray {
 struct Hit {
   double t = 0.0;             // metres along the ray
   std::uint32_t geometry = 0;
-  std::uint32_t primitive = 0;
-  Vec3 point;                 // recomputed from the triangle's barycentrics (more exact than o + t·d)
-  Vec3 normal;                // unit geometric normal; outward for closed, consistently wound meshes
-  std::array<double, 2> barycentric{0.0, 0.0};  // (b1, b2) of the triangle's vertices 1 and 2
+  std::uint32_t primitive = 0;  // the triangle, or the analytic surface's part (AnalyticPart)
+  // Recomputed from the triangle's barycentrics, or projected onto the analytic surface (more
+  // exact than o + t·d).
+  Vec3 point;
+  // Unit geometric normal; outward for closed, consistently wound meshes and for closed analytic
+  // surfaces, where it is the exact normal of the quadric.
+  Vec3 normal;
+  std::array<double, 2> barycentric{0.0, 0.0};  // (b1, b2) of the triangle's vertices 1 and 2; 0 on analytic
   // Unit shading normal, on the side of `normal`: interpolated from the mesh's normals, or `normal`
   // where the mesh has none.
   Vec3 shading_normal;
-  // Texture coordinates: interpolated from the mesh's UVs, or the barycentrics where it has none.
+  // Texture coordinates: interpolated from the mesh's UVs, or the barycentrics where it has none;
+  // on an analytic surface those of LocalHit (geometry/analytic.h).
   std::array<double, 2> uv{0.0, 0.0};
 };
 
@@ -41,10 +48,15 @@ class RayScene {
   RayScene& operator=(RayScene&&) noexcept;
 
   std::uint32_t add(const Mesh& mesh);
+  // A surface intersected exactly, in double precision (Embree user geometry): no triangles.
+  std::uint32_t add(const AnalyticShape& shape);
   void commit();
 
   std::optional<Hit> intersect(const Ray& ray) const;
+  // The triangles of a mesh geometry (empty for an analytic one).
   const Mesh& mesh(std::uint32_t geometry) const;
+  // A world-space box (lo, hi) around a geometry.
+  std::array<Vec3, 2> bounds(std::uint32_t geometry) const;
 
  private:
   struct Impl;

@@ -489,6 +489,23 @@ std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what) {
   return std::visit(Visitor{what}, shape);
 }
 
+std::optional<AnalyticSurface> analytic_surface(const Shape& shape, const std::string& what) {
+  if (const auto* s = std::get_if<SphereShape>(&shape); s && !s->tessellate) {
+    require_positive(s->radius_m, "radius", what);
+    return SphereSurface{s->radius_m};
+  }
+  if (const auto* c = std::get_if<CylinderShape>(&shape); c && !c->tessellate) {
+    require_positive(c->radius_m, "radius", what);
+    require_positive(c->height_m, "height", what);
+    return CylinderSurface{c->radius_m, c->height_m};
+  }
+  if (const auto* d = std::get_if<DiskShape>(&shape); d && !d->tessellate) {
+    require_positive(d->radius_m, "radius", what);
+    return DiskSurface{d->radius_m};
+  }
+  return std::nullopt;
+}
+
 bool shape_is_closed(const Shape& shape) {
   return !std::holds_alternative<QuadShape>(shape) && !std::holds_alternative<DiskShape>(shape);
 }

@@ -4,19 +4,27 @@
 // docs/scene-format.md). Convex cut shapes are built as intersections of half-spaces.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "bouguer/geometry/analytic.h"
 #include "bouguer/geometry/mesh.h"
 
 namespace bouguer {
 
 struct QuadShape { double width_m = 1, height_m = 1; };                 // xy-plane, normal +z
-struct DiskShape { double radius_m = 1; int segments = 128; };          // xy-plane, normal +z
+// Spheres, cylinders and disks are analytic (exact, no facets: analytic_surface) unless
+// `tessellate`; `segments` applies to the triangles only.
+struct DiskShape { double radius_m = 1; int segments = 128; bool tessellate = false; };  // xy-plane, normal +z
 struct BoxShape { Vec3 size_m{1, 1, 1}; };                               // centred
-struct SphereShape { double radius_m = 1; int segments = 96; };         // centred
-struct CylinderShape { double radius_m = 1, height_m = 1; int segments = 128; };  // base y = 0, axis +y
+struct SphereShape { double radius_m = 1; int segments = 96; bool tessellate = false; };  // centred
+struct CylinderShape {  // base y = 0, axis +y, capped
+  double radius_m = 1, height_m = 1;
+  int segments = 128;
+  bool tessellate = false;
+};
 struct PrismShape { int sides = 6; double radius_m = 1, height_m = 1; };          // n-gon base on y = 0
 struct PyramidShape { int sides = 6; double radius_m = 1, height_m = 1; };        // n-gon base, apex on +y
 struct TruncatedCubeShape { double size_m = 1; double truncation = 0.29289321881345254; };  // centred
@@ -64,6 +72,10 @@ struct ShapePart {
 
 // A shape's parts, in its local frame. Errors name `what` (the object) and the problem.
 std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what);
+
+// The exact surface of a sphere, cylinder or disk not asked to be tessellated; nullopt for the
+// other shapes, which are triangles. Errors name `what` (a radius or height that is not positive).
+std::optional<AnalyticSurface> analytic_surface(const Shape& shape, const std::string& what);
 
 // Whether a shape can bound a medium (closed): quads and disks cannot.
 bool shape_is_closed(const Shape& shape);

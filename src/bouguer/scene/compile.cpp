@@ -136,9 +136,10 @@ void add_delta_light(RenderScene& s, const DeltaLightDesc& l) {
 
 SceneBounds bounds_of(const RenderScene& s) {
   Vec3 lo{1e300, 1e300, 1e300}, hi = -lo;
-  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g)
-    for (const Vec3& p : s.rays.mesh(g).positions)
-      for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
+    const auto [glo, ghi] = s.rays.bounds(g);
+    for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], glo[i]), hi[i] = std::max(hi[i], ghi[i]);
+  }
   if (s.surfaces.empty()) return {};
   const Vec3 centre = (lo + hi) * 0.5;
   return {centre, std::max(length(hi - centre), 1e-3)};
@@ -236,9 +237,9 @@ std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, st
   return parts;
 }
 
-// What the object's surfaces are (an interface, which must be closed; an emitter; an opaque
-// material), the same for all its parts but their media.
-Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>& parts, const SceneDesc& desc) {
+// What the object's surfaces are (an interface, which must be a closed shape; an emitter; an
+// opaque material), the same for all its parts but their media.
+Surface object_surface(RenderScene& s, const ObjectDesc& o, const SceneDesc& desc) {
   Surface base;
   base.object = o.name;
   base.roughness = o.roughness;
@@ -247,7 +248,6 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<Sh
       fail("{}: object '{}': a flat shape cannot bound medium '{}'; use it as an emitter or a material, or use a "
            "closed shape",
            desc.file.string(), o.name, *o.inside);
-    check_closed(parts, o, desc);
   } else if (o.emission) {
     base.kind = SurfaceKind::emitter;
   } else {
@@ -332,9 +332,10 @@ struct NestedRange {
 
 NestedRange nested_range(const RenderScene& s, std::uint32_t first, std::uint32_t last, const std::string& name) {
   NestedRange r{first, last, name};
-  for (std::uint32_t g = first; g < last; ++g)
-    for (const Vec3& p : s.rays.mesh(g).positions)
-      for (std::size_t i = 0; i < 3; ++i) r.lo[i] = std::min(r.lo[i], p[i]), r.hi[i] = std::max(r.hi[i], p[i]);
+  for (std::uint32_t g = first; g < last; ++g) {
+    const auto [lo, hi] = s.rays.bounds(g);
+    for (std::size_t i = 0; i < 3; ++i) r.lo[i] = std::min(r.lo[i], lo[i]), r.hi[i] = std::max(r.hi[i], hi[i]);
+  }
   return r;
 }
 
@@ -359,12 +360,19 @@ int crossings_of(const RenderScene& s, Vec3 p, const Vec3& d, std::uint32_t firs
 
 // Whether some vertex of `a` (up to kOverlapProbes of them, evenly spread) lies inside `b`: an
 // odd number of crossings of b's surface along a direction no axis-aligned face is parallel to.
+// An analytic sphere or cylinder has no vertices: its centre, a point inside it, stands for them.
 bool vertex_inside(const RenderScene& s, const NestedRange& a, const NestedRange& b) {
   constexpr std::size_t kOverlapProbes = 256;
   const Vec3 d = normalize(Vec3{0.5773, 0.6172, 0.5345});
   std::vector<Vec3> points;
-  for (std::uint32_t g = a.first; g < a.last; ++g)
-    points.insert(points.end(), s.rays.mesh(g).positions.begin(), s.rays.mesh(g).positions.end());
+  for (std::uint32_t g = a.first; g < a.last; ++g) {
+    const auto& positions = s.rays.mesh(g).positions;
+    if (positions.empty()) {
+      const auto [lo, hi] = s.rays.bounds(g);
+      points.push_back((lo + hi) * 0.5);
+    }
+    points.insert(points.end(), positions.begin(), positions.end());
+  }
   const std::size_t stride = std::max<std::size_t>(1, points.size() / kOverlapProbes);
   for (std::size_t i = 0; i < points.size(); i += stride)
     if (crossings_of(s, points[i], d, b.first, b.last) % 2 == 1) return true;
@@ -387,6 +395,34 @@ void check_priority_ties(const RenderScene& s, const std::vector<NestedRange>& r
     }
 }
 
+// A sphere, cylinder or disk that is not an emitter stays exact: emitters are sampled by
+// triangle (lights/light.h), so they are always tessellated.
+std::optional<AnalyticShape> analytic_shape(const ObjectDesc& o, const SceneDesc& desc) {
+  if (o.emission) return std::nullopt;
+  const auto surface = analytic_surface(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
+  if (!surface) return std::nullopt;
+  if (!(std::abs(o.transform.determinant()) > 0.0))
+    fail("{}: object '{}': its transform is singular", desc.file.string(), o.name);
+  return AnalyticShape{*surface, o.transform};
+}
+
+// An analytic shape is one part, closed by construction (a sphere or a capped cylinder) or flat
+// (a disk, refused as a medium's boundary by object_surface): nothing to weld or check.
+void add_analytic(RenderScene& s, const ObjectDesc& o, const AnalyticShape& shape, const Surface& base,
+                  const SceneDesc& desc, AlbedoIndex& albedo_index) {
+  Surface surface = base;
+  surface.medium_behind = o.inside ? medium_index(s, *o.inside) : -1;
+  surface.medium_front = medium_index(s, o.outside.value_or(desc.world_medium));
+  set_interface_optics(s, surface, albedo_index);
+  const std::uint32_t id = s.rays.add(shape);
+  if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
+  const auto [lo, hi] = s.rays.bounds(id);
+  Mesh corners;
+  corners.positions = {lo, hi};
+  check_world_positions(corners, desc, o);
+  s.surfaces.push_back(surface);
+}
+
 void add_geometry(RenderScene& s, const SceneDesc& desc) {
   AlbedoIndex albedo_index;
   std::uint64_t triangles = 0;
@@ -396,11 +432,16 @@ void add_geometry(RenderScene& s, const SceneDesc& desc) {
   std::vector<NestedRange> ranges(s.nested.size());
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const ObjectDesc& o = objects[i];
-    const std::vector<ShapePart> parts = tessellate(o, desc, triangles, available);
-    Surface base = object_surface(s, o, parts, desc);
-    base.nested = nested[i];
     const auto first = static_cast<std::uint32_t>(s.surfaces.size());
-    add_parts(s, o, parts, base, desc, albedo_index);
+    Surface base = object_surface(s, o, desc);
+    base.nested = nested[i];
+    if (const auto shape = analytic_shape(o, desc)) {
+      add_analytic(s, o, *shape, base, desc, albedo_index);
+    } else {
+      const std::vector<ShapePart> parts = tessellate(o, desc, triangles, available);
+      if (o.inside) check_closed(parts, o, desc);
+      add_parts(s, o, parts, base, desc, albedo_index);
+    }
     if (base.nested >= 0)
       ranges[static_cast<std::size_t>(base.nested)] =
           nested_range(s, first, static_cast<std::uint32_t>(s.surfaces.size()), o.name);

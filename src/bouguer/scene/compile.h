@@ -1,8 +1,8 @@
 #pragma once
 // compile: SceneDesc -> RenderScene, the immutable scene every estimator reads. Shapes become
-// triangles in one RayScene; every geometry id maps to a Surface that says what it is and which
-// media lie on its two sides; every spectrum becomes an id into `spectra`, which a render turns
-// into flat tables for its spectral mode (scene/spectral_tables.h). Nothing here is looked up
+// triangles or analytic surfaces in one RayScene; every geometry id maps to a Surface that says
+// what it is and which media lie on its two sides; every spectrum becomes an id into `spectra`,
+// which a render turns into flat tables for its spectral mode (scene/spectral_tables.h). Nothing here is looked up
 // by name during rendering, and nothing changes a compiled scene during a render (between renders
 // scene/update.h may rewrite spectra, the light powers or the camera): render settings are separate.
 #include <cstdint>
@@ -78,8 +78,8 @@ struct RenderScene {
 };
 
 // The steps, in order: lower the media (predefined ones included), tessellate each object
-// (spot lights with a radius as disk emitters) within the memory available, check that
-// interfaces are closed, add each part to the ray scene with its surface, add the delta lights
+// (spot lights with a radius as disk emitters) within the memory available, or keep it analytic
+// (spheres, cylinders and disks that are not emitters), check that meshed interfaces are closed, add each part to the ray scene with its surface, add the delta lights
 // and the environment map or background, and the light distributions by power. Reads no file
 // but the mesh files that shapes name; the environment map comes read in `desc`.
 RenderScene compile(const SceneDesc& desc);

@@ -483,6 +483,7 @@ Shape shape(const json& j, const Where& w) {
   };
   auto get_int = [&](const char* k, int def, int lo, int hi) { return j.contains(k) ? integer(j[k], w / k, lo, hi) : def; };
   auto get_num = [&](const char* k, double def) { return j.contains(k) ? number(j[k], w / k) : def; };
+  auto get_bool = [&](const char* k) { return j.contains(k) && boolean(j[k], w / k); };
   if (type == "quad") {
     expect_keys(j, w, {"type", "size"});
     if (!j.contains("size")) w.fail("a quad needs 'size' [width, height]");
@@ -490,8 +491,8 @@ Shape shape(const json& j, const Where& w) {
     return QuadShape{positive_length_m(j["size"][0], (w / "size")[0]), positive_length_m(j["size"][1], (w / "size")[1])};
   }
   if (type == "disk") {
-    expect_keys(j, w, {"type", "radius", "segments"});
-    return DiskShape{need_len("radius"), get_int("segments", 128, 3, 4096)};
+    expect_keys(j, w, {"type", "radius", "segments", "tessellate"});
+    return DiskShape{need_len("radius"), get_int("segments", 128, 3, 4096), get_bool("tessellate")};
   }
   if (type == "box") {
     expect_keys(j, w, {"type", "size"});
@@ -502,12 +503,13 @@ Shape shape(const json& j, const Where& w) {
     return BoxShape{s};
   }
   if (type == "sphere") {
-    expect_keys(j, w, {"type", "radius", "segments"});
-    return SphereShape{need_len("radius"), get_int("segments", 96, 3, 4096)};
+    expect_keys(j, w, {"type", "radius", "segments", "tessellate"});
+    return SphereShape{need_len("radius"), get_int("segments", 96, 3, 4096), get_bool("tessellate")};
   }
   if (type == "cylinder") {
-    expect_keys(j, w, {"type", "radius", "height", "segments"});
-    return CylinderShape{need_len("radius"), need_len("height"), get_int("segments", 128, 3, 4096)};
+    expect_keys(j, w, {"type", "radius", "height", "segments", "tessellate"});
+    return CylinderShape{need_len("radius"), need_len("height"), get_int("segments", 128, 3, 4096),
+                         get_bool("tessellate")};
   }
   if (type == "prism" || type == "pyramid") {
     expect_keys(j, w, {"type", "sides", "radius", "height"});
