@@ -183,7 +183,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       if (!record(vx)) return;
       // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
       const auto phase_pdf =
-          continue_from_medium(scene, sm, *x, events + 1, state.medium, state.beta, state.mis, state.ray, rng);
+          continue_from_medium(scene, sm, *x, events + 1, state.medium, state.beta, state.mis, state.ray, rng, mode);
       if (!phase_pdf) return;
       if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
       state.pdf_dir = *phase_pdf;

@@ -62,7 +62,7 @@ class SpectralTables {
       for (const OpticalDepthTerm& t : terms) {
         const auto l = static_cast<float>(t.length);
         const SubBinValues<N>& sigma = sub_[static_cast<std::size_t>(t.id)];
-        for (int k = 0; k < kSubBins; ++k) sum[k] += sigma[k] * l;
+        for (int k = 0; k < kSubBins; ++k) add_scaled(sum[k].v.data(), sigma[k].v.data(), l, N);
       }
       return sub_bin_transmittance(sum, 1.0f);
     }

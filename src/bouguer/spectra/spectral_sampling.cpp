@@ -18,6 +18,11 @@ __attribute__((target_clones("avx2", "default"))) void mean_transmittance(const 
   }
 }
 
+__attribute__((target_clones("avx2", "default"))) void add_scaled(float* sum, const float* values, float scale,
+                                                                     std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) sum[i] += values[i] * scale;
+}
+
 __attribute__((target_clones("avx2", "default"))) void weighted_sums3(const float* values,
                                                                          const float* const weight[3], std::size_t n,
                                                                          float out[3]) {

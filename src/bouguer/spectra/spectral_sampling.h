@@ -35,6 +35,10 @@ inline constexpr int kSubBins = 4;
 template <std::size_t N>
 using SubBinValues = std::array<SampledSpectrum<N>, kSubBins>;
 
+// sum[i] += values[i]·scale for i < n (the optical depths of several absorbers on a segment),
+// compiled for AVX2 and the baseline like mean_transmittance.
+void add_scaled(float* sum, const float* values, float scale, std::size_t n);
+
 // out[i] = mean over k of exp(−sigma[k][i] · length_m), i < n. Compiled for AVX2 and for the
 // baseline, chosen at load time (the hottest loop of full mode in absorbing media).
 void mean_transmittance(const float* const sigma[kSubBins], std::size_t n, float length_m, float* out);
