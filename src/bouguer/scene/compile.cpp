@@ -237,6 +237,18 @@ std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, st
 
 // What the object's surfaces are (an interface, which must be closed; an emitter; an opaque
 // material), the same for all its parts but their media.
+DiffuseMaterial diffuse_material(RenderScene& s, const DiffuseDesc& d, const ObjectDesc& o,
+                                 const std::vector<ShapePart>& parts, const SceneDesc& desc) {
+  DiffuseMaterial m{add_spectrum(s, d.reflectance, SpectrumRole::reflectance)};
+  if (!d.reflectance_texture) return m;
+  for (const ShapePart& part : parts)
+    if (part.mesh.uvs.empty())
+      fail("{}: object '{}': its texture needs texture coordinates, and its shape has none", desc.file.string(), o.name);
+  const TextureDesc& t = *d.reflectance_texture;
+  m.reflectance_texture = add_texture(s.textures, *t.image, TextureUse::reflectance, t.transform);
+  return m;
+}
+
 Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>& parts, const SceneDesc& desc) {
   Surface base;
   base.object = o.name;
@@ -253,7 +265,7 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<Sh
     base.kind = SurfaceKind::opaque;
     base.material = static_cast<int>(s.materials.size());
     if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
-      s.materials.push_back(DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance)});
+      s.materials.push_back(diffuse_material(s, *d, o, parts, desc));
     else {
       const auto& c = std::get<ConductorDesc>(*o.material);
       s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),

@@ -442,6 +442,9 @@ MaterialDesc material(const json& j, const Where& w) {
       if (r.is_object() && r.contains("rgb")) {
         expect_keys(r, wr, {"rgb"});
         d.reflectance = rgb_input(r, wr);
+      } else if (r.is_object() && r.contains("texture")) {
+        expect_keys(r, wr, {"texture"});
+        d.reflectance = TextureInput{text(r["texture"], wr / "texture"), nullptr, {}};
       } else if (r.is_number()) {
         d.reflectance = number(r, wr);
       } else {
