@@ -140,31 +140,42 @@ TEST(TextureTable, RayConeLevelOfDetailInClosedForm) {
 // A scene of one textured quad facing an orthographic camera, lit head on by a distant light of
 // irradiance π (so a reflectance ρ shows as radiance ρ), rendered by Whitted (no noise but the
 // pixel jitter).
-std::string quad_scene(const fs::path& texture, int resolution, const std::string& integrator, int spp) {
+std::string quad_scene(const fs::path& texture, int resolution, const std::string& integrator, int spp,
+                       const std::string& shape = R"({"type": "quad", "size": [1, 1]})") {
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1,
                 "resolution": [{0}, {0}]}},
     "render": {{"integrator": "{1}", "spp": {2}}},
-    "objects": [{{"name": "label", "shape": {{"type": "quad", "size": [1, 1]}},
+    "objects": [{{"name": "label", "shape": {4},
                   "material": {{"type": "diffuse", "reflectance": {{"texture": "{3}"}}}}}}],
     "lights": [{{"type": "distant", "direction": [0, 0, -1], "spectrum": "D65", "scale": 3.141592653589793}}]
   }})",
-                     resolution, integrator, spp, texture.string());
+                     resolution, integrator, spp, texture.string(), shape);
 }
 
 // The quad reproduces its texels: a PNG of 8 × 8 blocks of 2 × 2 equal texels (random sRGB
 // colours), seen at 4 pixels per block. The 2 × 2 pixels around each block's centre see only that
 // block's texels through the bilinear filter (they lie within half a texel of its centre), so their
 // colour is the texel's: mean CIEDE2000 below 1 (measured: see the printout), none above 3.
-TEST(TextureRender, TexturedQuadReproducesItsTexels) {
-  const fs::path dir = test::scratch_dir("TexturedQuad");
+// The same through an OBJ square with its own UVs (v up, as the quad's): the mesh importer's
+// texture coordinates reach the hit.
+class TexturedQuad : public ::testing::TestWithParam<bool> {};
+
+TEST_P(TexturedQuad, ReproducesItsTexels) {
+  const bool obj = GetParam();
+  const fs::path dir = test::scratch_dir(obj ? "TexturedObjQuad" : "TexturedQuad");
+  test::write_file(dir / "square.obj", "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+                                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n");
+  const std::string shape =
+      obj ? fmt::format(R"({{"type": "mesh", "file": "{}"}})", (dir / "square.obj").string())
+          : std::string(R"({"type": "quad", "size": [1, 1]})");
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.02, 0.95);
   std::vector<Vec3> blocks(64);
   for (Vec3& b : blocks) b = {u(rng), u(rng), u(rng)};
   const fs::path png = write_png_texture(dir, "blocks.png", 16, 16, [&](int x, int y) { return blocks[(y / 2) * 8 + x / 2]; });
   const TextureImage image = read_texture_image(png);
-  const Film film = test::render_text(quad_scene(png, 32, "whitted", 16), 2);
+  const Film film = test::render_text(quad_scene(png, 32, "whitted", 16, shape), 2);
   double sum = 0.0, worst = 0.0;
   for (int by = 0; by < 8; ++by)
     for (int bx = 0; bx < 8; ++bx) {
@@ -178,10 +189,13 @@ TEST(TextureRender, TexturedQuadReproducesItsTexels) {
       sum += e;
       worst = std::max(worst, e);
     }
-  std::printf("textured quad: mean ΔE00 %.3f, largest %.3f over 64 texels\n", sum / 64.0, worst);
+  std::printf("textured %s: mean ΔE00 %.3f, largest %.3f over 64 texels\n", obj ? "OBJ square" : "quad", sum / 64.0,
+              worst);
   EXPECT_LT(sum / 64.0, 1.0);
   EXPECT_LT(worst, 3.0);
 }
+INSTANTIATE_TEST_SUITE_P(TextureRender, TexturedQuad, ::testing::Values(false, true),
+                         [](const auto& p) { return p.param ? "ObjMesh" : "Quad"; });
 
 // A checkerboard floor seen at grazing angles by a pinhole camera at 1 sample per pixel (Whitted,
 // a distant light from straight above: no noise but where in the pixel the sample lands). Checks

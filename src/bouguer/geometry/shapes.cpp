@@ -3,6 +3,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -366,6 +367,89 @@ class CheckedMaterialReader : public tinyobj::MaterialReader {
   std::string where_;
 };
 
+// tinyobjloader reads a number it cannot parse ("nan", "inf", "1.2.3", "x") as 0; so the numbers of
+// every v, vt and vn line are checked here first, naming the line of the first that is not a
+// finite number.
+void check_obj_numbers(std::string_view text, const std::string& where) {
+  std::size_t line_start = 0;
+  for (int line = 1; line_start < text.size(); ++line) {
+    std::size_t end = text.find('\n', line_start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view l = text.substr(line_start, end - line_start);
+    line_start = end + 1;
+    const auto first = l.find_first_not_of(" \t");
+    if (first == std::string_view::npos) continue;
+    l.remove_prefix(first);
+    if (!(l.starts_with("v ") || l.starts_with("v\t") || l.starts_with("vt ") || l.starts_with("vt\t") ||
+          l.starts_with("vn ") || l.starts_with("vn\t")))
+      continue;
+    l.remove_prefix(l[1] == 't' || l[1] == 'n' ? 2 : 1);
+    for (std::size_t i = 0; i < l.size();) {
+      if (l[i] == ' ' || l[i] == '\t' || l[i] == '\r') {
+        ++i;
+        continue;
+      }
+      if (l[i] == '#') break;
+      const std::size_t token_end = std::min(l.find_first_of(" \t\r", i), l.size());
+      std::string_view token = l.substr(i, token_end - i);
+      i = token_end;
+      if (token.starts_with('+')) token.remove_prefix(1);
+      double v = 0.0;
+      const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+      if (ec != std::errc{} || ptr != token.data() + token.size() || !std::isfinite(v))
+        fail("{}, line {}: '{}' is not a finite number", where, line, excerpt(token));
+    }
+  }
+}
+
+// The OBJ's corners as mesh vertices: one per distinct (position, texture coordinate, normal)
+// triple, so a seam in the UVs or a crease in the normals keeps both sides. UVs and normals are
+// kept only when every corner has one.
+struct ObjCorners {
+  Mesh mesh;
+  std::vector<Vec3> normals;
+  std::vector<std::array<double, 2>> uvs;
+};
+
+ObjCorners obj_corners(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
+                       const std::vector<Vec3>& positions, const std::string& where) {
+  bool all_uv = !attrib.texcoords.empty(), all_normal = !attrib.normals.empty();
+  for (const auto& shape : shapes)
+    for (const auto& i : shape.mesh.indices) {
+      all_uv = all_uv && i.texcoord_index >= 0 && static_cast<std::size_t>(i.texcoord_index) * 2 + 1 < attrib.texcoords.size();
+      all_normal = all_normal && i.normal_index >= 0 && static_cast<std::size_t>(i.normal_index) * 3 + 2 < attrib.normals.size();
+    }
+  ObjCorners c;
+  std::map<std::array<int, 3>, std::uint32_t> index;
+  for (const auto& shape : shapes) {
+    const auto& idx = shape.mesh.indices;
+    if (c.mesh.triangles.size() + idx.size() / 3 > kMaxMeshTriangles)
+      fail("{}: more than {} triangles (docs/limits.md)", where, kMaxMeshTriangles);
+    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+      std::array<std::uint32_t, 3> t;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const tinyobj::index_t& corner = idx[i + k];
+        if (corner.vertex_index < 0 || static_cast<std::size_t>(corner.vertex_index) >= positions.size())
+          fail("{} has a face with a vertex index out of range", where);
+        const std::array<int, 3> key{corner.vertex_index, all_uv ? corner.texcoord_index : -1,
+                                     all_normal ? corner.normal_index : -1};
+        const auto [at, added] = index.try_emplace(key, static_cast<std::uint32_t>(c.mesh.positions.size()));
+        if (added) {
+          c.mesh.positions.push_back(positions[static_cast<std::size_t>(key[0])]);
+          const auto ti = static_cast<std::size_t>(key[1]) * 2, ni = static_cast<std::size_t>(key[2]) * 3;
+          if (all_uv) c.uvs.push_back({attrib.texcoords[ti], attrib.texcoords[ti + 1]});
+          if (all_normal) c.normals.push_back({attrib.normals[ni], attrib.normals[ni + 1], attrib.normals[ni + 2]});
+        }
+        t[k] = at->second;
+      }
+      c.mesh.triangles.push_back(t);
+    }
+  }
+  return c;
+}
+
+Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what);
+
 Mesh load_obj(const MeshShape& s, const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::exists(s.path, ec)) fail("{}: mesh file '{}' not found", what, s.path.string());
@@ -376,6 +460,7 @@ Mesh load_obj(const MeshShape& s, const std::string& what) {
   } catch (const Error& e) {
     fail("{}: {}", what, e.what());
   }
+  check_obj_numbers(text, where);
   std::istringstream in(text);
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
@@ -386,8 +471,8 @@ Mesh load_obj(const MeshShape& s, const std::string& what) {
     fail("{}: cannot read it: {}", where, excerpt(err, 200));
   if (attrib.vertices.size() / 3 > kMaxMeshVertices)
     fail("{}: more than {} vertices (docs/limits.md)", where, kMaxMeshVertices);
-  Mesh m;
-  m.positions.reserve(attrib.vertices.size() / 3);
+  std::vector<Vec3> positions;
+  positions.reserve(attrib.vertices.size() / 3);
   for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3) {
     const Vec3 p{attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]};
     for (int axis = 0; axis < 3; ++axis) {
@@ -398,25 +483,11 @@ Mesh load_obj(const MeshShape& s, const std::string& what) {
         fail("{}: vertex {}: {} = {} is beyond ±{} (docs/limits.md)", where, i / 3 + 1, "xyz"[axis], v,
              kMaxMeshCoordinate);
     }
-    m.positions.push_back(p);
+    positions.push_back(p);
   }
-  for (const auto& shape : shapes) {
-    const auto& idx = shape.mesh.indices;
-    if (m.triangles.size() + idx.size() / 3 > kMaxMeshTriangles)
-      fail("{}: more than {} triangles (docs/limits.md)", where, kMaxMeshTriangles);
-    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      std::array<std::uint32_t, 3> t;
-      for (int k = 0; k < 3; ++k) {
-        const int vi = idx[i + k].vertex_index;
-        if (vi < 0 || static_cast<std::size_t>(vi) >= m.positions.size())
-          fail("{} has a face with a vertex index out of range", where);
-        t[k] = static_cast<std::uint32_t>(vi);
-      }
-      m.triangles.push_back(t);
-    }
-  }
-  if (m.triangles.empty()) fail("{} has no faces", where);
-  return m;
+  ObjCorners c = obj_corners(attrib, shapes, positions, where);
+  if (c.mesh.triangles.empty()) fail("{} has no faces", where);
+  return checked_triangles(TriangleMeshShape{std::move(c.mesh), std::move(c.normals), std::move(c.uvs)}, where);
 }
 
 Mesh load_mesh(const MeshShape& s, const std::string& what) {
