@@ -18,6 +18,7 @@
 #include "bouguer/render/texture.h"
 #include "bouguer/spectra/cielab.h"
 #include "bouguer/spectra/color_space.h"
+#include "support/gltf_files.h"
 #include "support/test_support.h"
 
 namespace bouguer {
@@ -267,6 +268,57 @@ TEST(TextureRender, GrazingCheckerboardDoesNotAlias) {
   const double near_spread = std::sqrt(near_sum2 / (near_rows * w) - near_mean * near_mean);
   std::printf("near rows (%d): spread %.4f (level 0: 0.2, level 1: 0.1)\n", near_rows, near_spread);
   EXPECT_GT(near_spread, 0.17);
+}
+
+// A glTF square whose baseColorTexture is a PNG embedded in the .glb (decoded by OpenImageIO through
+// tinygltf's image loader): 4 × 4 texels in four 2 × 2 quadrants, UV (0, 0) at the top-left corner
+// (glTF's v runs down). Seen head on, each quadrant's middle pixels show its texels; with
+// KHR_texture_transform's offset of half the texture along u, the left shows what was on the right.
+TEST(TextureRender, GltfBaseColorTextureAndTransform) {
+  const fs::path dir = test::scratch_dir("GltfTexture");
+  const std::array<Vec3, 4> quadrant{Vec3{0.8, 0.1, 0.1}, Vec3{0.1, 0.7, 0.1}, Vec3{0.1, 0.1, 0.6}, Vec3{0.5, 0.5, 0.5}};
+  Film image(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const Vec3& c = quadrant[static_cast<std::size_t>((y / 2) * 2 + x / 2)];
+      image.set_rgb(x, y, {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)});
+    }
+  const std::string png = encode_png(image);
+  for (const bool shifted : {false, true}) {
+    test::GltfDoc g;
+    nlohmann::json info = {{"index", 0}};
+    if (shifted) {
+      info["extensions"] = {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}};
+      g.doc["extensionsUsed"] = {"KHR_texture_transform"};
+    }
+    const int material = g.material({{"name", "Label"},
+                                      {"pbrMetallicRoughness", {{"baseColorTexture", info}, {"metallicFactor", 0.0}}}});
+    const int mesh = g.mesh({{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}, {-0.5, -0.5, 0}}, {0, 3, 2, 0, 2, 1}, material);
+    const std::vector<float> uv{0, 0, 1, 0, 1, 1, 0, 1};
+    g.doc["accessors"].push_back({{"bufferView", g.view(uv.data(), uv.size() * sizeof(float))},
+                                  {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+    g.doc["meshes"][mesh]["primitives"][0]["attributes"]["TEXCOORD_0"] = g.doc["accessors"].size() - 1;
+    g.doc["images"] = {{{"bufferView", g.view(png.data(), png.size())}, {"mimeType", "image/png"}}};
+    g.doc["textures"] = {{{"source", 0}}};
+    g.node({{"mesh", mesh}});
+    const fs::path glb = dir / (shifted ? "shifted.glb" : "label.glb");
+    g.write(glb);
+    const Film film = test::render_text(fmt::format(R"({{
+      "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1, "resolution": [8, 8]}},
+      "render": {{"integrator": "whitted", "spp": 4}},
+      "objects": [{{"gltf": "{}"}}],
+      "lights": [{{"type": "distant", "direction": [0, 0, -1], "spectrum": "D65", "scale": 3.141592653589793}}]
+    }})", glb.string()), 2);
+    const TextureImage decoded_png = read_texture_image(std::span(reinterpret_cast<const unsigned char*>(png.data()), png.size()), "label.png");
+    for (int qy = 0; qy < 2; ++qy)
+      for (int qx = 0; qx < 2; ++qx) {
+        const int source_x = shifted ? 1 - qx : qx;  // the offset moves u by half: left reads right
+        const Vec3 expected = decoded(decoded_png, source_x * 2, qy * 2);
+        const Vec3f p = film.rgb_at(qx * 4 + 1, qy * 4 + 1);
+        const double e = delta_e({p.x, p.y, p.z}, expected);
+        EXPECT_LT(e, 1.0) << (shifted ? "shifted, " : "") << "quadrant " << qx << ", " << qy;
+      }
+  }
 }
 
 // The same seed gives the same image on 1 and 2 threads (the path tracer, textures, MIP levels).
