@@ -13,7 +13,7 @@ build=${1:-build-fuzz}
 seconds=${2:-180}
 shift $(( $# < 2 ? $# : 2 ))
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(spectrum_csv material_csv obj ply_ascii ply_binary exr pfm environment scene gltf)
+[ ${#targets[@]} -gt 0 ] || targets=(spectrum_csv material_csv obj ply_ascii ply_binary exr pfm environment scene gltf texture)
 
 bash scripts/install-deps.sh --fuzz
 # RelWithDebInfo without NDEBUG: assertions are findings too.
