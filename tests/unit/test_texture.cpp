@@ -349,5 +349,20 @@ TEST(TextureRender, BadTexturesInASceneAreOneLine) {
   }
 }
 
+// scenes/examples: the script writes the committed bottle (deterministic, numpy only), and its scene
+// renders (the label's texture embedded in the .glb, the glass and wine given media by name).
+TEST(TextureRender, ExampleTexturedBottle) {
+  const fs::path examples = fs::path(BOUGUER_SOURCE_DIR) / "scenes" / "examples";
+  const fs::path dir = test::scratch_dir("ExampleTexturedBottle");
+  const test::RunResult script =
+      test::run_program("/usr/bin/python3", {(examples / "make_textured_bottle.py").string(), (dir / "b.glb").string()});
+  ASSERT_EQ(script.exit_code, 0) << script.err;
+  EXPECT_EQ(test::read_file(dir / "b.glb"), test::read_file(examples / "textured-bottle.glb"))
+      << "the committed textured-bottle.glb is not what the script writes";
+  const test::RunResult r = test::run_bouguer({"render", (examples / "textured-bottle.json").string(), "--resolution",
+                                               "16x24", "--spp", "1", "-o", (dir / "bottle.png").string(), "--quiet"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 }  // namespace
 }  // namespace bouguer
