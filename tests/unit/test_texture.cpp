@@ -364,5 +364,64 @@ TEST(TextureRender, ExampleTexturedBottle) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// An OBJ square of two materials from its MTL ("material": "mtl"): the left half Kd, the right
+// half a map_Kd texture of one colour. Each half shows its own (ΔE00 below 1 at its middle).
+std::string mtl_scene(const fs::path& obj) {
+  return fmt::format(R"({{
+    "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1, "resolution": [8, 8]}},
+    "render": {{"integrator": "whitted", "spp": 4}},
+    "objects": [{{"name": "card", "shape": {{"type": "mesh", "file": "{}"}}, "material": "mtl"}}],
+    "lights": [{{"type": "distant", "direction": [0, 0, -1], "spectrum": "D65", "scale": 3.141592653589793}}]
+  }})",
+                     obj.string());
+}
+
+const char* kTwoMaterialSquare =
+    "mtllib card.mtl\nv -0.5 -0.5 0\nv 0 -0.5 0\nv 0.5 -0.5 0\nv -0.5 0.5 0\nv 0 0.5 0\nv 0.5 0.5 0\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    "usemtl Red\nf 1/1 2/2 5/3 4/4\nusemtl Paper\nf 2/1 3/2 6/3 5/4\n";
+
+TEST(TextureRender, ObjMtlDiffuseColourAndTexturePerFace) {
+  const fs::path dir = test::scratch_dir("ObjMtl");
+  const fs::path png = write_png_texture(dir, "paper.png", 4, 4, [](int, int) { return Vec3{0.2, 0.4, 0.7}; });
+  test::write_file(dir / "card.obj", kTwoMaterialSquare);
+  test::write_file(dir / "card.mtl", "newmtl Red\nKd 0.8 0.1 0.1\n\nnewmtl Paper\nKd 1 1 1\nmap_Kd paper.png\n");
+  const Film film = test::render_text(mtl_scene(dir / "card.obj"), 2);
+  const TextureImage paper = read_texture_image(png);
+  for (int y : {3, 4}) {
+    const Vec3f left = film.rgb_at(1, y), right = film.rgb_at(6, y);
+    EXPECT_LT(delta_e({left.x, left.y, left.z}, {0.8, 0.1, 0.1}), 1.0) << "Kd";
+    EXPECT_LT(delta_e({right.x, right.y, right.z}, decoded(paper, 0, 0)), 1.0) << "map_Kd";
+  }
+}
+
+// A bad MTL, or one it names: one line naming the file, exit 1.
+TEST(TextureRender, BadMtlIsOneLine) {
+  const fs::path dir = test::scratch_dir("BadMtl");
+  test::write_file(dir / "notes.png", "not an image\n");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"", "card.mtl' not found"},                                   // no MTL beside the OBJ
+      {"newmtl Red\nKd nan 0.1 0.1\nnewmtl Paper\n", "line 2: 'nan' is not a finite number"},
+      {"newmtl Red\nKd 1.5 0.1 0.1\nnewmtl Paper\n", "material 'Red': Kd 1.5 must lie between 0 and 1"},
+      {"newmtl Red\nnewmtl Paper\nmap_Kd notes.png\n", "notes.png"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const fs::path sub = dir / std::to_string(i);
+    fs::create_directories(sub);
+    test::write_file(sub / "card.obj", kTwoMaterialSquare);
+    if (!cases[i].first.empty()) test::write_file(sub / "card.mtl", cases[i].first);
+    fs::copy_file(dir / "notes.png", sub / "notes.png");
+    test::write_file(sub / "scene.json", mtl_scene(sub / "card.obj"));
+    const test::RunResult r = test::run_bouguer({"render", (sub / "scene.json").string(), "-o", (sub / "o.png").string()});
+    SCOPED_TRACE(r.err);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(test::line_count(r.err), 1);
+    EXPECT_NE(r.err.find(cases[i].second), std::string::npos);
+    if (i < 3) {  // the OBJ or the MTL (a texture names itself)
+      EXPECT_NE(r.err.find("card."), std::string::npos);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bouguer

@@ -377,6 +377,32 @@ TextureDesc resolve_texture(const TextureInput& texture, const Source& where, Te
   return d;
 }
 
+std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Source& where) {
+  const auto* mesh = std::get_if<MeshShape>(&base.shape);
+  if (!mesh || mesh->path.extension() != ".obj") where.fail("\"mtl\" takes the materials of an .obj mesh shape");
+  ObjWithMaterials obj;
+  try {
+    obj = load_obj_materials(mesh->path, fmt::format("object '{}'", base.name));
+  } catch (const Error& e) {
+    where.fail("{}", e.what());
+  }
+  std::vector<ObjectDesc> out;
+  for (const ObjPart& part : obj.parts) {
+    ObjectDesc o = base;
+    o.shape = TriangleMeshShape{part.mesh, part.mesh.normals, part.mesh.uvs};
+    DiffuseInput d;
+    if (part.material >= 0) {
+      const ObjMaterial& m = obj.materials[static_cast<std::size_t>(part.material)];
+      o.name = fmt::format("{}: {}", base.name, m.name);
+      if (m.map_kd.empty()) d.reflectance = RgbInput{m.kd};
+      else d.reflectance = TextureInput{m.map_kd.string(), nullptr, {}};
+    }
+    o.material = resolve_surface_material(d, where);
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
 MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& where) {
   if (const auto* c = std::get_if<ConductorInput>(&in))
     return ConductorDesc{resolve_spectral(c->n, where / "n"), resolve_spectral(c->k, where / "k"), c->roughness};

@@ -155,6 +155,11 @@ MediumDesc resolve_medium(const std::string& name, const MediumInput& medium, co
 // The image read (an Error naming the file: missing, not an image, too large) and, for a
 // reflectance, every texel after sRGB decoding checked to lie in [0, 1].
 TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use);
+// An object whose material is "mtl": its OBJ's faces split by `usemtl` into one object each (named
+// "<object>: <material>"), each diffuse with its MTL's Kd or map_Kd texture (faces without a
+// material: the default diffuse). Errors name the OBJ or MTL file, or the texture.
+std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Source& where);
+
 MaterialDesc resolve_surface_material(const MaterialInput& material, const Source& where);
 
 }  // namespace bouguer
