@@ -105,6 +105,24 @@ void obj(std::string_view bytes, const fs::path& dir) {
   check_mesh(write(dir, "input.obj", bytes.substr(0, split)));
 }
 
+// The same input through the MTL reader (load_obj_materials): each part's mesh and UVs, each
+// material's Kd in [0, 1]. A map_Kd names a file beside the input (mostly missing: not read here).
+void mtl(std::string_view bytes, const fs::path& dir) {
+  const std::size_t split = bytes.find(kMtlSeparator);
+  write(dir, "input.mtl", split == std::string_view::npos ? "" : bytes.substr(split + kMtlSeparator.size()));
+  const ObjWithMaterials obj = load_obj_materials(write(dir, "input.obj", bytes.substr(0, split)), "fuzz");
+  require(!obj.parts.empty(), "no parts");
+  for (const ObjMaterial& m : obj.materials)
+    for (std::size_t c = 0; c < 3; ++c) require(m.kd[c] >= 0.0 && m.kd[c] <= 1.0, "Kd {}", m.kd[c]);
+  for (const ObjPart& part : obj.parts) {
+    require(part.material < static_cast<int>(obj.materials.size()), "material {}", part.material);
+    require(part.mesh.uvs.empty() || part.mesh.uvs.size() == part.mesh.positions.size(), "uv count");
+    for (const auto& uv : part.mesh.uvs) require(std::isfinite(uv[0]) && std::isfinite(uv[1]), "uv");
+    for (const auto& t : part.mesh.triangles)
+      for (const auto k : t) require(k < part.mesh.positions.size(), "index {} of {}", k, part.mesh.positions.size());
+  }
+}
+
 void ply(std::string_view bytes, const fs::path& dir) { check_mesh(write(dir, "input.ply", bytes)); }
 
 void exr(std::string_view bytes, const fs::path& dir) { check_film(read_exr(write(dir, "input.exr", bytes))); }
@@ -243,7 +261,7 @@ const std::vector<Target>& targets() {
       {"spectrum_csv", spectrum_csv}, {"material_csv", material_csv}, {"obj", obj}, {"ply_ascii", ply},
       {"ply_binary", ply},            {"exr", exr},                   {"pfm", pfm}, {"environment", environment},
       {"scene", scene},           {"vdb", vdb},                   {"gltf", gltf},
-      {"texture", texture},
+      {"texture", texture},         {"mtl", mtl},
   };
   return all;
 }
