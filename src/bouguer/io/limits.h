@@ -35,8 +35,8 @@ inline constexpr std::int64_t kMaxGridNodesPerAxis = std::int64_t{1} << 20;
 inline constexpr int kMaxImageDimension = 65536;
 inline constexpr std::size_t kMaxImagePixels = std::size_t{1} << 27;  // 134 217 728, e.g. 16384 × 8192
 inline constexpr std::size_t kMaxImageValues = std::size_t{1} << 30;  // 4 GiB as floats
-// Texture images (io/texture_image.h): each side, and all pixels (4096 × 4096 · 2; their MIP
-// pyramid and per-texel spectra take about 40 bytes per pixel).
+// Texture images (io/texture_image.h): each side, and all pixels (8192 × 4096; read, kept by the
+// description, and made a MIP pyramid with per-texel spectra, about 60 bytes a pixel at the peak).
 inline constexpr int kMaxTextureDimension = 32768;
 inline constexpr std::size_t kMaxTexturePixels = std::size_t{1} << 25;  // 33 554 432
 // A compressed EXR may decode to at most this many bytes of pixels per byte of file (zlib's
