@@ -13,7 +13,7 @@ build=${1:-build-fuzz}
 seconds=${2:-180}
 shift $(( $# < 2 ? $# : 2 ))
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(spectrum_csv material_csv obj ply_ascii ply_binary exr pfm environment scene gltf)
+[ ${#targets[@]} -gt 0 ] || targets=(spectrum_csv material_csv obj ply_ascii ply_binary exr pfm environment scene gltf texture mtl)
 
 bash scripts/install-deps.sh --fuzz
 # RelWithDebInfo without NDEBUG: assertions are findings too.
@@ -24,6 +24,8 @@ cmake --build "$build" --target bouguer_fuzzers -j "${JOBS:-2}"
 
 # Each input is written to a scratch file (the readers take paths): in memory where there is /dev/shm.
 if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
+# The leaks that are not ours (tests/lsan.supp: fontconfig, OpenImageIO's PNG error path).
+export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 failed=()
 summary=()
 for t in "${targets[@]}"; do

@@ -11,6 +11,7 @@ packages=(
   libtbb-dev           # threads (oneTBB)
   libopenexr-dev       # EXR read/write
   libpng-dev           # PNG write
+  libopenimageio-dev   # texture images (PNG, JPEG, EXR, TIFF, HDR), io/texture_image.cpp only
   nlohmann-json3-dev   # scene files, --json output
   libcli11-dev         # command line
   libfmt-dev           # formatting

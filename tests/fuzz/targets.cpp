@@ -14,9 +14,11 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/core/limits.h"
 #include "bouguer/spectra/spectrum_csv.h"
+#include "bouguer/io/texture_image.h"
 #include "bouguer/io/vdb.h"
 #include "bouguer/media/concentration_field.h"
 #include "bouguer/media/majorant.h"
+#include "bouguer/scene/texture.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/lights/environment.h"
 #include "bouguer/scene/gltf.h"
@@ -103,6 +105,24 @@ void obj(std::string_view bytes, const fs::path& dir) {
   check_mesh(write(dir, "input.obj", bytes.substr(0, split)));
 }
 
+// The same input through the MTL reader (load_obj_materials): each part's mesh and UVs, each
+// material's Kd in [0, 1]. A map_Kd names a file beside the input (mostly missing: not read here).
+void mtl(std::string_view bytes, const fs::path& dir) {
+  const std::size_t split = bytes.find(kMtlSeparator);
+  write(dir, "input.mtl", split == std::string_view::npos ? "" : bytes.substr(split + kMtlSeparator.size()));
+  const ObjWithMaterials obj = load_obj_materials(write(dir, "input.obj", bytes.substr(0, split)), "fuzz");
+  require(!obj.parts.empty(), "no parts");
+  for (const ObjMaterial& m : obj.materials)
+    for (std::size_t c = 0; c < 3; ++c) require(m.kd[c] >= 0.0 && m.kd[c] <= 1.0, "Kd {}", m.kd[c]);
+  for (const ObjPart& part : obj.parts) {
+    require(part.material < static_cast<int>(obj.materials.size()), "material {}", part.material);
+    require(part.mesh.uvs.empty() || part.mesh.uvs.size() == part.mesh.positions.size(), "uv count");
+    for (const auto& uv : part.mesh.uvs) require(std::isfinite(uv[0]) && std::isfinite(uv[1]), "uv");
+    for (const auto& t : part.mesh.triangles)
+      for (const auto k : t) require(k < part.mesh.positions.size(), "index {} of {}", k, part.mesh.positions.size());
+  }
+}
+
 void ply(std::string_view bytes, const fs::path& dir) { check_mesh(write(dir, "input.ply", bytes)); }
 
 void exr(std::string_view bytes, const fs::path& dir) { check_film(read_exr(write(dir, "input.exr", bytes))); }
@@ -124,6 +144,33 @@ void environment(std::string_view bytes, const fs::path& dir) {
       require(std::isfinite(s->pdf) && s->pdf > 0.0, "pdf {}", s->pdf);
       require(std::isfinite(env.pdf(s->wi)), "pdf of a sampled direction");
     }
+}
+
+// A texture image (PNG, JPEG, EXR, HDR, TIFF by its first bytes: the extension picks OpenImageIO's
+// reader), read from a file and from memory, made into a reflectance pyramid and looked up.
+void texture(std::string_view bytes, const fs::path& dir) {
+  const char* name = bytes.starts_with("\x89PNG")             ? "input.png"
+                     : bytes.starts_with("\xff\xd8")           ? "input.jpg"
+                     : bytes.starts_with("\x76\x2f\x31\x01") ? "input.exr"
+                     : bytes.starts_with("#?")                 ? "input.hdr"
+                     : bytes.starts_with("II") || bytes.starts_with("MM") ? "input.tif"
+                                                                          : "input.png";
+  const TextureImage image = read_texture_image(write(dir, name, bytes));
+  const TextureImage same = read_texture_image(
+      std::span(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()), name);
+  require(same.width == image.width && same.height == image.height, "memory and file disagree on the size");
+  require(image.width > 0 && image.height > 0 &&
+              image.rgb.size() == 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height),
+          "image size {} x {}, {} values", image.width, image.height, image.rgb.size());
+  for (float v : image.rgb) require(std::isfinite(v), "value {}", v);
+  if (image.rgb.size() > (std::size_t{3} << 20)) return;  // the pyramid's cost is not what this tests
+  TextureTable table;
+  const int id = add_texture(table, image, TextureUse::reflectance);
+  for (int i = 0; i < 16; ++i) {
+    const Vec3 c = texture_rgb(table, texel_blend(table, id, {i * 0.37 - 2.0, i * 0.61 - 3.0}, i * 0.5 - 1.0));
+    check_vec3(c, "texel");
+    require(c.x >= -1e-6 && c.x <= 1.0 + 1e-6, "reflectance {}", c.x);
+  }
 }
 
 // A scene file through the loader and the SceneBuilder; small scenes are compiled too (meshes,
@@ -214,6 +261,7 @@ const std::vector<Target>& targets() {
       {"spectrum_csv", spectrum_csv}, {"material_csv", material_csv}, {"obj", obj}, {"ply_ascii", ply},
       {"ply_binary", ply},            {"exr", exr},                   {"pfm", pfm}, {"environment", environment},
       {"scene", scene},           {"vdb", vdb},                   {"gltf", gltf},
+      {"texture", texture},         {"mtl", mtl},
   };
   return all;
 }

@@ -116,7 +116,12 @@ TEST(HostileInput, PlyAndObjVerticesAreFiniteAndInRange) {
   EXPECT_TRUE(has(mesh_error(dir / "nan.obj"), "nan.obj': vertex 3: x is "));
   EXPECT_TRUE(has(mesh_error(dir / "nan.obj"), "nan, not a finite number"));
   test::write_file(dir / "inf.obj", "v 0 0 0\nv 1 1e999 0\nv 0 1 0\nf 1 2 3\n");
-  EXPECT_TRUE(has(mesh_error(dir / "inf.obj"), "vertex 2: y is inf, not a finite number"));
+  EXPECT_TRUE(has(mesh_error(dir / "inf.obj"), "inf.obj', line 2: '1e999' is not a finite number"));
+  // ... and "nan", "inf" or any other word as 0: the raw text is checked first, by line.
+  test::write_file(dir / "word.obj", "v 0 0 0\nv 1 0 0\n\n  v nan 1 0\nf 1 2 3\n");
+  EXPECT_TRUE(has(mesh_error(dir / "word.obj"), "word.obj', line 4: 'nan' is not a finite number"));
+  test::write_file(dir / "uv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 inf\nf 1/1 2/1 3/1\n");
+  EXPECT_TRUE(has(mesh_error(dir / "uv.obj"), "uv.obj', line 4: 'inf' is not a finite number"));
 }
 
 // The welder hashes coordinates into grid cells: huge and NaN coordinates must not overflow.

@@ -136,6 +136,29 @@ TEST(Shapes, ObjAndPlyMeshesLoad) {
   EXPECT_THROW(make_shape(MeshShape{dir / "bad.ply"}, "t"), Error);
 }
 
+// OBJ texture coordinates and normals: one mesh vertex per distinct (v, vt, vn) corner, so the
+// UV seam at vertex 1 keeps both of its UVs; a file where some corners lack a vt keeps none.
+TEST(Shapes, ObjKeepsUvsAndNormalsPerCorner) {
+  const auto dir = test::scratch_dir("obj_uvs");
+  test::write_file(dir / "quad.obj",
+                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+                   "vn 0 0 2\nf 1/1/1 2/2/1 3/3/1\nf 1/5/1 3/3/1 4/4/1\n");
+  const Mesh m = single(MeshShape{dir / "quad.obj"});
+  ASSERT_EQ(m.positions.size(), 5u);
+  ASSERT_EQ(m.uvs.size(), 5u);
+  ASSERT_EQ(m.normals.size(), 5u);
+  EXPECT_EQ(m.positions[m.triangles[1][0]], (Vec3{0, 0, 0}));
+  EXPECT_EQ(m.uvs[m.triangles[0][0]], (std::array<double, 2>{0, 0}));
+  EXPECT_EQ(m.uvs[m.triangles[1][0]], (std::array<double, 2>{0.5, 0.5}));
+  EXPECT_EQ(m.uvs[m.triangles[1][2]], (std::array<double, 2>{0, 1}));
+  EXPECT_EQ(m.normals[0], (Vec3{0, 0, 1}));  // made unit
+  test::write_file(dir / "partial.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\n");
+  const Mesh p = single(MeshShape{dir / "partial.obj"});
+  EXPECT_TRUE(p.uvs.empty());
+  EXPECT_TRUE(p.normals.empty());
+  EXPECT_EQ(p.positions.size(), 4u);
+}
+
 TEST(Shapes, MirroringTransformKeepsFacesOutward) {
   const Mesh m = transformed(single(PyramidShape{5, 1, 1}), Transform::scale({-1, 1, 1}));
   EXPECT_EQ(closed_surface_problem(m), std::nullopt);

@@ -35,6 +35,10 @@ inline constexpr std::int64_t kMaxGridNodesPerAxis = std::int64_t{1} << 20;
 inline constexpr int kMaxImageDimension = 65536;
 inline constexpr std::size_t kMaxImagePixels = std::size_t{1} << 27;  // 134 217 728, e.g. 16384 × 8192
 inline constexpr std::size_t kMaxImageValues = std::size_t{1} << 30;  // 4 GiB as floats
+// Texture images (io/texture_image.h): each side, and all pixels (8192 × 4096; read, kept by the
+// description, and made a MIP pyramid with per-texel spectra, about 60 bytes a pixel at the peak).
+inline constexpr int kMaxTextureDimension = 32768;
+inline constexpr std::size_t kMaxTexturePixels = std::size_t{1} << 25;  // 33 554 432
 // A compressed EXR may decode to at most this many bytes of pixels per byte of file (zlib's
 // limit is 1032:1; an uncompressed file must hold every byte of its pixels).
 inline constexpr double kMaxExrExpansion = 4096.0;

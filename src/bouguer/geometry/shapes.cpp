@@ -3,6 +3,7 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -335,18 +336,55 @@ std::vector<ShapePart> make_vessel(const VesselShape& v, const std::string& what
   return parts;
 }
 
+// tinyobjloader reads a number it cannot parse ("nan", "inf", "1.2.3", "x") as 0; so the numbers of
+// every v, vt and vn line are checked here first, naming the line of the first that is not a
+// finite number.
+void check_numbers(std::string_view text, const std::string& where, std::initializer_list<std::string_view> keys) {
+  std::size_t line_start = 0;
+  for (int line = 1; line_start < text.size(); ++line) {
+    std::size_t end = text.find('\n', line_start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view l = text.substr(line_start, end - line_start);
+    line_start = end + 1;
+    const auto first = l.find_first_not_of(" \t");
+    if (first == std::string_view::npos) continue;
+    l.remove_prefix(first);
+    const auto key_end = std::min(l.find_first_of(" \t"), l.size());
+    if (std::find(keys.begin(), keys.end(), l.substr(0, key_end)) == keys.end()) continue;
+    l.remove_prefix(key_end);
+    for (std::size_t i = 0; i < l.size();) {
+      if (l[i] == ' ' || l[i] == '\t' || l[i] == '\r') {
+        ++i;
+        continue;
+      }
+      if (l[i] == '#') break;
+      const std::size_t token_end = std::min(l.find_first_of(" \t\r", i), l.size());
+      std::string_view token = l.substr(i, token_end - i);
+      i = token_end;
+      if (token.starts_with('+')) token.remove_prefix(1);
+      double v = 0.0;
+      const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+      if (ec != std::errc{} || ptr != token.data() + token.size() || !std::isfinite(v))
+        fail("{}, line {}: '{}' is not a finite number", where, line, excerpt(token));
+    }
+  }
+}
+
 // MTL files named by `mtllib`, read with the same checks as every other file (no folders,
 // devices or FIFOs; at most kMaxTextFileBytes). A missing one is a warning in tinyobjloader, as
 // before: Bouguer takes only geometry from OBJ files.
+// With `materials` (load_obj_materials) a missing MTL is an Error, and the numbers of its Kd lines
+// are checked as the OBJ's are (tinyobjloader reads "nan" as 0 there too).
 class CheckedMaterialReader : public tinyobj::MaterialReader {
  public:
-  CheckedMaterialReader(std::filesystem::path folder, std::string where)
-      : folder_(std::move(folder)), where_(std::move(where)) {}
+  CheckedMaterialReader(std::filesystem::path folder, std::string where, bool materials = false)
+      : folder_(std::move(folder)), where_(std::move(where)), materials_(materials) {}
   bool operator()(const std::string& id, std::vector<tinyobj::material_t>* materials,
                   std::map<std::string, int>* names, std::string* warn, std::string* err) override {
     const std::filesystem::path path = folder_ / id;
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
+      if (materials_) fail("{}: mtllib '{}' not found", where_, excerpt(id));
       if (warn) *warn += "material file not found: " + id + "\n";
       return false;
     }
@@ -356,6 +394,7 @@ class CheckedMaterialReader : public tinyobj::MaterialReader {
     } catch (const Error& e) {
       fail("{}: mtllib '{}': {}", where_, excerpt(id), e.what());
     }
+    if (materials_) check_numbers(text, path.string(), {"Kd"});
     std::istringstream in(text);
     tinyobj::LoadMtl(names, materials, &in, warn, err);
     return true;
@@ -364,32 +403,89 @@ class CheckedMaterialReader : public tinyobj::MaterialReader {
  private:
   std::filesystem::path folder_;
   std::string where_;
+  bool materials_;
 };
 
-Mesh load_obj(const MeshShape& s, const std::string& what) {
-  std::error_code ec;
-  if (!std::filesystem::exists(s.path, ec)) fail("{}: mesh file '{}' not found", what, s.path.string());
-  const std::string where = fmt::format("{}: '{}'", what, s.path.string());
-  std::string text;
-  try {
-    text = read_text_file(s.path, kMaxMeshFileBytes);
-  } catch (const Error& e) {
-    fail("{}: {}", what, e.what());
+// The OBJ's corners as mesh vertices: one per distinct (position, texture coordinate, normal)
+// triple, so a seam in the UVs or a crease in the normals keeps both sides. UVs and normals are
+// kept only when every corner has one.
+struct ObjCorners {
+  Mesh mesh;
+  std::vector<Vec3> normals;
+  std::vector<std::array<double, 2>> uvs;
+};
+
+ObjCorners obj_corners(const tinyobj::attrib_t& attrib, const std::vector<tinyobj::shape_t>& shapes,
+                       const std::vector<Vec3>& positions, const std::string& where) {
+  bool all_uv = !attrib.texcoords.empty(), all_normal = !attrib.normals.empty();
+  for (const auto& shape : shapes)
+    for (const auto& i : shape.mesh.indices) {
+      all_uv = all_uv && i.texcoord_index >= 0 && static_cast<std::size_t>(i.texcoord_index) * 2 + 1 < attrib.texcoords.size();
+      all_normal = all_normal && i.normal_index >= 0 && static_cast<std::size_t>(i.normal_index) * 3 + 2 < attrib.normals.size();
+    }
+  ObjCorners c;
+  std::map<std::array<int, 3>, std::uint32_t> index;
+  for (const auto& shape : shapes) {
+    const auto& idx = shape.mesh.indices;
+    if (c.mesh.triangles.size() + idx.size() / 3 > kMaxMeshTriangles)
+      fail("{}: more than {} triangles (docs/limits.md)", where, kMaxMeshTriangles);
+    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
+      std::array<std::uint32_t, 3> t;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const tinyobj::index_t& corner = idx[i + k];
+        if (corner.vertex_index < 0 || static_cast<std::size_t>(corner.vertex_index) >= positions.size())
+          fail("{} has a face with a vertex index out of range", where);
+        const std::array<int, 3> key{corner.vertex_index, all_uv ? corner.texcoord_index : -1,
+                                     all_normal ? corner.normal_index : -1};
+        const auto [at, added] = index.try_emplace(key, static_cast<std::uint32_t>(c.mesh.positions.size()));
+        if (added) {
+          c.mesh.positions.push_back(positions[static_cast<std::size_t>(key[0])]);
+          const auto ti = static_cast<std::size_t>(key[1]) * 2, ni = static_cast<std::size_t>(key[2]) * 3;
+          if (all_uv) c.uvs.push_back({attrib.texcoords[ti], attrib.texcoords[ti + 1]});
+          if (all_normal) c.normals.push_back({attrib.normals[ni], attrib.normals[ni + 1], attrib.normals[ni + 2]});
+        }
+        t[k] = at->second;
+      }
+      c.mesh.triangles.push_back(t);
+    }
   }
-  std::istringstream in(text);
+  return c;
+}
+
+Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what);
+
+// An OBJ parsed by tinyobjloader after the checks above, its positions checked and bounded.
+struct ParsedObj {
+  std::string where;  // "object 'x': 'file.obj'"
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
+  std::vector<Vec3> positions;
+};
+
+ParsedObj parse_obj(const std::filesystem::path& path, const std::string& what, bool materials) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail("{}: mesh file '{}' not found", what, path.string());
+  ParsedObj obj;
+  obj.where = fmt::format("{}: '{}'", what, path.string());
+  const std::string& where = obj.where;
+  std::string text;
+  try {
+    text = read_text_file(path, kMaxMeshFileBytes);
+  } catch (const Error& e) {
+    fail("{}: {}", what, e.what());
+  }
+  check_numbers(text, where, {"v", "vt", "vn"});
+  std::istringstream in(text);
   std::string warn, err;
-  CheckedMaterialReader mtl(s.path.parent_path(), where);
-  if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtl, /*triangulate=*/true))
+  CheckedMaterialReader mtl(path.parent_path(), where, materials);
+  if (!tinyobj::LoadObj(&obj.attrib, &obj.shapes, &obj.materials, &warn, &err, &in, &mtl, /*triangulate=*/true))
     fail("{}: cannot read it: {}", where, excerpt(err, 200));
-  if (attrib.vertices.size() / 3 > kMaxMeshVertices)
-    fail("{}: more than {} vertices (docs/limits.md)", where, kMaxMeshVertices);
-  Mesh m;
-  m.positions.reserve(attrib.vertices.size() / 3);
-  for (std::size_t i = 0; i + 2 < attrib.vertices.size(); i += 3) {
-    const Vec3 p{attrib.vertices[i], attrib.vertices[i + 1], attrib.vertices[i + 2]};
+  const auto& vertices = obj.attrib.vertices;
+  if (vertices.size() / 3 > kMaxMeshVertices) fail("{}: more than {} vertices (docs/limits.md)", where, kMaxMeshVertices);
+  obj.positions.reserve(vertices.size() / 3);
+  for (std::size_t i = 0; i + 2 < vertices.size(); i += 3) {
+    const Vec3 p{vertices[i], vertices[i + 1], vertices[i + 2]};
     for (int axis = 0; axis < 3; ++axis) {
       const double v = p[static_cast<std::size_t>(axis)];
       if (!std::isfinite(v))
@@ -398,25 +494,20 @@ Mesh load_obj(const MeshShape& s, const std::string& what) {
         fail("{}: vertex {}: {} = {} is beyond ±{} (docs/limits.md)", where, i / 3 + 1, "xyz"[axis], v,
              kMaxMeshCoordinate);
     }
-    m.positions.push_back(p);
+    obj.positions.push_back(p);
   }
-  for (const auto& shape : shapes) {
-    const auto& idx = shape.mesh.indices;
-    if (m.triangles.size() + idx.size() / 3 > kMaxMeshTriangles)
-      fail("{}: more than {} triangles (docs/limits.md)", where, kMaxMeshTriangles);
-    for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      std::array<std::uint32_t, 3> t;
-      for (int k = 0; k < 3; ++k) {
-        const int vi = idx[i + k].vertex_index;
-        if (vi < 0 || static_cast<std::size_t>(vi) >= m.positions.size())
-          fail("{} has a face with a vertex index out of range", where);
-        t[k] = static_cast<std::uint32_t>(vi);
-      }
-      m.triangles.push_back(t);
-    }
-  }
-  if (m.triangles.empty()) fail("{} has no faces", where);
-  return m;
+  return obj;
+}
+
+Mesh corner_mesh(const ParsedObj& obj, const std::vector<tinyobj::shape_t>& shapes) {
+  ObjCorners c = obj_corners(obj.attrib, shapes, obj.positions, obj.where);
+  if (c.mesh.triangles.empty()) fail("{} has no faces", obj.where);
+  return checked_triangles(TriangleMeshShape{std::move(c.mesh), std::move(c.normals), std::move(c.uvs)}, obj.where);
+}
+
+Mesh load_obj(const MeshShape& s, const std::string& what) {
+  const ParsedObj obj = parse_obj(s.path, what, false);
+  return corner_mesh(obj, obj.shapes);
 }
 
 Mesh load_mesh(const MeshShape& s, const std::string& what) {
@@ -539,6 +630,32 @@ std::uint64_t triangle_bound(const Shape& shape) {
     std::uint64_t operator()(const TriangleMeshShape& s) const { return s.mesh.triangles.size(); }
   };
   return std::visit(Visitor{revolved, sided}, shape);
+}
+
+ObjWithMaterials load_obj_materials(const std::filesystem::path& path, const std::string& what) {
+  const ParsedObj obj = parse_obj(path, what, true);
+  const std::string mtl_where = fmt::format("{}: its MTL", obj.where);
+  ObjWithMaterials out;
+  for (const tinyobj::material_t& m : obj.materials) {
+    ObjMaterial material{m.name, {m.diffuse[0], m.diffuse[1], m.diffuse[2]}, {}};
+    for (std::size_t c = 0; c < 3; ++c)
+      if (!(material.kd[c] >= 0.0 && material.kd[c] <= 1.0))
+        fail("{}: material '{}': Kd {} must lie between 0 and 1", mtl_where, excerpt(m.name), material.kd[c]);
+    if (!m.diffuse_texname.empty()) material.map_kd = std::filesystem::absolute(path.parent_path() / m.diffuse_texname);
+    out.materials.push_back(std::move(material));
+  }
+  // One part per material (-1: faces without one), in the order of the materials.
+  std::map<int, tinyobj::shape_t> by_material;
+  for (const tinyobj::shape_t& shape : obj.shapes)
+    for (std::size_t f = 0; f < shape.mesh.material_ids.size() && 3 * f + 2 < shape.mesh.indices.size(); ++f) {
+      const int id = shape.mesh.material_ids[f];
+      auto& indices = by_material[id >= 0 && static_cast<std::size_t>(id) < out.materials.size() ? id : -1].mesh.indices;
+      indices.insert(indices.end(), shape.mesh.indices.begin() + static_cast<std::ptrdiff_t>(3 * f),
+                     shape.mesh.indices.begin() + static_cast<std::ptrdiff_t>(3 * f + 3));
+    }
+  for (const auto& [id, shape] : by_material) out.parts.push_back({corner_mesh(obj, {shape}), id});
+  if (out.parts.empty()) fail("{} has no faces", obj.where);
+  return out;
 }
 
 }  // namespace bouguer

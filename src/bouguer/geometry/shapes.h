@@ -77,6 +77,26 @@ std::vector<ShapePart> make_shape(const Shape& shape, const std::string& what);
 // other shapes, which are triangles. Errors name `what` (a radius or height that is not positive).
 std::optional<AnalyticSurface> analytic_surface(const Shape& shape, const std::string& what);
 
+// An OBJ's faces by their `usemtl` material, with each material's diffuse colour (Kd, linear, in
+// [0, 1]) and diffuse texture (map_Kd, resolved against the OBJ's folder; empty: none). The MTL must
+// exist and its Kd numbers be finite (an Error naming the file otherwise). Parts hold UVs and
+// normals as load_obj's mesh does; a part's material is an index into `materials`, −1 for faces
+// without one.
+struct ObjMaterial {
+  std::string name;
+  Vec3 kd{0.5, 0.5, 0.5};
+  std::filesystem::path map_kd;
+};
+struct ObjPart {
+  Mesh mesh;
+  int material = -1;
+};
+struct ObjWithMaterials {
+  std::vector<ObjPart> parts;
+  std::vector<ObjMaterial> materials;
+};
+ObjWithMaterials load_obj_materials(const std::filesystem::path& path, const std::string& what);
+
 // Whether a shape can bound a medium (closed): quads and disks cannot.
 bool shape_is_closed(const Shape& shape);
 

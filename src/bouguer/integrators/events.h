@@ -72,9 +72,11 @@ struct SurfaceEvent {
 };
 
 // `medium` is the one the path arrived through (the medium around an opaque surface).
+// `cone_width_m`: the width at the hit of the ray cone the path carries (scene/texture.h), which
+// chooses the textures' MIP level; 0 reads their finest level.
 template <std::size_t N>
 SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
-                              int medium, const SampledWavelengths<N>& w);
+                              int medium, const SampledWavelengths<N>& w, double cone_width_m = 0.0);
 
 // Where a connection (to a light or the camera) starts: a surface hit, whose rays leave from its
 // offset origin while lengths are measured from the hit point itself, or a point inside a medium.
@@ -384,16 +386,27 @@ void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, Rng& rng) {
   w.hero = std::min(static_cast<int>(rng.next_double() * static_cast<double>(N)), static_cast<int>(N) - 1);
 }
 
+// A diffuse material's reflectance at the hit: its spectrum, or its texture at the hit's UV.
+template <std::size_t N>
+inline SampledSpectrum<N> diffuse_reflectance(const SceneView<N>& v, const DiffuseMaterial& d, const Hit& hit,
+                                              const Vec3& wo, const SampledWavelengths<N>& w, double cone_width_m) {
+  if (d.reflectance_texture < 0) return v.tables.at(d.reflectance, w);
+  const TextureTable& t = v.scene.textures;
+  const double lod = texture_level_of_detail(t, d.reflectance_texture, v.scene.rays.mesh(hit.geometry), hit.primitive,
+                                             cone_width_m, dot(wo, hit.normal));
+  return texture_reflectance(t, texel_blend(t, d.reflectance_texture, hit.uv, lod), w);
+}
+
 template <std::size_t N>
 inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
-                              int medium, const SampledWavelengths<N>& w) {
+                              int medium, const SampledWavelengths<N>& w, double cone_width_m) {
   const RenderScene& s = v.scene;
   auto eta_of = [&](int m) { return eta(s.media[static_cast<std::size_t>(m)], v.tables, w); };
   if (surface.kind == SurfaceKind::opaque) {
     const Frame frame(dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal);
     const SurfaceMaterial& m = s.materials[static_cast<std::size_t>(surface.material)];
     if (const auto* d = std::get_if<DiffuseMaterial>(&m))
-      return {frame, DiffuseReflection<N>{v.tables.at(d->reflectance, w)}, medium, medium};
+      return {frame, DiffuseReflection<N>{diffuse_reflectance(v, *d, hit, wo, w, cone_width_m)}, medium, medium};
     const auto& c = std::get<ConductorMaterial>(m);
     return {frame, ConductorReflection<N>{v.tables.at(c.n, w), v.tables.at(c.k, w), eta_of(medium), c.alpha}, medium,
             medium};

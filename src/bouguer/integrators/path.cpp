@@ -86,6 +86,9 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
   state.from = state.start = ray.origin;
   state.medium = v.scene.world_medium;
   state.dispersion_u = dispersion_u;
+  const Camera::Cone cone = v.camera.pixel_cone();
+  state.cone_width_m = cone.width_m;
+  state.cone_spread_rad = cone.spread_rad;
   Radiance<N> li{v, w, state, rng, rays, ray.origin, {}};
   random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
   return li.l;

@@ -87,6 +87,11 @@ struct WalkState {
   // at that wavelength.
   const SampledWavelengths<N>* kept = nullptr;
   bool dispersed = false;
+  // The ray cone (scene/texture.h) that chooses texture MIP levels: its width where the current
+  // ray starts and its spread angle. Camera subpaths start it at the pixel's; a bounce keeps the
+  // spread (as a mirror would), so after a diffuse bounce textures are read sharper than needed,
+  // never blurrier. Light subpaths carry none (the finest level).
+  double cone_width_m = 0.0, cone_spread_rad = 0.0;
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int crossings = 0;
@@ -174,6 +179,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
     const Vec3 d = state.ray.direction;
     if (const auto x = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis)) {
+      state.cone_width_m += state.cone_spread_rad * length(*x - state.ray.origin);
       tau += scattering_depth(v, media, state.medium, state.start, d, length(*x - state.start));
       if (state.beta.is_zero()) return;
       const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
@@ -202,6 +208,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       }
       return;
     }
+    state.cone_width_m += state.cone_spread_rad * hit->t;
     if (surface.index_matched) {
       state.inside = inside_towards(scene, *hit, state.inside, d);
       if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
@@ -215,7 +222,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     Vertex<N> vx = make(VertexKind::surface, hit->point);
     vx.normal = hit->normal;
     vx.hit = *hit;
-    vx.event = surface_event(v, *hit, surface, wo, state.medium, state.dispersed ? *state.kept : w);
+    vx.event = surface_event(v, *hit, surface, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
     if (!record(vx)) return;

@@ -22,24 +22,27 @@ constexpr float kMinPathWeight = 1e-4f;
 template <std::size_t N>
 class WhittedTracer {
  public:
-  WhittedTracer(const SceneView<N>& v, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays)
-      : v_(v), w_(w), rng_(rng), rays_(rays) {}
+  WhittedTracer(const SceneView<N>& v, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
+                double cone_spread_rad)
+      : v_(v), w_(w), rng_(rng), rays_(rays), cone_spread_rad_(cone_spread_rad) {}
 
   // Radiance along `ray`, which left the surface point `from` (the camera: its origin) in `medium`,
-  // inside the nested objects `inside`.
+  // inside the nested objects `inside`; cone_width_m: the pixel's ray cone there (scene/texture.h),
+  // which every branch carries on.
   SampledSpectrum<N> radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight,
-                              InsideSet inside = 0);
+                              double cone_width_m, InsideSet inside = 0);
 
  private:
   const SceneView<N>& v_;
   const SampledWavelengths<N>& w_;
   Rng& rng_;
   std::uint64_t& rays_;
+  double cone_spread_rad_;
 };
 
 template <std::size_t N>
 SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, int medium, int depth, float weight,
-                                              InsideSet inside) {
+                                              double cone_width_m, InsideSet inside) {
   const SceneView<N>& v = v_;
   const SampledWavelengths<N>& w = w_;
   ++rays_;
@@ -47,6 +50,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   if (!hit) return escaped(v, medium, ray.direction, w);
   Surface scratch;
   const Surface& surface = surface_seen(v.scene, *hit, inside, scratch);
+  cone_width_m += cone_spread_rad_ * hit->t;
   medium = medium_arrived_through(surface, ray, *hit, medium);
   const SampledSpectrum<N> tr = travel_to(v, medium, from, ray.direction, hit->point, w);
   const Vec3 wo = -ray.direction;
@@ -64,7 +68,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     if (w_reflected >= kMinPathWeight) {
       const Vec3 r = d.reflected();
       l = f * radiance(hit->point, {offset_ray_origin(*hit, d.from_front), r}, medium, depth + 1, w_reflected,
-                       inside_towards(v.scene, *hit, inside, r));
+                       cone_width_m, inside_towards(v.scene, *hit, inside, r));
     }
     if (f < 1.0f && w_refracted >= kMinPathWeight)
       if (const auto t = d.refracted()) {
@@ -74,11 +78,11 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
         const auto eta2 = static_cast<float>((d.eta_o * d.eta_o) / (d.eta_t * d.eta_t));
         l += (1.0f - f) * eta2 *
              radiance(hit->point, {offset_ray_origin(*hit, !d.from_front), *t}, other, depth + 1, w_refracted,
-                      inside_towards(v.scene, *hit, inside, *t));
+                      cone_width_m, inside_towards(v.scene, *hit, inside, *t));
       }
     return tr * l;
   }
-  SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w);
+  SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w, cone_width_m);
   e.inside = inside;
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, false, false);
   if (depth >= v.max_depth) return {};
@@ -89,7 +93,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   const float w_reflected = weight * (tr * s->weight).max_value();
   if (w_reflected < kMinPathWeight) return {};
   return tr * s->weight * radiance(hit->point, {offset_ray_origin(*hit, r), r}, e.medium_towards(r), depth + 1, w_reflected,
-                                     inside);
+                                     cone_width_m, inside);
 }
 
 }  // namespace
@@ -101,7 +105,9 @@ void render_whitted(const RenderScene& scene, const RenderSettings& settings, Fi
     render_camera_paths<N, false>(scene, settings, film, region, range, control, stats,
                            [](const SceneView<N>& v, const Ray& ray, SampledWavelengths<N>& w, double, Rng& rng,
                               std::uint64_t& rays) {
-                             return WhittedTracer<N>(v, w, rng, rays).radiance(ray.origin, ray, v.scene.world_medium, 0, 1.0f);
+                             const Camera::Cone cone = v.camera.pixel_cone();
+                             return WhittedTracer<N>(v, w, rng, rays, cone.spread_rad)
+                                 .radiance(ray.origin, ray, v.scene.world_medium, 0, 1.0f, cone.width_m);
                            });
   });
 }

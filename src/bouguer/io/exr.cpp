@@ -371,6 +371,10 @@ ExrLayout layout_of(const Imf::Header& header) {
 
 }  // namespace
 
+void check_exr_before_opening(std::string_view bytes, const std::string& name) {
+  for (const ExrLayout& part : scan_exr_headers(bytes, name)) check_exr_layout(part, bytes.size(), name);
+}
+
 Film read_exr(const std::filesystem::path& path) {
   const std::string name = path.string();
   std::string bytes = read_file_bytes(path, kMaxImageFileBytes);

@@ -72,4 +72,10 @@ std::optional<CameraConnection> Camera::connect(const Vec3& point_m) const {
   return c;
 }
 
+Camera::Cone Camera::pixel_cone() const {
+  const double pixel = 2.0 * half_extent / std::min(desc.width_px, desc.height_px);
+  if (desc.type == CameraType::orthographic) return {pixel, 0.0};
+  return {0.0, 2.0 * std::atan(pixel / 2.0)};
+}
+
 }  // namespace bouguer

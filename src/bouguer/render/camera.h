@@ -44,6 +44,12 @@ struct Camera {
   // Where a world point appears on the film (nullopt: behind the camera or outside the image).
   std::optional<std::array<double, 2>> film_position(const Vec3& point_m) const;
   std::optional<CameraConnection> connect(const Vec3& point_m) const;
+  // The ray cone of one pixel (scene/texture.h): its width at the camera (orthographic: the
+  // pixel's size) and its spread angle (pinhole: the angle one pixel subtends at the centre).
+  struct Cone {
+    double width_m = 0.0, spread_rad = 0.0;
+  };
+  Cone pixel_cone() const;
 };
 
 }  // namespace bouguer

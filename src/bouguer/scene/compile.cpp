@@ -237,9 +237,25 @@ std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, st
   return parts;
 }
 
+// A diffuse material, with its reflectance texture where it has one: that needs texture
+// coordinates on every part (`parts`: the object's triangles; nullptr for an analytic shape,
+// whose hits always carry them).
+DiffuseMaterial diffuse_material(RenderScene& s, const DiffuseDesc& d, const ObjectDesc& o,
+                                 const std::vector<ShapePart>* parts, const SceneDesc& desc) {
+  DiffuseMaterial m{add_spectrum(s, d.reflectance, SpectrumRole::reflectance)};
+  if (!d.reflectance_texture) return m;
+  if (parts)
+    for (const ShapePart& part : *parts)
+      if (part.mesh.uvs.empty())
+        fail("{}: object '{}': its texture needs texture coordinates, and its shape has none", desc.file.string(), o.name);
+  const TextureDesc& t = *d.reflectance_texture;
+  m.reflectance_texture = add_texture(s.textures, *t.image, TextureUse::reflectance, t.transform);
+  return m;
+}
+
 // What the object's surfaces are (an interface, which must be a closed shape; an emitter; an
 // opaque material), the same for all its parts but their media.
-Surface object_surface(RenderScene& s, const ObjectDesc& o, const SceneDesc& desc) {
+Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>* parts, const SceneDesc& desc) {
   Surface base;
   base.object = o.name;
   base.roughness = o.roughness;
@@ -254,7 +270,7 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const SceneDesc& des
     base.kind = SurfaceKind::opaque;
     base.material = static_cast<int>(s.materials.size());
     if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
-      s.materials.push_back(DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance)});
+      s.materials.push_back(diffuse_material(s, *d, o, parts, desc));
     else {
       const auto& c = std::get<ConductorDesc>(*o.material);
       s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),
@@ -433,17 +449,19 @@ void add_geometry(RenderScene& s, const SceneDesc& desc) {
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const ObjectDesc& o = objects[i];
     const auto first = static_cast<std::uint32_t>(s.surfaces.size());
-    Surface base = object_surface(s, o, desc);
-    base.nested = nested[i];
     if (const auto shape = analytic_shape(o, desc)) {
+      Surface base = object_surface(s, o, nullptr, desc);
+      base.nested = nested[i];
       add_analytic(s, o, *shape, base, desc, albedo_index);
     } else {
       const std::vector<ShapePart> parts = tessellate(o, desc, triangles, available);
+      Surface base = object_surface(s, o, &parts, desc);
+      base.nested = nested[i];
       if (o.inside) check_closed(parts, o, desc);
       add_parts(s, o, parts, base, desc, albedo_index);
     }
-    if (base.nested >= 0)
-      ranges[static_cast<std::size_t>(base.nested)] =
+    if (nested[i] >= 0)
+      ranges[static_cast<std::size_t>(nested[i])] =
           nested_range(s, first, static_cast<std::uint32_t>(s.surfaces.size()), o.name);
   }
   s.rays.commit();

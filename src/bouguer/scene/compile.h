@@ -43,6 +43,7 @@ struct Surface {
 // Opaque surfaces (two-sided): spectra are ids into RenderScene::spectra.
 struct DiffuseMaterial {
   int reflectance = -1;
+  int reflectance_texture = -1;  // an id into RenderScene::textures, read instead when set
 };
 struct ConductorMaterial {
   int n = -1, k = -1;
@@ -62,6 +63,7 @@ struct RenderScene {
   bool scatters = false;    // whether any medium scatters (the estimators then track it)
   std::vector<NestedObject> nested;  // the objects with a priority, by priority (scene/nested.h)
   std::vector<SurfaceMaterial> materials;
+  TextureTable textures;
   std::shared_ptr<const EnvironmentMap> environment;  // lights point to it: kept at one address
   std::vector<Light> lights;
   std::vector<double> light_power;  // by light, luminance flux (lights/light.h)

@@ -14,11 +14,13 @@
 
 #include "bouguer/geometry/shapes.h"
 #include "bouguer/geometry/transform.h"
+#include "bouguer/io/texture_image.h"
 #include "bouguer/lights/spot.h"
 #include "bouguer/media/concentration_field.h"
 #include "bouguer/media/ior.h"
 #include "bouguer/media/phase.h"
 #include "bouguer/lights/environment.h"
+#include "bouguer/scene/texture.h"
 #include "bouguer/spectra/sampled_wavelengths.h"
 #include "bouguer/spectra/spectrum.h"
 
@@ -84,8 +86,18 @@ struct EmissionDesc {
   std::optional<SpotProfile> spot;  // set for spot lights with a radius
 };
 
+// A texture image the builder has read (compile makes its MIP pyramid, scene/texture.h).
+struct TextureDesc {
+  std::filesystem::path file;  // for messages
+  std::shared_ptr<const TextureImage> image;
+  UvTransform transform;
+};
+
+// A diffuse reflectance: a spectrum, or a texture (its texels lifted to spectra; then `reflectance`
+// is unused).
 struct DiffuseDesc {
   Spectrum reflectance = ConstantSpectrum{0.5};
+  std::optional<TextureDesc> reflectance_texture;
 };
 
 // A metal: complex refractive index n + ik (spectral), GGX roughness alpha (0: a mirror).

@@ -24,6 +24,7 @@
 #include "bouguer/core/strings.h"
 #include "bouguer/core/csv.h"
 #include "bouguer/core/limits.h"
+#include "bouguer/io/texture_image.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {
@@ -45,11 +46,24 @@ struct Place {
   }
 };
 
-// Textures are not read: keep the image's reference, decode nothing (without a loader tinygltf
-// refuses every asset with an embedded image).
-bool keep_image_reference(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                          void*) {
-  return true;
+// Images embedded in the asset (buffer views, data: URIs), decoded by OpenImageIO as tinygltf
+// meets them (without a loader tinygltf refuses every asset with an image), by image index.
+// External image files tinygltf leaves alone (TINYGLTF_NO_EXTERNAL_IMAGE): a material that uses
+// one reads it (texture()).
+using DecodedImages = std::map<int, std::shared_ptr<const TextureImage>>;
+
+bool decode_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+  // The extension tells OpenImageIO which reader to try first.
+  const std::string name = fmt::format("images[{}]{}", index, image->mimeType == "image/jpeg" ? ".jpg" : ".png");
+  try {
+    (*static_cast<DecodedImages*>(user))[index] = std::make_shared<const TextureImage>(
+        read_texture_image(std::span(bytes, static_cast<std::size_t>(std::max(size, 0))), name));
+    return true;
+  } catch (const Error& e) {
+    *err = e.what();
+    return false;
+  }
 }
 
 // External buffers through the project's checked reader (regular files, bounded size).
@@ -132,12 +146,12 @@ std::string without_draco_indices_glb(const std::string& bytes) {
   return out;
 }
 
-Model parse_model(const fs::path& path) {
+Model parse_model(const fs::path& path, DecodedImages& images) {
   const std::string file_bytes = read_file_bytes(path, kMaxMeshFileBytes);
   const bool glb = path.extension() == ".glb";
   const std::string bytes = glb ? without_draco_indices_glb(file_bytes) : without_draco_indices_json(file_bytes);
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(keep_image_reference, nullptr);
+  loader.SetImageLoader(decode_image, &images);
   loader.SetFsCallbacks({file_exists, expand_path, read_whole_file, no_writes, nullptr});
   loader.SetStoreOriginalJSONForExtrasAndExtensions(false);
   Model model;
@@ -464,8 +478,9 @@ GltfPrimitive make_primitive(const Model& m, const tinygltf::Primitive& p, const
   if (!a.uvs.empty()) {
     out.shape.uvs.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
+      // glTF's v runs down the image; Bouguer's up (scene/texture.h).
       out.shape.uvs[i] = {finite(a.uvs[2 * i], at / "attributes" / "TEXCOORD_0"),
-                          finite(a.uvs[2 * i + 1], at / "attributes" / "TEXCOORD_0")};
+                          1.0 - finite(a.uvs[2 * i + 1], at / "attributes" / "TEXCOORD_0")};
     }
   }
   return out;
@@ -473,7 +488,63 @@ GltfPrimitive make_primitive(const Model& m, const tinygltf::Primitive& p, const
 
 // ---- materials -----------------------------------------------------------------------------------
 
-GltfMaterial material(const tinygltf::Material& g, const Place& at) {
+// What a material's textures need from the asset.
+struct TextureSources {
+  const Model& model;
+  const DecodedImages& decoded;
+  const fs::path& file;
+};
+
+// KHR_texture_transform of a texture reference (texCoord must stay 0: only TEXCOORD_0 is read).
+UvTransform texture_transform(const tinygltf::ExtensionMap& extensions, const Place& at) {
+  UvTransform t;
+  const Value* e = member(extensions, "KHR_texture_transform");
+  if (!e) return t;
+  const Place pt = at / "extensions" / "KHR_texture_transform";
+  auto pair = [&](const char* key, std::array<double, 2>& out) {
+    if (!e->Has(key)) return;
+    const Value& a = e->Get(key);
+    if (!a.IsArray() || a.ArrayLen() != 2 || !a.Get(0).IsNumber() || !a.Get(1).IsNumber())
+      (pt / key).fail("expected 2 numbers");
+    out = {finite(a.Get(0).GetNumberAsDouble(), pt / key), finite(a.Get(1).GetNumberAsDouble(), pt / key)};
+  };
+  pair("offset", t.offset);
+  pair("scale", t.scale);
+  t.rotation_rad = number(*e, "rotation", pt).value_or(0.0);
+  if (number(*e, "texCoord", pt).value_or(0.0) != 0.0) (pt / "texCoord").fail("only TEXCOORD_0 is read");
+  return t;
+}
+
+// The image of texture `index`: decoded with the asset, or read from its file beside the asset.
+std::shared_ptr<const TextureImage> texture_image(const TextureSources& src, int index, const Place& at) {
+  const auto& texture = src.model.textures[checked_index(index, src.model.textures.size(), at / "index", "texture")];
+  const std::size_t image = checked_index(texture.source, src.model.images.size(), at, "image");
+  if (const auto it = src.decoded.find(int(image)); it != src.decoded.end()) return it->second;
+  const std::string& uri = src.model.images[image].uri;
+  if (uri.empty() || uri.starts_with("data:")) (Place{&src.file, "images"})[image].fail("has no image data");
+  try {
+    return std::make_shared<const TextureImage>(read_texture_image(src.file.parent_path() / uri));
+  } catch (const Error& e) {
+    (Place{&src.file, "images"})[image].fail("{}", e.what());
+  }
+}
+
+// baseColorTexture times baseColorFactor, in linear values (the texels sRGB-decoded first).
+std::optional<GltfTexture> base_color_texture(const TextureSources& src, const tinygltf::TextureInfo& info,
+                                              const Vec3& factor, const Place& at) {
+  if (info.index < 0) return std::nullopt;
+  if (info.texCoord != 0) (at / "texCoord").fail("only TEXCOORD_0 is read (got {})", info.texCoord);
+  const auto image = texture_image(src, info.index, at);
+  auto linear = std::make_shared<TextureImage>(*image);
+  linear->srgb = false;
+  for (std::size_t i = 0; i < linear->rgb.size(); ++i) {
+    const float v = image->srgb ? srgb_to_linear(image->rgb[i]) : image->rgb[i];
+    linear->rgb[i] = std::clamp(v * static_cast<float>(std::array{factor.x, factor.y, factor.z}[i % 3]), 0.0f, 1.0f);
+  }
+  return GltfTexture{std::move(linear), texture_transform(info.extensions, at), at.path};
+}
+
+GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, const Place& at) {
   GltfMaterial mat;
   mat.name = g.name;
   const auto& pbr = g.pbrMetallicRoughness;
@@ -481,6 +552,7 @@ GltfMaterial material(const tinygltf::Material& g, const Place& at) {
   if (!pbr.baseColorFactor.empty()) mat.base_color = vec3(pbr.baseColorFactor, pp / "baseColorFactor", {1, 1, 1});
   mat.metallic = finite(pbr.metallicFactor, pp / "metallicFactor");
   mat.roughness = finite(pbr.roughnessFactor, pp / "roughnessFactor");
+  mat.base_color_texture = base_color_texture(src, pbr.baseColorTexture, mat.base_color, pp / "baseColorTexture");
   mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
   const Place pe = at / "extensions";
   if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
@@ -688,7 +760,11 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   } else if (g.metallic >= 0.5) {
     o.material = resolve_surface_material(metal(g), at.source() / "pbrMetallicRoughness");
   } else {
-    o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, at.source() / "pbrMetallicRoughness");
+    const Source wp = at.source() / "pbrMetallicRoughness";
+    if (const auto& t = g.base_color_texture)
+      o.material = resolve_surface_material(DiffuseInput{TextureInput{t->name, t->image, t->transform}}, wp);
+    else
+      o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, wp);
   }
   b.object(std::move(o), ws);
 }
@@ -698,10 +774,12 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
 bool is_gltf_file(const fs::path& path) { return path.extension() == ".gltf" || path.extension() == ".glb"; }
 
 GltfAsset read_gltf(const fs::path& path) {
-  const Model m = parse_model(path);
+  DecodedImages images;
+  const Model m = parse_model(path, images);
   GltfAsset out;
+  const TextureSources src{m, images, path};
   for (std::size_t i = 0; i < m.materials.size(); ++i)
-    out.materials.push_back(material(m.materials[i], (Place{&path, ""} / "materials")[i]));
+    out.materials.push_back(material(src, m.materials[i], (Place{&path, ""} / "materials")[i]));
   Walker w{m, path, out, std::vector<bool>(m.nodes.size(), false)};
   std::vector<int> roots;
   if (!m.scenes.empty()) {

@@ -9,6 +9,7 @@
 // Textures are not read: the image loader keeps each image's reference and decodes nothing.
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,9 +23,19 @@
 namespace bouguer {
 
 // A glTF material's factors (textures ignored), with the extensions Bouguer reads.
+// A material's texture: its image decoded (OpenImageIO, through io/texture_image.h), its
+// KHR_texture_transform, and its place in the asset for messages.
+struct GltfTexture {
+  std::shared_ptr<const TextureImage> image;
+  UvTransform transform;
+  std::string name;  // "images[2]" or the file it came from
+};
+
 struct GltfMaterial {
   std::string name;
   Vec3 base_color{1, 1, 1};  // linear
+  // baseColorTexture, its texels already multiplied by base_color (and so linear).
+  std::optional<GltfTexture> base_color_texture;
   double metallic = 1.0, roughness = 1.0;
   Vec3 emissive{0, 0, 0};  // linear, times emissive_strength (KHR_materials_emissive_strength)
   double emissive_strength = 1.0;

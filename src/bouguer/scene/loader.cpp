@@ -443,6 +443,9 @@ MaterialDesc material(const json& j, const Where& w) {
       if (r.is_object() && r.contains("rgb")) {
         expect_keys(r, wr, {"rgb"});
         d.reflectance = rgb_input(r, wr);
+      } else if (r.is_object() && r.contains("texture")) {
+        expect_keys(r, wr, {"texture"});
+        d.reflectance = TextureInput{text(r["texture"], wr / "texture"), nullptr, {}};
       } else if (r.is_number()) {
         d.reflectance = number(r, wr);
       } else {
@@ -668,7 +671,11 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   if (j.contains("outside")) o.outside = text(j["outside"], w / "outside");
   if (j.contains("contents")) o.contents = text(j["contents"], w / "contents");
   if (j.contains("emission")) o.emission = emission(j["emission"], w / "emission", true);
-  if (j.contains("material")) o.material = material(j["material"], w / "material");
+  if (j.contains("material") && j["material"].is_string()) {
+    if (j["material"] != "mtl") (w / "material").fail("expected an object, or \"mtl\" (the OBJ's own materials)");
+  } else if (j.contains("material")) {
+    o.material = material(j["material"], w / "material");
+  }
   if (j.contains("roughness")) o.roughness = number(j["roughness"], w / "roughness");
   if (j.contains("priority")) o.priority = integer(j["priority"], w / "priority", 0, kMaxPriority);
   return o;  // its roles and media are checked by the builder
@@ -719,8 +726,14 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
   array(root["objects"], wo);
   for (std::size_t i = 0; i < root["objects"].size(); ++i) {
     const json& o = root["objects"][i];
-    if (o.is_object() && o.contains("gltf")) add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
-    else b.object(object(o, wo[i], i), wo[i]);
+    if (o.is_object() && o.contains("gltf")) {
+      add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
+    } else if (o.is_object() && o.contains("material") && o["material"] == "mtl") {
+      for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i), wo[i] / "material"))
+        b.object(std::move(part), wo[i]);
+    } else {
+      b.object(object(o, wo[i], i), wo[i]);
+    }
   }
   if (root.contains("lights")) {
     const Where wl = top / "lights";

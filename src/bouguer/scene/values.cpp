@@ -12,6 +12,7 @@
 #include "bouguer/core/strings.h"
 #include "bouguer/core/limits.h"
 #include "bouguer/spectra/spectrum_csv.h"
+#include "bouguer/io/texture_image.h"
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
@@ -357,6 +358,51 @@ MediumDesc resolve_medium(const std::string& name, const MediumInput& in, const 
   return m;
 }
 
+TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use) {
+  TextureDesc d{texture.file, texture.image, texture.transform};
+  if (!d.image) {
+    d.file = where.resolve(texture.file);
+    try {
+      d.image = std::make_shared<const TextureImage>(read_texture_image(d.file));
+    } catch (const Error& e) {
+      where.fail("{}", e.what());  // the reader's line names the file; this one says where it was asked for
+    }
+  }
+  if (use != TextureUse::reflectance || d.image->srgb) return d;  // sRGB decodes into [0, 1]
+  for (std::size_t i = 0; i < d.image->rgb.size(); ++i)
+    if (d.image->rgb[i] < 0.0f || d.image->rgb[i] > 1.0f)
+      where.fail("{}: pixel ({}, {}) holds {}; a reflectance must lie between 0 and 1", d.file.string(),
+                 i / 3 % static_cast<std::size_t>(d.image->width), i / 3 / static_cast<std::size_t>(d.image->width),
+                 d.image->rgb[i]);
+  return d;
+}
+
+std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Source& where) {
+  const auto* mesh = std::get_if<MeshShape>(&base.shape);
+  if (!mesh || mesh->path.extension() != ".obj") where.fail("\"mtl\" takes the materials of an .obj mesh shape");
+  ObjWithMaterials obj;
+  try {
+    obj = load_obj_materials(mesh->path, fmt::format("object '{}'", base.name));
+  } catch (const Error& e) {
+    where.fail("{}", e.what());
+  }
+  std::vector<ObjectDesc> out;
+  for (const ObjPart& part : obj.parts) {
+    ObjectDesc o = base;
+    o.shape = TriangleMeshShape{part.mesh, part.mesh.normals, part.mesh.uvs};
+    DiffuseInput d;
+    if (part.material >= 0) {
+      const ObjMaterial& m = obj.materials[static_cast<std::size_t>(part.material)];
+      o.name = fmt::format("{}: {}", base.name, m.name);
+      if (m.map_kd.empty()) d.reflectance = RgbInput{m.kd};
+      else d.reflectance = TextureInput{m.map_kd.string(), nullptr, {}};
+    }
+    o.material = resolve_surface_material(d, where);
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
 MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& where) {
   if (const auto* c = std::get_if<ConductorInput>(&in))
     return ConductorDesc{resolve_spectral(c->n, where / "n"), resolve_spectral(c->k, where / "k"), c->roughness};
@@ -372,6 +418,8 @@ MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& whe
     d.reflectance = Spectrum{rgb_to_reflectance(rgb)};
   } else if (const auto* v = std::get_if<double>(&*reflectance)) {
     d.reflectance = ConstantSpectrum{*v};
+  } else if (const auto* t = std::get_if<TextureInput>(&*reflectance)) {
+    d.reflectance_texture = resolve_texture(*t, wr / "texture", TextureUse::reflectance);
   } else {
     d.reflectance = resolve_table(std::get<TableInput>(*reflectance), wr);
   }

@@ -7,6 +7,7 @@
 // turn them into the description's values in SI units, checking each and failing with one line
 // that names the Source and the key below it ("scene.json: media.wine.absorption.unit: ...").
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
@@ -115,10 +116,18 @@ struct MediumInput {
   std::optional<ScatteringInput> scattering;
 };
 
-// Opaque surfaces: a diffuse reflectance (a number, table or RGB, 0 to 1; 0.5 when not given)
-// or a conductor's n and k with a GGX roughness.
+// A texture image: a file (relative to the source's folder), or an image a front end has already
+// read (glTF's embedded images; `file` then only names it), with its glTF texture transform.
+struct TextureInput {
+  std::string file;
+  std::shared_ptr<const TextureImage> image;
+  UvTransform transform;
+};
+
+// Opaque surfaces: a diffuse reflectance (a number, table, RGB or texture, 0 to 1; 0.5 when not
+// given) or a conductor's n and k with a GGX roughness.
 struct DiffuseInput {
-  std::optional<std::variant<double, TableInput, RgbInput>> reflectance;
+  std::optional<std::variant<double, TableInput, RgbInput, TextureInput>> reflectance;
 };
 struct ConductorInput {
   SpectralInput n = 0.2, k = 3.0;
@@ -143,6 +152,14 @@ Spectrum resolve_spectral(const SpectralInput& value, const Source& where);
 EmissionDesc resolve_emission(const EmissionInput& emission, const Source& where);
 IorModel resolve_ior(const IorInput& ior, const Source& where);
 MediumDesc resolve_medium(const std::string& name, const MediumInput& medium, const Source& where);
+// The image read (an Error naming the file: missing, not an image, too large) and, for a
+// reflectance, every texel after sRGB decoding checked to lie in [0, 1].
+TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use);
+// An object whose material is "mtl": its OBJ's faces split by `usemtl` into one object each (named
+// "<object>: <material>"), each diffuse with its MTL's Kd or map_Kd texture (faces without a
+// material: the default diffuse). Errors name the OBJ or MTL file, or the texture.
+std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Source& where);
+
 MaterialDesc resolve_surface_material(const MaterialInput& material, const Source& where);
 
 }  // namespace bouguer

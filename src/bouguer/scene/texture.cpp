@@ -1,0 +1,150 @@
+#include "bouguer/scene/texture.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include "bouguer/spectra/rgb_to_spectrum.h"
+
+namespace bouguer {
+namespace {
+
+// Level 0 from the image (rows from the top in the file, from the bottom here), decoded for its use.
+std::vector<Vec3f> base_level(const TextureImage& image, TextureUse use) {
+  const auto w = static_cast<std::size_t>(image.width), h = static_cast<std::size_t>(image.height);
+  std::vector<Vec3f> texels(w * h);
+  const bool decode = image.srgb && use != TextureUse::data;
+  for (std::size_t y = 0; y < h; ++y)
+    for (std::size_t x = 0; x < w; ++x) {
+      const float* p = &image.rgb[((h - 1 - y) * w + x) * 3];
+      Vec3f& t = texels[y * w + x];
+      for (std::size_t c = 0; c < 3; ++c) t[c] = decode ? srgb_to_linear(p[c]) : p[c];
+      if (use == TextureUse::reflectance)
+        for (std::size_t c = 0; c < 3; ++c) t[c] = std::clamp(t[c], 0.0f, 1.0f);
+    }
+  return texels;
+}
+
+// The next level: each texel the mean of a 2 × 2 block (at an odd edge the last row or column
+// stands in for the missing one).
+std::vector<Vec3f> halved(const std::vector<Vec3f>& level, int width, int height, int& out_width, int& out_height) {
+  out_width = std::max(1, (width + 1) / 2);
+  out_height = std::max(1, (height + 1) / 2);
+  std::vector<Vec3f> next(static_cast<std::size_t>(out_width) * static_cast<std::size_t>(out_height));
+  auto at = [&](int x, int y) {
+    return level[static_cast<std::size_t>(std::min(y, height - 1)) * static_cast<std::size_t>(width) +
+                 static_cast<std::size_t>(std::min(x, width - 1))];
+  };
+  for (int y = 0; y < out_height; ++y)
+    for (int x = 0; x < out_width; ++x)
+      next[static_cast<std::size_t>(y) * static_cast<std::size_t>(out_width) + static_cast<std::size_t>(x)] =
+          (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1)) * 0.25f;
+  return next;
+}
+
+void append_level(TextureTable& table, const std::vector<Vec3f>& texels, int width, int height, TextureUse use) {
+  table.levels.push_back({width, height, table.rgb.size()});
+  table.rgb.insert(table.rgb.end(), texels.begin(), texels.end());
+  for (const Vec3f& t : texels) {
+    std::array<float, 3> c{};
+    if (use == TextureUse::reflectance) {
+      const SigmoidPolynomial s = rgb_to_reflectance(Vec3{t.x, t.y, t.z});
+      c = {static_cast<float>(s.c0), static_cast<float>(s.c1), static_cast<float>(s.c2)};
+    }
+    table.sigmoid.push_back(c);
+  }
+}
+
+std::array<double, 2> transformed(const UvTransform& t, std::array<double, 2> uv) {
+  // KHR_texture_transform works in glTF's v-down coordinates.
+  const double u = uv[0] * t.scale[0], v = (1.0 - uv[1]) * t.scale[1];
+  const double c = std::cos(t.rotation_rad), s = std::sin(t.rotation_rad);
+  return {c * u + s * v + t.offset[0], 1.0 - (-s * u + c * v + t.offset[1])};
+}
+
+// Repeat: the index of texel coordinate i in [0, n).
+std::size_t wrapped(long i, int n) {
+  const long m = i % n;
+  return static_cast<std::size_t>(m < 0 ? m + n : m);
+}
+
+void add_bilinear(const TextureLevel& level, std::array<double, 2> uv, float weight,
+                  TexelBlend& blend) {
+  const double x = uv[0] * level.width - 0.5, y = uv[1] * level.height - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const auto fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const std::size_t col = wrapped(static_cast<long>(x0) + dx, level.width);
+      const std::size_t row = wrapped(static_cast<long>(y0) + dy, level.height);
+      const auto k = static_cast<std::size_t>(blend.count++);
+      blend.texel[k] = level.first + row * static_cast<std::size_t>(level.width) + col;
+      blend.weight[k] = weight * (dx ? fx : 1.0f - fx) * (dy ? fy : 1.0f - fy);
+    }
+}
+
+}  // namespace
+
+int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform) {
+  assert(image.width > 0 && image.height > 0);
+  TextureEntry entry{static_cast<int>(table.levels.size()), 0, transform};
+  int width = image.width, height = image.height;
+  std::vector<Vec3f> level = base_level(image, use);
+  for (;;) {
+    append_level(table, level, width, height, use);
+    ++entry.level_count;
+    if (width == 1 && height == 1) break;
+    int w2 = 0, h2 = 0;
+    level = halved(level, width, height, w2, h2);
+    width = w2;
+    height = h2;
+  }
+  table.textures.push_back(entry);
+  return static_cast<int>(table.textures.size()) - 1;
+}
+
+TexelBlend texel_blend(const TextureTable& table, int id, std::array<double, 2> uv, double level_of_detail) {
+  const TextureEntry& t = table.textures[static_cast<std::size_t>(id)];
+  const std::array<double, 2> st = transformed(t.transform, uv);
+  // −∞ (no cone) and NaN read the finest level, +∞ the coarsest.
+  const double lod = std::min(level_of_detail > 0.0 ? level_of_detail : 0.0, static_cast<double>(t.level_count - 1));
+  const int l0 = std::min(static_cast<int>(lod), t.level_count - 1);
+  const auto f = static_cast<float>(lod - l0);
+  TexelBlend blend;
+  const auto level = [&](int l) { return table.levels[static_cast<std::size_t>(t.first_level + l)]; };
+  add_bilinear(level(l0), st, 1.0f - f, blend);
+  if (f > 0.0f && l0 + 1 < t.level_count) add_bilinear(level(l0 + 1), st, f, blend);
+  return blend;
+}
+
+double texture_level_of_detail(const TextureTable& table, int id, const Mesh& mesh, std::uint32_t primitive,
+                               double cone_width_m, double cos_theta) {
+  if (!(cone_width_m > 0.0) || mesh.uvs.empty()) return -std::numeric_limits<double>::infinity();
+  const TextureEntry& t = table.textures[static_cast<std::size_t>(id)];
+  const TextureLevel& base = table.levels[static_cast<std::size_t>(t.first_level)];
+  const auto& tri = mesh.triangles[primitive];
+  const Vec3 e1 = mesh.positions[tri[1]] - mesh.positions[tri[0]], e2 = mesh.positions[tri[2]] - mesh.positions[tri[0]];
+  const auto& a = mesh.uvs[tri[0]];
+  const auto& b = mesh.uvs[tri[1]];
+  const auto& c = mesh.uvs[tri[2]];
+  const double uv_area = std::abs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) *
+                         std::abs(t.transform.scale[0] * t.transform.scale[1]);
+  const double world_area = length(cross(e1, e2));
+  if (!(uv_area > 0.0) || !(world_area > 0.0)) return -std::numeric_limits<double>::infinity();
+  const double texels_per_m2 = uv_area * base.width * base.height / world_area;
+  const double footprint_m = cone_width_m / std::max(std::abs(cos_theta), 1e-3);
+  return std::log2(footprint_m * std::sqrt(texels_per_m2));
+}
+
+Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend) {
+  Vec3 rgb{};
+  for (int k = 0; k < blend.count; ++k) {
+    const Vec3f& t = table.rgb[blend.texel[static_cast<std::size_t>(k)]];
+    const double w = blend.weight[static_cast<std::size_t>(k)];
+    rgb = rgb + Vec3{t.x * w, t.y * w, t.z * w};
+  }
+  return rgb;
+}
+
+}  // namespace bouguer

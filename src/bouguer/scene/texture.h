@@ -1,0 +1,93 @@
+#pragma once
+// Textures as flat render data: every texture is an id into one TextureTable, which holds each
+// texture's MIP pyramid (level 0 the image, each next level a 2 × 2 box average, down to 1 × 1)
+// as linear Rec.709 texels, and for reflectance textures each texel's RGB lifted to a spectrum
+// (the sigmoid polynomial of spectra/rgb_to_spectrum.h), so a lookup blends spectra, not colours.
+//
+// Lookup: texture coordinates (u, v), v = 0 at the image's bottom row (the OBJ and quad
+// convention; the glTF importer flips its v), repeat outside [0, 1). Bilinear within a level,
+// linear between the two levels around the level of detail (trilinear). The level of detail comes
+// from a ray cone (Akenine-Möller et al., "Texture Level of Detail Strategies for Real-Time Ray
+// Tracing", Ray Tracing Gems, 2019): the cone's width at the hit over |cos θ| is the footprint's
+// extent in metres; the triangle's texel-to-area ratio turns it into texels, and log2 of that is
+// the level (0: the image itself, bilinear, which is also what a path without a cone reads).
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "bouguer/core/math.h"
+#include "bouguer/geometry/mesh.h"
+#include "bouguer/io/texture_image.h"
+#include "bouguer/spectra/sampled_spectrum.h"
+#include "bouguer/spectra/sampled_wavelengths.h"
+
+namespace bouguer {
+
+// KHR_texture_transform: uv' = T · R · S · uv, with the rotation counter-clockwise in the
+// texture's own (glTF, v down) coordinates. Identity by default.
+struct UvTransform {
+  std::array<double, 2> offset{0.0, 0.0};
+  double rotation_rad = 0.0;
+  std::array<double, 2> scale{1.0, 1.0};
+};
+
+// How texels are read: a reflectance (sRGB-decoded where the file is sRGB, each channel in [0, 1],
+// lifted to a spectrum), a colour used as it is (sRGB-decoded), or data (roughness, metalness:
+// the values as stored).
+enum class TextureUse { reflectance, colour, data };
+
+struct TextureLevel {
+  int width = 0, height = 0;
+  std::size_t first = 0;  // index of its top-left texel in TextureTable::rgb
+};
+
+struct TextureEntry {
+  int first_level = 0, level_count = 0;
+  UvTransform transform;
+};
+
+struct TextureTable {
+  std::vector<TextureEntry> textures;
+  std::vector<TextureLevel> levels;
+  std::vector<Vec3f> rgb;                       // linear, rows from the bottom, every level
+  std::vector<std::array<float, 3>> sigmoid;    // reflectance textures: c0, c1, c2 per texel
+};
+
+// Adds the image's pyramid; returns its id.
+int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform = {});
+
+// The texels a lookup blends (up to 4 in each of 2 levels) and their weights (summing to 1).
+struct TexelBlend {
+  std::array<std::size_t, 8> texel{};
+  std::array<float, 8> weight{};
+  int count = 0;
+};
+TexelBlend texel_blend(const TextureTable& table, int id, std::array<double, 2> uv, double level_of_detail);
+
+// The level of detail of a cone of width cone_width_m (metres, at the hit) meeting triangle
+// `primitive` of `mesh` (which has UVs) at |cos θ| = cos_theta: log2 of the footprint in texels
+// of level 0; −∞ for a width of 0 (the finest level).
+double texture_level_of_detail(const TextureTable& table, int id, const Mesh& mesh, std::uint32_t primitive,
+                               double cone_width_m, double cos_theta);
+
+Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend);
+
+// A reflectance texture's spectrum at the path's wavelengths: the blend of its texels' spectra.
+template <std::size_t N>
+SampledSpectrum<N> texture_reflectance(const TextureTable& table, const TexelBlend& blend,
+                                       const SampledWavelengths<N>& w) {
+  SampledSpectrum<N> s;
+  for (int k = 0; k < blend.count; ++k) {
+    const auto& c = table.sigmoid[blend.texel[static_cast<std::size_t>(k)]];
+    const float weight = blend.weight[static_cast<std::size_t>(k)];
+    for (std::size_t i = 0; i < N; ++i) {
+      const double x = (c[0] * w.nm[i] + c[1]) * w.nm[i] + c[2];
+      s[i] += weight * static_cast<float>(0.5 + x / (2.0 * std::sqrt(1.0 + x * x)));
+    }
+  }
+  return s;
+}
+
+}  // namespace bouguer
