@@ -193,5 +193,26 @@ TEST(NestedMedia, PriorityIsRefusedWhereItCannotApply) {
             std::string::npos);
 }
 
+// Analytic spheres have no vertices to probe: the centre of each stands for them, so a sphere wholly
+// inside a box or inside another sphere of the same priority is still found.
+TEST(NestedMedia, OverlapsOfAnalyticShapesAreFoundByTheirCentres) {
+  auto scene = [](const std::string& outer_shape, const std::string& inner_medium) {
+    return fmt::format(R"({{"media": {{"a": {{"ior": 1.5}}, "b": {{"ior": 1.33}}}},
+      "objects": [{{"name": "outer", "shape": {}, "inside": "a", "priority": 2}},
+                  {{"name": "inner", "shape": {{"type": "sphere", "radius": "5 mm"}},
+                    "transform": [{{"translate": ["2 mm", 0, 0]}}], "inside": "{}", "priority": 2}}]}})",
+                       outer_shape, inner_medium);
+  };
+  const std::string box = R"({"type": "box", "size": ["40 mm", "40 mm", "40 mm"]})";
+  const std::string sphere = R"({"type": "sphere", "radius": "20 mm"})";
+  for (const std::string& outer : {box, sphere}) {
+    EXPECT_EQ(error_of(scene(outer, "b")),
+              "boxes.json: objects 'outer' and 'inner' overlap with the same priority 2 and different media ('a', "
+              "'b'): give one a higher priority")
+        << outer;
+    EXPECT_EQ(error_of(scene(outer, "a")), "") << outer;
+  }
+}
+
 }  // namespace
 }  // namespace bouguer
