@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "bouguer/core/error.h"
 
 namespace bouguer {
 

@@ -128,10 +128,12 @@ std::string without_draco_indices_json(const std::string& text) {
 }
 
 // A GLB: 12-byte header, a JSON chunk, then an optional BIN chunk kept byte for byte.
+constexpr std::uint32_t kGlbJsonChunk = 0x4E4F534Au;  // "JSON", little-endian
+
 std::string without_draco_indices_glb(const std::string& bytes) {
   if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || le32(bytes, 8) != bytes.size()) return bytes;
   const std::uint32_t json_length = le32(bytes, 12);
-  if (le32(bytes, 16) != 0x4E4F534Au || json_length > bytes.size() - 20) return bytes;  // "JSON"
+  if (le32(bytes, 16) != kGlbJsonChunk || json_length > bytes.size() - 20) return bytes;
   const std::string text = bytes.substr(20, json_length);
   std::string json = without_draco_indices_json(text);
   if (json == text) return bytes;
@@ -140,7 +142,7 @@ std::string without_draco_indices_glb(const std::string& bytes) {
   std::string out = bytes.substr(0, 8);
   put_le32(out, static_cast<std::uint32_t>(12 + 8 + json.size() + rest.size()));
   put_le32(out, static_cast<std::uint32_t>(json.size()));
-  put_le32(out, 0x4E4F534Au);
+  put_le32(out, kGlbJsonChunk);
   out += json;
   out += rest;
   return out;
