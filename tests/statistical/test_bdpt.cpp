@@ -110,8 +110,10 @@ void expect_bidirectional_furnace(const std::string& density, const std::string&
 TEST(Bidirectional, ScatteringWhiteFurnaceHomogeneous) { expect_bidirectional_furnace("", "homogeneous"); }
 
 // Merging in the medium (the ball kernel) and on no surface (the furnace has none but the sphere's).
+// 4096 samples: the largest standard error is then about 0.002, so 3 of them fit the 1 %
+// (8192 took 36 s on a loaded machine, near the suite's timeout).
 TEST(VertexMerging, ScatteringWhiteFurnaceHomogeneous) {
-  expect_bidirectional_furnace("", "homogeneous", IntegratorType::vcm, 8192);
+  expect_bidirectional_furnace("", "homogeneous", IntegratorType::vcm, 4096);
 }
 
 TEST(Bidirectional, ScatteringWhiteFurnaceWithADensityField) {

@@ -121,14 +121,19 @@ TEST(TextureTable, PyramidAndBilinearLookupInClosedForm) {
   EXPECT_NEAR(texture_rgb(table, texel_blend(table, id, {0.3, 0.7}, 9.0)).x, mean, 1e-6);
 }
 
-// The ray cone's level of detail: a 1 m quad with UVs over [0, 1]² and a 256² texture has 256
-// texels per metre; a cone 1/64 m wide covers 4 texels head on (level 2), twice as many at 60°.
-TEST(TextureTable, RayConeLevelOfDetailInClosedForm) {
+// A 256 × 256 grey data texture.
+int add_grey_256(TextureTable& table) {
   TextureImage image;
   image.width = image.height = 256;
   image.rgb.assign(256 * 256 * 3, 0.5f);
+  return add_texture(table, image, TextureUse::data);
+}
+
+// The ray cone's level of detail: a 1 m quad with UVs over [0, 1]² and a 256² texture has 256
+// texels per metre; a cone 1/64 m wide covers 4 texels head on (level 2), twice as many at 60°.
+TEST(TextureTable, RayConeLevelOfDetailInClosedForm) {
   TextureTable table;
-  const int id = add_texture(table, image, TextureUse::data);
+  const int id = add_grey_256(table);
   Mesh quad;
   quad.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   quad.triangles = {{0, 1, 2}, {0, 2, 3}};
@@ -136,6 +141,25 @@ TEST(TextureTable, RayConeLevelOfDetailInClosedForm) {
   EXPECT_NEAR(texture_level_of_detail(table, id, quad, 1, 1.0 / 64.0, 1.0), 2.0, 1e-9);
   EXPECT_NEAR(texture_level_of_detail(table, id, quad, 0, 1.0 / 64.0, 0.5), 3.0, 1e-9);
   EXPECT_TRUE(std::isinf(texture_level_of_detail(table, id, quad, 0, 0.0, 1.0)));
+}
+
+// On analytic shapes (no triangles) the density comes from the UV map. A sphere of radius R = 1/π m,
+// scaled 2×, on its equator: u spans 2π·2R = 4 m over 256 texels and v spans π·2R = 2 m, so
+// 64 × 128 texels per metre; a 1/64 m cone covers √(1 × 2) texel widths (level 0.5). A 2 m disk
+// (scaled from r = 0.5) has 128 texels per metre (level 1 for the same cone); a cylinder's side
+// of 2 m × 1 m, 128 × 256.
+TEST(TextureTable, RayConeLevelOfDetailOnAnalyticShapes) {
+  TextureTable table;
+  const int id = add_grey_256(table);
+  const double r = 1.0 / std::numbers::pi;
+  const AnalyticShape sphere{SphereSurface{r}, Transform::scale({2, 2, 2})};
+  EXPECT_NEAR(texture_level_of_detail(table, id, sphere, 0, {0.3, 0.5}, 1.0 / 64.0, 1.0), 0.5, 1e-9);
+  const AnalyticShape disk{DiskSurface{0.5}, Transform::scale({2, 2, 2})};
+  EXPECT_NEAR(texture_level_of_detail(table, id, disk, 0, {0.3, 0.5}, 1.0 / 64.0, 1.0), 1.0, 1e-9);
+  const AnalyticShape can{CylinderSurface{r, 1.0}, Transform{}};  // side: 2 m × 1 m for 256²
+  EXPECT_NEAR(texture_level_of_detail(table, id, can, 0, {0.3, 0.5}, 1.0 / 64.0, 1.0),
+              std::log2(std::sqrt(128.0 * 256.0) / 64.0), 1e-9);
+  EXPECT_TRUE(std::isinf(texture_level_of_detail(table, id, sphere, 0, {0.3, 0.5}, 0.0, 1.0)));
 }
 
 // A scene of one textured quad facing an orthographic camera, lit head on by a distant light of

@@ -78,7 +78,7 @@ class CellTable {
 
 }  // namespace
 
-Mesh welded(const Mesh& m, double tolerance_m) {
+Mesh welded(const Mesh& m, double tolerance_m, bool keep_attributes) {
   // Grid hashing with cells kCell tolerances wide: a vertex merges with the first earlier
   // representative within the tolerance in its own cell, or in a neighbouring one when it lies
   // within the tolerance of their common face (rarely: so most vertices look in one cell).
@@ -93,6 +93,10 @@ Mesh welded(const Mesh& m, double tolerance_m) {
   std::vector<std::uint32_t> next;
   Mesh out;
   std::vector<std::uint32_t> remap(m.positions.size());
+  const bool normals = keep_attributes && !m.normals.empty(), uvs = keep_attributes && !m.uvs.empty();
+  auto same_attributes = [&](std::uint32_t j, std::size_t i) {
+    return (!normals || dot(out.normals[j], m.normals[i]) > 1.0 - 1e-12) && (!uvs || out.uvs[j] == m.uvs[i]);
+  };
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
     const Vec3& p = m.positions[i];
     std::array<double, 3> q{};
@@ -110,13 +114,15 @@ Mesh welded(const Mesh& m, double tolerance_m) {
       for (int dy = lo[1]; dy <= hi[1] && found == CellTable::kNone; ++dy)
         for (int dz = lo[2]; dz <= hi[2] && found == CellTable::kNone; ++dz)
           for (std::uint32_t j = grid.head({cell[0] + dx, cell[1] + dy, cell[2] + dz}); j != CellTable::kNone; j = next[j])
-            if (length(out.positions[j] - p) <= tolerance_m) {
+            if (length(out.positions[j] - p) <= tolerance_m && same_attributes(j, i)) {
               found = j;
               break;
             }
     if (found == CellTable::kNone) {
       found = static_cast<std::uint32_t>(out.positions.size());
       out.positions.push_back(p);
+      if (normals) out.normals.push_back(m.normals[i]);
+      if (uvs) out.uvs.push_back(m.uvs[i]);
       next.push_back(CellTable::kNone);
       grid.append({cell[0], cell[1], cell[2]}, found, next);
     }

@@ -24,8 +24,10 @@ struct Mesh {
 void append(Mesh& dst, const Mesh& src);
 Mesh flipped(Mesh m);
 
-// Merges vertices closer than tolerance_m and drops triangles that become degenerate.
-Mesh welded(const Mesh& m, double tolerance_m);
+// Merges vertices closer than tolerance_m and drops triangles that become degenerate. The result
+// has positions only; with keep_attributes, it keeps the normals and UVs, and merges only vertices
+// whose attributes are the same too (a crease or a UV seam stays two vertices).
+Mesh welded(const Mesh& m, double tolerance_m, bool keep_attributes = false);
 
 // Signed volume (m³): positive when the triangles face outward.
 double signed_volume(const Mesh& m);

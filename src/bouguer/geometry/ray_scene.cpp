@@ -160,6 +160,10 @@ std::uint32_t RayScene::add(const AnalyticShape& shape) {
 void RayScene::commit() { rtcCommitScene(impl_->scene); }
 
 const Mesh& RayScene::mesh(std::uint32_t geometry) const { return impl_->meshes[geometry]; }
+const AnalyticShape* RayScene::analytic(std::uint32_t geometry) const {
+  const auto& r = impl_->analytic[geometry];
+  return r ? &r->shape : nullptr;
+}
 
 std::array<Vec3, 2> RayScene::bounds(std::uint32_t geometry) const {
   if (const auto& r = impl_->analytic[geometry]) return r->world_bounds;

@@ -55,6 +55,8 @@ class RayScene {
   std::optional<Hit> intersect(const Ray& ray) const;
   // The triangles of a mesh geometry (empty for an analytic one).
   const Mesh& mesh(std::uint32_t geometry) const;
+  // The analytic shape of a geometry, or null for a mesh.
+  const AnalyticShape* analytic(std::uint32_t geometry) const;
   // A world-space box (lo, hi) around a geometry.
   std::array<Vec3, 2> bounds(std::uint32_t geometry) const;
 

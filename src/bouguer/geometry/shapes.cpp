@@ -82,28 +82,70 @@ Mesh convex_from_planes(const std::vector<Plane>& planes, double scale_m) {
 
 using Profile = std::vector<std::array<double, 2>>;
 
-// Revolves (r, y) points; a point with r = 0 becomes one vertex on the axis. A profile walked
-// with increasing y at the outside gives outward normals.
-Mesh revolve(const Profile& profile, int segments) {
-  Mesh m;
-  std::vector<std::vector<std::uint32_t>> rings;
-  for (const auto& [r, y] : profile) {
-    std::vector<std::uint32_t> ring;
-    const int count = r == 0.0 ? 1 : segments;
-    for (int k = 0; k < count; ++k) {
-      const double th = 2.0 * kPi * k / segments;
-      ring.push_back(static_cast<std::uint32_t>(m.positions.size()));
-      m.positions.push_back({r * std::cos(th), y, r * std::sin(th)});
-    }
-    rings.push_back(std::move(ring));
+// Revolves (r, y) points about +y. A profile walked with increasing y at the outside gives outward
+// normals. Each vertex carries the exact normal of the surface of revolution at its angle, from
+// the profile's normal there: the mean of its two segments' normals where they turn by at most
+// crease_angle_deg (the polyline samples a smooth curve: a circle's points get its radial normal
+// exactly), each segment's own where they turn more (a crease: two rings at the same place). A
+// point with r = 0 is one vertex on the axis, normal ±y, unless its segment meets the axis at more
+// than the crease angle (a cone's apex: one vertex per segment, with that segment's normal).
+Mesh revolve(const Profile& profile_in, int segments, double crease_angle_deg) {
+  Profile profile;  // repeated points say nothing about the normal
+  for (const auto& p : profile_in)
+    if (profile.empty() || p != profile.back()) profile.push_back(p);
+  const std::size_t n = profile.size();
+  if (n < 2) return {};  // no surface: the closedness check says so
+  std::vector<std::array<double, 2>> seg(n > 0 ? n - 1 : 0);  // each segment's unit normal in (r, y)
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double dr = profile[i + 1][0] - profile[i][0], dy = profile[i + 1][1] - profile[i][1], l = std::hypot(dr, dy);
+    seg[i] = {dy / l, -dr / l};
   }
-  auto at = [](const std::vector<std::uint32_t>& ring, int k) { return ring[ring.size() == 1 ? 0 : k % ring.size()]; };
-  for (std::size_t i = 0; i + 1 < rings.size(); ++i) {
-    const auto &a = rings[i], &b = rings[i + 1];
-    if (a.size() == 1 && b.size() == 1) continue;
+  const double cos_crease = std::cos(radians(crease_angle_deg));
+  auto unit = [](std::array<double, 2> a) {
+    const double l = std::hypot(a[0], a[1]);
+    return l > 0.0 ? std::array<double, 2>{a[0] / l, a[1] / l} : a;
+  };
+  Mesh m;
+  // A ring of vertices at profile point j with normal nrm; `apex`: one vertex per segment, each
+  // with the normal at the middle of its wedge.
+  auto ring = [&](std::size_t j, std::array<double, 2> nrm, bool apex) {
+    const auto [r, y] = profile[j];
+    std::vector<std::uint32_t> idx;
+    const int count = r == 0.0 && !apex ? 1 : segments;
+    for (int k = 0; k < count; ++k) {
+      const double th = 2.0 * kPi * (k + (apex ? 0.5 : 0.0)) / segments;
+      idx.push_back(static_cast<std::uint32_t>(m.positions.size()));
+      m.positions.push_back({r * std::cos(2.0 * kPi * k / segments), y, r * std::sin(2.0 * kPi * k / segments)});
+      m.normals.push_back(count == 1 ? Vec3{0.0, nrm[1] >= 0.0 ? 1.0 : -1.0, 0.0}
+                                     : Vec3{nrm[0] * std::cos(th), nrm[1], nrm[0] * std::sin(th)});
+    }
+    return idx;
+  };
+  // below[j] / above[j]: the ring the segment below / above point j uses.
+  std::vector<std::vector<std::uint32_t>> below(n), above(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const bool has_below = j > 0, has_above = j + 1 < n;
+    const auto nb = has_below ? seg[j - 1] : seg[j], na = has_above ? seg[j] : seg[j - 1];
+    if (profile[j][0] == 0.0) {  // on the axis
+      if (has_below) below[j] = ring(j, nb, std::abs(nb[1]) < cos_crease);
+      if (has_above) above[j] = ring(j, na, std::abs(na[1]) < cos_crease);
+      continue;
+    }
+    if (nb[0] * na[0] + nb[1] * na[1] >= cos_crease) {
+      below[j] = above[j] = ring(j, unit({nb[0] + na[0], nb[1] + na[1]}), false);
+    } else {
+      if (has_below) below[j] = ring(j, nb, false);
+      if (has_above) above[j] = ring(j, na, false);
+    }
+  }
+  auto at = [&](const std::vector<std::uint32_t>& r, int k) { return r[r.size() == 1 ? 0 : k % r.size()]; };
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const auto &a = above[i], &b = below[i + 1];
+    const bool a_axis = profile[i][0] == 0.0, b_axis = profile[i + 1][0] == 0.0;
+    if (a_axis && b_axis) continue;
     for (int k = 0; k < segments; ++k) {
-      if (a.size() > 1) m.triangles.push_back({at(a, k), at(b, k), at(a, k + 1)});
-      if (b.size() > 1) m.triangles.push_back({at(a, k + 1), at(b, k), at(b, k + 1)});
+      if (!a_axis) m.triangles.push_back({at(a, k), at(b, k), at(a, k + 1)});
+      if (!b_axis) m.triangles.push_back({at(a, a_axis ? k : k + 1), at(b, k), at(b, k + 1)});
     }
   }
   return m;
@@ -185,14 +227,14 @@ Mesh make_sphere(const SphereShape& s, const std::string& what) {
     const double phi = kPi * i / rings;  // from the south pole up
     p.push_back({i == 0 || i == rings ? 0.0 : s.radius_m * std::sin(phi), -s.radius_m * std::cos(phi)});
   }
-  return revolve(p, s.segments);
+  return revolve(p, s.segments, 90.0);  // 90°: the poles' segments are smooth, never a crease
 }
 
 Mesh make_cylinder(const CylinderShape& c, const std::string& what) {
   require_positive(c.radius_m, "radius", what);
   require_positive(c.height_m, "height", what);
   require_segments(c.segments, what);
-  return revolve({{0, 0}, {c.radius_m, 0}, {c.radius_m, c.height_m}, {0, c.height_m}}, c.segments);
+  return revolve({{0, 0}, {c.radius_m, 0}, {c.radius_m, c.height_m}, {0, c.height_m}}, c.segments, kDefaultCreaseAngleDeg);
 }
 
 Mesh make_truncated_cube(const TruncatedCubeShape& t, const std::string& what) {
@@ -252,6 +294,10 @@ Mesh make_brilliant(const BrilliantShape& b, const std::string& what) {
   return convex_from_planes(planes, r * 2);
 }
 
+void require_crease_angle(double deg, const std::string& what) {
+  if (!(deg >= 0.0 && deg <= 180.0)) fail("{}: 'crease_angle_deg' must be between 0 and 180 (got {})", what, deg);
+}
+
 void validate_profile(const Profile& p, const std::string& what) {
   if (p.size() < 2) fail("{}: 'profile' needs at least two [r, y] points", what);
   for (const auto& [r, y] : p)
@@ -262,7 +308,8 @@ void validate_profile(const Profile& p, const std::string& what) {
 Mesh make_lathe(const LatheShape& l, const std::string& what) {
   validate_profile(l.profile_m, what);
   require_segments(l.segments, what);
-  Mesh m = welded(revolve(l.profile_m, l.segments), 1e-9 * profile_scale(l.profile_m));
+  require_crease_angle(l.crease_angle_deg, what);
+  Mesh m = welded(revolve(l.profile_m, l.segments, l.crease_angle_deg), 1e-9 * profile_scale(l.profile_m), true);
   return signed_volume(m) < 0.0 ? flipped(std::move(m)) : m;
 }
 
@@ -299,6 +346,7 @@ Profile inner_profile(const Profile& outer, double wall, const std::string& what
 
 std::vector<ShapePart> make_vessel(const VesselShape& v, const std::string& what) {
   validate_profile(v.profile_m, what);
+  require_crease_angle(v.crease_angle_deg, what);
   require_positive(v.wall_m, "wall", what);
   require_segments(v.segments, what);
   const Profile& outer = v.profile_m;
@@ -326,13 +374,14 @@ std::vector<ShapePart> make_vessel(const VesselShape& v, const std::string& what
   Profile outside = outer;
   outside.push_back(inner.back());  // the rim
   std::vector<ShapePart> parts;
-  parts.push_back({revolve(outside, v.segments), Side::object, Side::surroundings});
-  if (dry.size() > 1) parts.push_back({revolve(dry, v.segments), Side::object, Side::surroundings});
+  const double crease = v.crease_angle_deg;
+  parts.push_back({revolve(outside, v.segments, crease), Side::object, Side::surroundings});
+  if (dry.size() > 1) parts.push_back({revolve(dry, v.segments, crease), Side::object, Side::surroundings});
   if (v.fill > 0.0) {
-    parts.push_back({revolve(wet, v.segments), Side::object, Side::contents});
-    parts.push_back({revolve({fill_point, {0.0, y_fill}}, v.segments), Side::contents, Side::surroundings});
+    parts.push_back({revolve(wet, v.segments, crease), Side::object, Side::contents});
+    parts.push_back({revolve({fill_point, {0.0, y_fill}}, v.segments, crease), Side::contents, Side::surroundings});
   }
-  for (auto& p : parts) p.mesh = welded(p.mesh, tolerance);
+  for (auto& p : parts) p.mesh = welded(p.mesh, tolerance, true);
   return parts;
 }
 

@@ -37,8 +37,15 @@ struct BrilliantShape {
   double pavilion_angle_deg = 40.75;
   double girdle = 0.03;
 };
+// Where the profile of a surface of revolution turns by more than this, its normal has a crease
+// (shapes.cpp, revolve); below it the shading normal is smooth along the profile.
+inline constexpr double kDefaultCreaseAngleDeg = 30.0;
 // Surface of revolution about +y of a profile of (r, y) points.
-struct LatheShape { std::vector<std::array<double, 2>> profile_m; int segments = 128; };
+struct LatheShape {
+  std::vector<std::array<double, 2>> profile_m;
+  int segments = 128;
+  double crease_angle_deg = kDefaultCreaseAngleDeg;
+};
 // A bottle or glass: outer profile (r, y) from the bottom centre (r = 0) to the rim, wall
 // thickness, and the fill level as a fraction of the inner height (0 = empty).
 struct VesselShape {
@@ -46,6 +53,7 @@ struct VesselShape {
   double wall_m = 0.002;
   double fill = 0.0;
   int segments = 128;
+  double crease_angle_deg = kDefaultCreaseAngleDeg;
 };
 struct MeshShape { std::filesystem::path path; };
 // Triangles already in memory (a front end's own mesh: glTF, Python): positions in metres, and

@@ -191,7 +191,7 @@ double Bdpt<N>::pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<
   if (at.kind == VertexKind::medium)
     pdf_dir = phase_value(scattering_medium(s_, at.medium)->phase, -wo, wi);
   else
-    pdf_dir = pdf(at.event.bsdf, at.event.frame.to_local(wo), at.event.frame.to_local(wi));
+    pdf_dir = at.event.pdf(wo, wi);
   return to_area_density(pdf_dir, at.point, next, tau);
 }
 
@@ -201,7 +201,7 @@ SampledSpectrum<N> Bdpt<N>::f(const Vertex<N>& x, const Vec3& wi, TransportMode 
   if (x.kind == VertexKind::medium)
     return SampledSpectrum<N>::constant(
         static_cast<float>(phase_value(scattering_medium(s_, x.medium)->phase, -x.wo, wi)));
-  return eval(x.event.bsdf, x.event.frame.to_local(x.wo), x.event.frame.to_local(wi), mode);
+  return x.event.eval(x.wo, wi, mode);
 }
 
 // The power heuristic over every strategy that could have made the same path (pbrt-v4's

@@ -126,11 +126,9 @@ template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
                                 std::uint64_t& rays, bool mis, bool environment) {
-  const Vec3 wo_local = e.frame.to_local(wo);
   auto bsdf_towards = [&](const Vec3& wi, double& bsdf_pdf) {
-    const Vec3 wi_local = e.frame.to_local(wi);
-    bsdf_pdf = pdf(e.bsdf, wo_local, wi_local);
-    return eval(e.bsdf, wo_local, wi_local, TransportMode::radiance);
+    bsdf_pdf = e.pdf(wo, wi);
+    return e.eval(wo, wi, TransportMode::radiance);
   };
   return direct_light_at(
       v, PathVertex{hit.point, &hit, e.inside}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
@@ -195,8 +193,7 @@ void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const Surfac
                              const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
   const auto c = v.camera.connect(hit.point);
   if (!c) return;
-  const SampledSpectrum<N> f =
-      eval(e.bsdf, e.frame.to_local(wo), e.frame.to_local(c->wi), TransportMode::importance);
+  const SampledSpectrum<N> f = e.eval(wo, c->wi, TransportMode::importance);
   splat_towards(v, PathVertex{hit.point, &hit, e.inside}, *c, e.medium_towards(c->wi), beta * f, w, path_r_u, rng, film, rays);
 }
 

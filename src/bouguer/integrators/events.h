@@ -59,16 +59,62 @@ SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const Vec3& wo
 double area_light_pdf(const RenderScene& scene, const Hit& hit, const Vec3& from, const Vec3& wi);
 double environment_pdf(const RenderScene& scene, const Vec3& d);
 
-// A surface hit as a BSDF in its local frame. Opaque surfaces are two-sided: the frame faces wo.
-// Interfaces keep the geometric normal, so z > 0 is the medium_front side.
+// A surface hit as a BSDF in its shading frame. Opaque surfaces are two-sided: both normals face
+// wo. Interfaces keep the geometric normal's side, so z > 0 is the medium_front side.
+//
+// Shading normals (docs/rendering.md "Shading normals"), treated as pbrt-v3 does. The BSDF is
+// evaluated and sampled in the frame of the hit's shading normal; the geometric normal `ng` alone
+// says which side a direction is on, so it decides the medium a direction travels in and whether
+// wo → wi is a reflection or a transmission. A pair on which the two frames disagree (a reflection
+// through the geometric surface, a refraction that stays on its side, a wo behind the shading
+// normal) carries nothing, and a sample that draws one ends the path: no light leaks through a
+// surface without changing media. In importance mode the verbs include Veach's adjoint correction
+// |wo·ns||wi·ng| / (|wo·ng||wi·ns|), which makes the light paths' BSDF the adjoint of the camera
+// paths' (Veach's thesis, §5.3), so every estimator sums the same integral.
 template <std::size_t N>
 struct SurfaceEvent {
-  Frame frame;
+  Frame frame;  // z: the shading normal
   Bsdf<N> bsdf;
   int medium_front = -1, medium_behind = -1;
   InsideSet inside = 0;  // the nested objects the path was inside as it arrived (scene/nested.h)
+  Vec3 ng = frame.n;     // the geometric normal, on the side of frame.n
+
   // The medium a direction leaving the surface travels in.
-  int medium_towards(const Vec3& wi) const { return dot(wi, frame.n) > 0.0 ? medium_front : medium_behind; }
+  int medium_towards(const Vec3& wi) const { return dot(wi, ng) > 0.0 ? medium_front : medium_behind; }
+  bool shaded() const { return !(frame.n == ng); }
+
+  // f(wo, wi)·|cos θi| (with the adjoint correction in importance mode), world directions.
+  SampledSpectrum<N> eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    const Vec3 lo = frame.to_local(wo), li = frame.to_local(wi);
+    if (!shaded()) return bouguer::eval(bsdf, lo, li, mode);
+    if (!sides_agree(wo, wi, lo, li)) return {};
+    return bouguer::eval(bsdf, lo, li, mode) * correction(wo, wi, lo, li, mode);
+  }
+  // The solid-angle density of drawing wi from wo (the shading frame's).
+  double pdf(const Vec3& wo, const Vec3& wi) const { return bouguer::pdf(bsdf, frame.to_local(wo), frame.to_local(wi)); }
+  // A direction drawn from wo, in world coordinates; nullopt where the two frames disagree on it.
+  std::optional<BsdfSampleN<N>> sample(const Vec3& wo, double uc, double u1, double u2, TransportMode mode) const {
+    const Vec3 lo = frame.to_local(wo);
+    auto s = bouguer::sample(bsdf, lo, uc, u1, u2, mode);
+    if (!s) return s;
+    const Vec3 li = s->wi;
+    s->wi = frame.to_world(li);
+    if (shaded()) {
+      if (!sides_agree(wo, s->wi, lo, li)) return std::nullopt;
+      s->weight *= correction(wo, s->wi, lo, li, mode);
+    }
+    return s;
+  }
+
+ private:
+  bool sides_agree(const Vec3& wo, const Vec3& wi, const Vec3& lo, const Vec3& li) const {
+    return (dot(wo, ng) * dot(wi, ng) > 0.0) == (lo.z * li.z > 0.0);
+  }
+  float correction(const Vec3& wo, const Vec3& wi, const Vec3& lo, const Vec3& li, TransportMode mode) const {
+    if (mode == TransportMode::radiance) return 1.0f;
+    const double den = std::abs(dot(wo, ng)) * std::abs(li.z);
+    return den > 0.0 ? static_cast<float>(std::abs(lo.z) * std::abs(dot(wi, ng)) / den) : 0.0f;
+  }
 };
 
 // `medium` is the one the path arrived through (the medium around an opaque surface).
@@ -263,9 +309,9 @@ std::optional<double> continue_path(const RenderScene& scene, const Hit& hit, co
                                     const Vec3& wo, TransportMode mode, int depth, SampledSpectrum<N>& beta,
                                     int& medium, Ray& ray, Rng& rng, float mean_ratio = 1.0f) {
   const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
-  const auto s = sample(e.bsdf, e.frame.to_local(wo), uc, u1, u2, mode);
+  const auto s = e.sample(wo, uc, u1, u2, mode);
   if (!s) return std::nullopt;
-  const Vec3 wi = e.frame.to_world(s->wi);
+  const Vec3 wi = s->wi;
   beta *= s->weight;
   medium = e.medium_towards(wi);
   if (!survives_roulette(scene, depth, medium, beta, rng, mean_ratio, roulette_scale(scene, medium, mode)) ||
@@ -392,8 +438,12 @@ inline SampledSpectrum<N> diffuse_reflectance(const SceneView<N>& v, const Diffu
                                               const Vec3& wo, const SampledWavelengths<N>& w, double cone_width_m) {
   if (d.reflectance_texture < 0) return v.tables.at(d.reflectance, w);
   const TextureTable& t = v.scene.textures;
-  const double lod = texture_level_of_detail(t, d.reflectance_texture, v.scene.rays.mesh(hit.geometry), hit.primitive,
-                                             cone_width_m, dot(wo, hit.normal));
+  const double cos_theta = dot(wo, hit.normal);
+  const AnalyticShape* analytic = v.scene.rays.analytic(hit.geometry);
+  const double lod = analytic ? texture_level_of_detail(t, d.reflectance_texture, *analytic, hit.primitive, hit.uv,
+                                                        cone_width_m, cos_theta)
+                              : texture_level_of_detail(t, d.reflectance_texture, v.scene.rays.mesh(hit.geometry),
+                                                        hit.primitive, cone_width_m, cos_theta);
   return texture_reflectance(t, texel_blend(t, d.reflectance_texture, hit.uv, lod), w);
 }
 
@@ -402,21 +452,24 @@ inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, cons
                               int medium, const SampledWavelengths<N>& w, double cone_width_m) {
   const RenderScene& s = v.scene;
   auto eta_of = [&](int m) { return eta(s.media[static_cast<std::size_t>(m)], v.tables, w); };
+  const Vec3& ns = hit.shading_normal;
   if (surface.kind == SurfaceKind::opaque) {
-    const Frame frame(dot(wo, hit.normal) > 0.0 ? hit.normal : -hit.normal);
+    const double side = dot(wo, hit.normal) > 0.0 ? 1.0 : -1.0;
+    const Frame frame(ns * side);
+    const Vec3 ng = hit.normal * side;
     const SurfaceMaterial& m = s.materials[static_cast<std::size_t>(surface.material)];
     if (const auto* d = std::get_if<DiffuseMaterial>(&m))
-      return {frame, DiffuseReflection<N>{diffuse_reflectance(v, *d, hit, wo, w, cone_width_m)}, medium, medium};
+      return {frame, DiffuseReflection<N>{diffuse_reflectance(v, *d, hit, wo, w, cone_width_m)}, medium, medium, 0, ng};
     const auto& c = std::get<ConductorMaterial>(m);
     return {frame, ConductorReflection<N>{v.tables.at(c.n, w), v.tables.at(c.k, w), eta_of(medium), c.alpha}, medium,
-            medium};
+            medium, 0, ng};
   }
   const SmoothDielectric indices = interface_indices(v, surface, w);
-  const Frame frame(hit.normal);
-  if (surface.roughness == 0.0) return {frame, indices, surface.medium_front, surface.medium_behind};
+  const Frame frame(ns);
+  if (surface.roughness == 0.0) return {frame, indices, surface.medium_front, surface.medium_behind, 0, hit.normal};
   const RoughDielectricBsdf lobe{{surface.roughness}, indices.eta_front, indices.eta_behind,
                                  &s.dielectric_albedo[static_cast<std::size_t>(surface.albedo)]};
-  return {frame, RoughDielectric{lobe}, surface.medium_front, surface.medium_behind};
+  return {frame, RoughDielectric{lobe}, surface.medium_front, surface.medium_behind, 0, hit.normal};
 }
 
 }  // namespace bouguer

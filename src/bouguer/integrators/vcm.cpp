@@ -178,7 +178,7 @@ template <std::size_t N>
 double direction_pdf(const RenderScene& scene, const Vertex<N>& x, const Vec3& wi, bool reverse) {
   const Vec3 a = reverse ? wi : x.wo, b = reverse ? x.wo : wi;
   if (x.kind == VertexKind::medium) return phase_value(scattering_medium(scene, x.medium)->phase, -a, b);
-  return pdf(x.event.bsdf, x.event.frame.to_local(a), x.event.frame.to_local(b));
+  return x.event.pdf(a, b);
 }
 
 // The MIS weight of merging camera vertex camera[t − 1] with photon q: the merge's squared
@@ -350,7 +350,8 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
                 f *= static_cast<float>(norm_medium);
               } else {
                 if (dot(q.normal, pt.normal) <= 0.0) return;
-                const double cos_i = std::abs(pt.event.frame.to_local(q.wo).z);
+                // f·|cos θi| over the geometric cosine the photons' flux density is per (events.h).
+                const double cos_i = std::abs(dot(q.wo, pt.event.ng));
                 if (!(cos_i > 1e-8)) return;
                 f = b.f(pt, q.wo, TransportMode::radiance) * static_cast<float>(norm_surface / cos_i);
               }

@@ -232,7 +232,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!bsdf_pdf) return;
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
-      visit.reverse(vx.delta ? 0.0 : pdf(e.bsdf, e.frame.to_local(state.ray.direction), e.frame.to_local(wo)));
+      visit.reverse(vx.delta ? 0.0 : e.pdf(state.ray.direction, wo));
     state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;
     moved_on(hit->point);
   }

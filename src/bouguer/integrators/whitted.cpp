@@ -61,17 +61,20 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     // in the medium the ray came through, the refracted one crosses to the other side.
     const float w_in = weight * tr.max_value();
     if (depth >= v.max_depth || w_in < kMinPathWeight) return {};
-    const DielectricSplit d = split(interface_indices(v, surface, w), wo, hit->normal);
+    // Split about the shading normal; a branch the geometric normal puts on the wrong side carries
+    // nothing (events.h, SurfaceEvent).
+    const double wo_side = dot(wo, hit->normal);
+    if ((dot(wo, hit->shading_normal) > 0.0) != (wo_side > 0.0)) return {};  // behind the shading normal
+    const DielectricSplit d = split(interface_indices(v, surface, w), wo, hit->shading_normal);
     const auto f = static_cast<float>(d.reflectance);
     const float w_reflected = w_in * f, w_refracted = w_in * (1.0f - f);
     SampledSpectrum<N> l;
-    if (w_reflected >= kMinPathWeight) {
-      const Vec3 r = d.reflected();
-      l = f * radiance(hit->point, {offset_ray_origin(*hit, d.from_front), r}, medium, depth + 1, w_reflected,
-                       cone_width_m, inside_towards(v.scene, *hit, inside, r));
-    }
+    if (w_reflected >= kMinPathWeight)
+      if (const Vec3 r = d.reflected(); dot(r, hit->normal) * wo_side > 0.0)
+        l = f * radiance(hit->point, {offset_ray_origin(*hit, d.from_front), r}, medium, depth + 1, w_reflected,
+                         cone_width_m, inside_towards(v.scene, *hit, inside, r));
     if (f < 1.0f && w_refracted >= kMinPathWeight)
-      if (const auto t = d.refracted()) {
+      if (const auto t = d.refracted(); t && dot(*t, hit->normal) * wo_side < 0.0) {
         const int other = d.from_front ? surface.medium_behind : surface.medium_front;
         // Radiance across the boundary: (η_o/η_t)² (materials/surface_bsdf.h). The branch weight
         // leaves it out: it judges what the branch adds once back in the camera's medium.
@@ -87,9 +90,9 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, false, false);
   if (depth >= v.max_depth) return {};
   // A smooth conductor: a mirror with its spectral Fresnel reflectance.
-  const auto s = sample(e.bsdf, e.frame.to_local(wo), 0.0, 0.0, 0.0, TransportMode::radiance);
+  const auto s = e.sample(wo, 0.0, 0.0, 0.0, TransportMode::radiance);
   if (!s) return {};
-  const Vec3 r = e.frame.to_world(s->wi);
+  const Vec3 r = s->wi;
   const float w_reflected = weight * (tr * s->weight).max_value();
   if (w_reflected < kMinPathWeight) return {};
   return tr * s->weight * radiance(hit->point, {offset_ray_origin(*hit, r), r}, e.medium_towards(r), depth + 1, w_reflected,

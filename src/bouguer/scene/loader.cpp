@@ -530,15 +530,16 @@ Shape shape(const json& j, const Where& w) {
                           get_num("pavilion_angle_deg", 40.75), get_num("girdle", 0.03)};
   }
   if (type == "lathe") {
-    expect_keys(j, w, {"type", "profile", "segments"});
+    expect_keys(j, w, {"type", "profile", "segments", "crease_angle_deg"});
     if (!j.contains("profile")) w.fail("a lathe needs 'profile' [[r, y], ...]");
-    return LatheShape{profile(j["profile"], w / "profile"), get_int("segments", 128, 3, 4096)};
+    return LatheShape{profile(j["profile"], w / "profile"), get_int("segments", 128, 3, 4096),
+                      get_num("crease_angle_deg", kDefaultCreaseAngleDeg)};
   }
   if (type == "vessel") {
-    expect_keys(j, w, {"type", "profile", "wall", "fill", "segments"});
+    expect_keys(j, w, {"type", "profile", "wall", "fill", "segments", "crease_angle_deg"});
     if (!j.contains("profile")) w.fail("a vessel needs 'profile' [[r, y], ...]");
     return VesselShape{profile(j["profile"], w / "profile"), get_len("wall", 0.002), get_num("fill", 0.0),
-                       get_int("segments", 128, 3, 4096)};
+                       get_int("segments", 128, 3, 4096), get_num("crease_angle_deg", kDefaultCreaseAngleDeg)};
   }
   if (type == "mesh") {
     expect_keys(j, w, {"type", "file"});

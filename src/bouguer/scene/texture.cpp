@@ -4,6 +4,8 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <type_traits>
+#include <variant>
 
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
@@ -118,23 +120,59 @@ TexelBlend texel_blend(const TextureTable& table, int id, std::array<double, 2> 
   return blend;
 }
 
+namespace {
+
+// log2 of a footprint in level-0 texels, from the UV area per square metre at the hit (before
+// the texture's own transform).
+double level_of_detail(const TextureTable& table, int id, double uv_per_m2, double cone_width_m, double cos_theta) {
+  const TextureEntry& t = table.textures[static_cast<std::size_t>(id)];
+  const TextureLevel& base = table.levels[static_cast<std::size_t>(t.first_level)];
+  const double texels_per_m2 = uv_per_m2 * std::abs(t.transform.scale[0] * t.transform.scale[1]) * base.width * base.height;
+  if (!(texels_per_m2 > 0.0) || !std::isfinite(texels_per_m2)) return -std::numeric_limits<double>::infinity();
+  const double footprint_m = cone_width_m / std::max(std::abs(cos_theta), 1e-3);
+  return std::log2(footprint_m * std::sqrt(texels_per_m2));
+}
+
+}  // namespace
+
 double texture_level_of_detail(const TextureTable& table, int id, const Mesh& mesh, std::uint32_t primitive,
                                double cone_width_m, double cos_theta) {
   if (!(cone_width_m > 0.0) || mesh.uvs.empty()) return -std::numeric_limits<double>::infinity();
-  const TextureEntry& t = table.textures[static_cast<std::size_t>(id)];
-  const TextureLevel& base = table.levels[static_cast<std::size_t>(t.first_level)];
   const auto& tri = mesh.triangles[primitive];
   const Vec3 e1 = mesh.positions[tri[1]] - mesh.positions[tri[0]], e2 = mesh.positions[tri[2]] - mesh.positions[tri[0]];
   const auto& a = mesh.uvs[tri[0]];
   const auto& b = mesh.uvs[tri[1]];
   const auto& c = mesh.uvs[tri[2]];
-  const double uv_area = std::abs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])) *
-                         std::abs(t.transform.scale[0] * t.transform.scale[1]);
+  const double uv_area = std::abs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
   const double world_area = length(cross(e1, e2));
-  if (!(uv_area > 0.0) || !(world_area > 0.0)) return -std::numeric_limits<double>::infinity();
-  const double texels_per_m2 = uv_area * base.width * base.height / world_area;
-  const double footprint_m = cone_width_m / std::max(std::abs(cos_theta), 1e-3);
-  return std::log2(footprint_m * std::sqrt(texels_per_m2));
+  if (!(world_area > 0.0)) return -std::numeric_limits<double>::infinity();
+  return level_of_detail(table, id, uv_area / world_area, cone_width_m, cos_theta);
+}
+
+double texture_level_of_detail(const TextureTable& table, int id, const AnalyticShape& shape, std::uint32_t part,
+                               std::array<double, 2> uv, double cone_width_m, double cos_theta) {
+  if (!(cone_width_m > 0.0)) return -std::numeric_limits<double>::infinity();
+  constexpr double kPi = 3.14159265358979323846;
+  // d(u, v)/dA of the local UV maps: longitude/2π and colatitude/π on a sphere, longitude/2π and
+  // y/height on a cylinder's side, [−r, r]² → [0, 1]² on a disk and the caps. The sphere's
+  // sin θ is kept from 0 near the poles, where its map is singular.
+  const double uv_per_m2 = std::visit(
+      [&](const auto& s) -> double {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, SphereSurface>)
+          return 1.0 / (2.0 * kPi * kPi * s.radius_m * s.radius_m * std::max(std::sin(kPi * uv[1]), 1e-3));
+        else if constexpr (std::is_same_v<S, CylinderSurface>)
+          return part == static_cast<std::uint32_t>(AnalyticPart::side)
+                     ? 1.0 / (2.0 * kPi * s.radius_m * s.height_m)
+                     : 1.0 / (4.0 * s.radius_m * s.radius_m);
+        else
+          return 1.0 / (4.0 * s.radius_m * s.radius_m);
+      },
+      shape.surface);
+  // World area = local area × the linear part's mean areal scale, |det|^(2/3) (exact for a uniform scale).
+  const double area_scale = std::pow(std::abs(shape.to_world.determinant()), 2.0 / 3.0);
+  if (!(area_scale > 0.0)) return -std::numeric_limits<double>::infinity();
+  return level_of_detail(table, id, uv_per_m2 / area_scale, cone_width_m, cos_theta);
 }
 
 Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend) {

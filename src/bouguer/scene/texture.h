@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bouguer/core/math.h"
+#include "bouguer/geometry/analytic.h"
 #include "bouguer/geometry/mesh.h"
 #include "bouguer/io/texture_image.h"
 #include "bouguer/spectra/sampled_spectrum.h"
@@ -71,6 +72,10 @@ TexelBlend texel_blend(const TextureTable& table, int id, std::array<double, 2> 
 // of level 0; −∞ for a width of 0 (the finest level).
 double texture_level_of_detail(const TextureTable& table, int id, const Mesh& mesh, std::uint32_t primitive,
                                double cone_width_m, double cos_theta);
+// The same on an analytic surface, whose texel density follows from its UV map (geometry/analytic.h)
+// at the hit's part and UV, its size scaled by the transform's mean linear scale.
+double texture_level_of_detail(const TextureTable& table, int id, const AnalyticShape& shape, std::uint32_t part,
+                               std::array<double, 2> uv, double cone_width_m, double cos_theta);
 
 Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend);
 
