@@ -178,7 +178,8 @@ TEST(AnalyticSurface, BallLensFocusesAtItsParaxialFocalLength) {
 TEST(AnalyticSurface, BacklitAbsorbingGlassBallMatchesItsClosedForm) {
   constexpr int kPixels = 21;
   const double radius = 0.01, n = 1.5, sigma_a = 40.0, view = 1.6 * radius;
-  auto scene = [&](bool ball) {
+  const std::string exact = fmt::format(R"({{"type": "sphere", "radius": {}}})", radius);
+  auto scene = [&](bool ball, const std::string& shape) {
     return fmt::format(R"({{
       "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "up": [0, 1, 0],
                   "width": {}, "resolution": [{}, {}]}},
@@ -190,13 +191,11 @@ TEST(AnalyticSurface, BacklitAbsorbingGlassBallMatchesItsClosedForm) {
       "background": {{"spectrum": "E", "scale": 1.0}}
     }})",
                        view, kPixels, kPixels, n, sigma_a, sigma_a,
-                       ball ? fmt::format(R"({{"name": "ball", "shape": {{"type": "sphere", "radius": {}}},
-                                              "inside": "glass"}})",
-                                          radius)
+                       ball ? fmt::format(R"({{"name": "ball", "shape": {}, "inside": "glass"}})", shape)
                             : std::string{});
   };
-  const Film with = test::render_text(scene(true));
-  const Film without = test::render_text(scene(false));
+  const Film with = test::render_text(scene(true, exact));
+  const Film without = test::render_text(scene(false, exact));
   auto closed_form = [&](double x, double y) {
     const double sin_i = std::hypot(x, y) / radius, cos_i = std::sqrt(1.0 - sin_i * sin_i);
     const double cos_t = cos_theta_transmitted(cos_i, 1.0, n);
@@ -221,6 +220,35 @@ TEST(AnalyticSurface, BacklitAbsorbingGlassBallMatchesItsClosedForm) {
     }
   }
   std::printf("backlit glass ball: worst relative error over the centre row %.2e\n", worst);
+  // The 96-segment tessellation, with its exact vertex normals as shading normals and, written to
+  // an OBJ without them, with flat facets, against the analytic ball over the whole image. Measured:
+  // smooth mean 0.08 %, worst 1.6 % (at the silhouette); flat mean 0.31 %, worst 7.8 %.
+  std::array<double, 2> mean_error{}, worst_error{};
+  const Mesh mesh = make_shape(SphereShape{radius, 96, true}, "ball").front().mesh;
+  std::string obj;
+  for (const Vec3& p : mesh.positions) obj += fmt::format("v {} {} {}\n", p.x, p.y, p.z);
+  for (const auto& t : mesh.triangles) obj += fmt::format("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+  const auto flat = test::scratch_dir("AnalyticSurface.Backlit") / "flat-ball.obj";
+  test::write_file(flat, obj);
+  for (const std::string& t : {fmt::format(R"({{"type": "sphere", "radius": {}, "tessellate": true, "segments": 96}})", radius),
+                               fmt::format(R"({{"type": "mesh", "file": "{}"}})", flat.string())}) {
+    const Film tess = test::render_text(scene(true, t));
+    double worst_t = 0.0, mean_t = 0.0;
+    for (int py = 0; py < kPixels; ++py)
+      for (int px = 0; px < kPixels; ++px)
+        for (int c = 0; c < 3; ++c) {
+          const double a = double(with.rgb_at(px, py)[c]), b = double(tess.rgb_at(px, py)[c]);
+          worst_t = std::max(worst_t, std::abs(b / a - 1.0));
+          mean_t += std::abs(b / a - 1.0) / (3 * kPixels * kPixels);
+        }
+    std::printf("tessellated %s: worst %.3e mean %.3e vs analytic\n", t.c_str(), worst_t, mean_t);
+    const std::size_t k = t.find("mesh") == std::string::npos ? 0 : 1;
+    mean_error[k] = mean_t, worst_error[k] = worst_t;
+  }
+  EXPECT_LT(mean_error[0], 0.002);
+  EXPECT_LT(worst_error[0], 0.03);
+  EXPECT_GT(mean_error[1], 2.0 * mean_error[0]);  // the facets, which the shading normals remove
+  EXPECT_GT(worst_error[1], 2.0 * worst_error[0]);
 }
 
 // A sphere is no dearer to set up than a box: no triangles kept, and its compile takes no longer
