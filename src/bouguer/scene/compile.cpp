@@ -237,20 +237,32 @@ std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, st
   return parts;
 }
 
-// A diffuse material, with its reflectance texture where it has one: that needs texture
-// coordinates on every part (`parts`: the object's triangles; nullptr for an analytic shape,
-// whose hits always carry them).
-DiffuseMaterial diffuse_material(RenderScene& s, const DiffuseDesc& d, const ObjectDesc& o,
-                                 const std::vector<ShapePart>* parts, const SceneDesc& desc) {
-  DiffuseMaterial m{add_spectrum(s, d.reflectance, SpectrumRole::reflectance)};
-  if (!d.reflectance_texture) return m;
+// A texture of the object's material as an id into RenderScene::textures (-1: none). A texture
+// needs texture coordinates on every part (`parts`: the object's triangles; nullptr for an
+// analytic shape, whose hits always carry them).
+int material_texture(RenderScene& s, const std::optional<TextureDesc>& t, TextureUse use, const ObjectDesc& o,
+                     const std::vector<ShapePart>* parts, const SceneDesc& desc) {
+  if (!t) return -1;
   if (parts)
     for (const ShapePart& part : *parts)
       if (part.mesh.uvs.empty())
         fail("{}: object '{}': its texture needs texture coordinates, and its shape has none", desc.file.string(), o.name);
-  const TextureDesc& t = *d.reflectance_texture;
-  m.reflectance_texture = add_texture(s.textures, *t.image, TextureUse::reflectance, t.transform);
-  return m;
+  return add_texture(s.textures, *t->image, use, t->transform);
+}
+
+SurfaceMaterial surface_material(RenderScene& s, const MaterialDesc& material, const ObjectDesc& o,
+                                 const std::vector<ShapePart>* parts, const SceneDesc& desc) {
+  if (const auto* d = std::get_if<DiffuseDesc>(&material))
+    return DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance),
+                           material_texture(s, d->reflectance_texture, TextureUse::reflectance, o, parts, desc)};
+  if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material))
+    return MetallicRoughnessMaterial{
+        add_spectrum(s, g->base_colour, SpectrumRole::reflectance),
+        material_texture(s, g->base_colour_texture, TextureUse::reflectance, o, parts, desc), g->metalness,
+        g->roughness, material_texture(s, g->metallic_roughness_texture, TextureUse::data, o, parts, desc)};
+  const auto& c = std::get<ConductorDesc>(material);
+  return ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point), add_spectrum(s, c.k, SpectrumRole::point),
+                           c.roughness, material_texture(s, c.roughness_texture, TextureUse::data, o, parts, desc)};
 }
 
 // What the object's surfaces are (an interface, which must be a closed shape; an emitter; an
@@ -269,13 +281,7 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<Sh
   } else {
     base.kind = SurfaceKind::opaque;
     base.material = static_cast<int>(s.materials.size());
-    if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
-      s.materials.push_back(diffuse_material(s, *d, o, parts, desc));
-    else {
-      const auto& c = std::get<ConductorDesc>(*o.material);
-      s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),
-                                              add_spectrum(s, c.k, SpectrumRole::point), c.roughness});
-    }
+    s.materials.push_back(surface_material(s, *o.material, o, parts, desc));
   }
   return base;
 }

@@ -100,14 +100,27 @@ struct DiffuseDesc {
   std::optional<TextureDesc> reflectance_texture;
 };
 
-// A metal: complex refractive index n + ik (spectral), GGX roughness alpha (0: a mirror).
+// A metal: complex refractive index n + ik (spectral), GGX roughness alpha (0: a mirror), or a
+// texture of alpha (the mean of its channels, each in [0, 1]; then `roughness` is unused).
 struct ConductorDesc {
   Spectrum n = ConstantSpectrum{0.2};
   Spectrum k = ConstantSpectrum{3.0};
   double roughness = 0.0;
+  std::optional<TextureDesc> roughness_texture;
 };
 
-using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc>;
+// glTF's metallic-roughness material (materials/surface_bsdf.h, MetallicRoughness): a base colour
+// (a reflectance spectrum, or a reflectance texture read instead), a metalness and a perceptual
+// roughness (GGX alpha = roughness²), the two constants or a data texture read instead (its blue
+// channel the metalness, its green the roughness, glTF's layout).
+struct MetallicRoughnessDesc {
+  Spectrum base_colour = ConstantSpectrum{1.0};
+  std::optional<TextureDesc> base_colour_texture;
+  double metalness = 1.0, roughness = 1.0;
+  std::optional<TextureDesc> metallic_roughness_texture;
+};
+
+using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc, MetallicRoughnessDesc>;
 
 struct ObjectDesc {
   std::string name;

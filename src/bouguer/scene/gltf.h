@@ -37,6 +37,8 @@ struct GltfMaterial {
   // baseColorTexture, its texels already multiplied by base_color (and so linear).
   std::optional<GltfTexture> base_color_texture;
   double metallic = 1.0, roughness = 1.0;
+  // metallicRoughnessTexture, its texels (as stored: data) times the factors: G roughness, B metalness.
+  std::optional<GltfTexture> metallic_roughness_texture;
   Vec3 emissive{0, 0, 0};  // linear, times emissive_strength (KHR_materials_emissive_strength)
   double emissive_strength = 1.0;
   double transmission = 0.0;  // KHR_materials_transmission

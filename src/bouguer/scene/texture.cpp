@@ -86,6 +86,12 @@ void add_bilinear(const TextureLevel& level, std::array<double, 2> uv, float wei
 
 }  // namespace
 
+UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad, std::array<double, 2> scale) {
+  return {{offset[0] - std::sin(rotation_rad) * scale[1], 1.0 - std::cos(rotation_rad) * scale[1] - offset[1]},
+          rotation_rad,
+          scale};
+}
+
 int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform) {
   assert(image.width > 0 && image.height > 0);
   TextureEntry entry{static_cast<int>(table.levels.size()), 0, transform};

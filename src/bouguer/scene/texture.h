@@ -33,6 +33,12 @@ struct UvTransform {
   std::array<double, 2> scale{1.0, 1.0};
 };
 
+// The transform Bouguer's JSON gives (docs/scene-format.md), in Bouguer's own v-up coordinates:
+// uv' = offset + R(rotation) · (scale ⊙ uv), R counter-clockwise in the (u, v) plane as the image
+// is seen. Returned as the same map in glTF's v-down convention: the angle and scale carry over,
+// the offset becomes (o_u − sin θ·s_v, 1 − cos θ·s_v − o_v).
+UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad, std::array<double, 2> scale);
+
 // How texels are read: a reflectance (sRGB-decoded where the file is sRGB, each channel in [0, 1],
 // lifted to a spectrum), a colour used as it is (sRGB-decoded), or data (roughness, metalness:
 // the values as stored).

@@ -132,13 +132,22 @@ struct DiffuseInput {
 struct ConductorInput {
   SpectralInput n = 0.2, k = 3.0;
   double roughness = 0.0;
+  std::optional<TextureInput> roughness_texture;  // read instead of `roughness`
 };
-using MaterialInput = std::variant<DiffuseInput, ConductorInput>;
+// glTF's metallic-roughness (MetallicRoughnessDesc): textures are read instead of the constants.
+struct MetallicRoughnessInput {
+  std::variant<RgbInput, TextureInput> base_colour = RgbInput{{1.0, 1.0, 1.0}};
+  double metalness = 1.0, roughness = 1.0;
+  std::optional<TextureInput> metallic_roughness_texture;
+};
+using MaterialInput = std::variant<DiffuseInput, ConductorInput, MetallicRoughnessInput>;
 
 // ---- what they mean ----------------------------------------------------------------------------
 
 // "5 mm", "0.5 cm", "1.2 um", "2 m" -> metres (an Error naming the text).
 double parse_length_m(const std::string& text);
+// "30 deg", "0.5 rad" -> radians (an Error naming the text; a bare number has no unit and is refused).
+double parse_angle_rad(const std::string& text);
 
 // A length within the scene's extent (core/limits.h); a positive one, at least the smallest length.
 double resolve_length_m(const LengthInput& length, const Source& where);
@@ -153,7 +162,7 @@ EmissionDesc resolve_emission(const EmissionInput& emission, const Source& where
 IorModel resolve_ior(const IorInput& ior, const Source& where);
 MediumDesc resolve_medium(const std::string& name, const MediumInput& medium, const Source& where);
 // The image read (an Error naming the file: missing, not an image, too large) and, for a
-// reflectance, every texel after sRGB decoding checked to lie in [0, 1].
+// reflectance or data, every texel (after sRGB decoding for a reflectance) checked to lie in [0, 1].
 TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use);
 // An object whose material is "mtl": its OBJ's faces split by `usemtl` into one object each (named
 // "<object>: <material>"), each diffuse with its MTL's Kd or map_Kd texture (faces without a
