@@ -14,6 +14,8 @@
 #include "bouguer/integrators/events.h"
 #include "bouguer/materials/surface_bsdf.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/io/texture_image.h"
+#include "bouguer/spectra/color_space.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/texture.h"
 #include "support/gltf_files.h"
@@ -237,11 +239,12 @@ TEST(TextureChannels, MetallicRoughnessSamplingMatchesPdfAndEval) {
   }
 }
 
-// A 2 × 1 PNG of two texels, as stored: values of 0 and 1 survive the writer's sRGB encoding exactly.
+// An 8 × 1 PNG, its left half one colour and its right half another, so a bilinear lookup within
+// the middle of each half (u in [3/16, 5/16] or [11/16, 13/16]) reads that colour alone. Values of 0
+// and 1 survive the writer's sRGB encoding exactly.
 void write_two_texels(const fs::path& path, Vec3f left, Vec3f right) {
-  Film image(2, 1);
-  image.set_rgb(0, 0, left);
-  image.set_rgb(1, 0, right);
+  Film image(8, 1);
+  for (int x = 0; x < 8; ++x) image.set_rgb(x, 0, x < 4 ? left : right);
   write_image(path, image);
 }
 
@@ -287,8 +290,8 @@ struct Compiled {
   }
 };
 
-// A glTF quad with a 2 × 1 metallicRoughnessTexture, texel 0 (R 1, G 0, B 1) and texel 1 (0, 1, 0),
-// factors metallic 0.8 and roughness 0.6: the BSDF at each texel's centre has metalness 0.8·B and
+// A glTF quad with a metallicRoughnessTexture, its left half (R 1, G 0, B 1) and its right (0, 1, 0),
+// factors metallic 0.8 and roughness 0.6: the BSDF in the middle of each half has metalness 0.8·B and
 // alpha (0.6·G)² (at least kMinMetallicRoughnessAlpha); R, glTF's occlusion, is not read.
 TEST(TextureChannels, GltfMetallicRoughnessTextureReachesTheBsdf) {
   const fs::path dir = test::scratch_dir("TextureChannelsMetallicRoughness");
@@ -322,6 +325,190 @@ TEST(TextureChannels, JsonConductorRoughnessTexture) {
     const SurfaceEvent<N3> e = c.event_at(x);
     ASSERT_TRUE(std::holds_alternative<ConductorReflection<N3>>(e.bsdf));
     EXPECT_NEAR(std::get<ConductorReflection<N3>>(e.bsdf).alpha, alpha, 1e-6);
+  }
+}
+
+// ---- textured emitters --------------------------------------------------------------------------
+
+// The mean luminance over a triangle: a uniform texture gives its own; a 64 × 1 texture white on the
+// left (u < ½) and black on the right, over the triangle (0, 0), (1, 0), (0, 1), gives the share of
+// the triangle's area left of u = ½, 3/4 (the grid's 64 points and the bilinear blur of a texel at
+// each edge move it by about 1/64).
+TEST(TextureChannels, MeanLuminanceOverATriangle) {
+  TextureTable table;
+  TextureImage halves;
+  halves.width = 64;
+  halves.height = 1;
+  halves.srgb = false;
+  for (int x = 0; x < 64; ++x) halves.rgb.insert(halves.rgb.end(), 3, x < 32 ? 1.0f : 0.0f);
+  const int id = add_texture(table, halves, TextureUse::data);
+  EXPECT_NEAR(texture_mean_luminance(table, id, {{{0, 0}, {1, 0}, {0, 1}}}), 0.75, 0.03);
+  TextureImage flat = halves;
+  for (std::size_t i = 0; i < flat.rgb.size(); ++i) flat.rgb[i] = 0.2f * static_cast<float>(1 + i % 3);
+  const int uniform = add_texture(table, flat, TextureUse::data);
+  EXPECT_NEAR(texture_mean_luminance(table, uniform, {{{0.1, 0.3}, {0.7, 0.2}, {0.4, 0.9}}}),
+              0.2126 * 0.2 + 0.7152 * 0.4 + 0.0722 * 0.6, 1e-6);
+}
+
+// A textured emitter: a 0.4 m square at 0.3 m above a grey floor, facing down, its texture red on
+// the left and dim blue on the right, D65 at Y = 5 times the texel. The camera looks down (the
+// emitter's back, black, hides the middle).
+std::string emitter_scene(const fs::path& texture, const std::string& integrator, int spp, int seed) {
+  return fmt::format(R"({{
+    "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1.2, "resolution": [12, 12]}},
+    "render": {{"integrator": "{}", "spp": {}, "seed": {}, "spectral": "rgb3", "max_depth": 2}},
+    "background": {{"spectrum": "D65", "scale": 0}},
+    "objects": [
+      {{"name": "floor", "shape": {{"type": "quad", "size": [1.2, 1.2]}}, "material": {{"type": "diffuse", "reflectance": 0.5}}}},
+      {{"name": "lamp", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
+        "transform": [{{"rotate_deg": [180, [1, 0, 0]]}}, {{"translate": [0, 0, 0.3]}}],
+        "emission": {{"spectrum": {{"texture": "{}"}}, "scale": 5}}}}
+    ]
+  }})", integrator, spp, seed, texture.generic_string());
+}
+
+fs::path write_emitter_texture(const fs::path& dir) {
+  write_two_texels(dir / "lamp.png", {1.0f, 0.2f, 0.2f}, {0.05f, 0.05f, 0.4f});
+  return dir / "lamp.png";
+}
+
+// The power used to choose lights is the texture-averaged one: the lamp's triangles sum to
+// π·A·Y·mean luminance of its texels (as decoded: the PNG is sRGB), and none is zero.
+TEST(TextureChannels, TexturedEmitterPowerIsTheTextureMean) {
+  const fs::path dir = test::scratch_dir("TextureChannelsEmitterPower");
+  const fs::path png = write_emitter_texture(dir);
+  const TextureImage image = read_texture_image(png);
+  double mean = 0.0;
+  for (int i : {0, 7}) {
+    const float* p = &image.rgb[static_cast<std::size_t>(3 * i)];
+    mean += 0.5 * (0.2126 * srgb_to_linear(p[0]) + 0.7152 * srgb_to_linear(p[1]) + 0.0722 * srgb_to_linear(p[2]));
+  }
+  const RenderScene scene = compile(parse_scene(emitter_scene(png, "path", 1, 0), dir / "s.json"));
+  double power = 0.0;
+  int lamps = 0;
+  for (std::size_t i = 0; i < scene.lights.size(); ++i)
+    if (const auto* a = std::get_if<AreaLight>(&scene.lights[i])) {
+      EXPECT_GE(a->texture, 0);
+      EXPECT_GT(scene.light_power[i], 0.0);
+      power += scene.light_power[i];
+      ++lamps;
+    }
+  EXPECT_EQ(lamps, 2);
+  const double want = std::numbers::pi * 0.16 * 5.0 * mean;
+  std::printf("textured lamp: power %.5f, π·A·Y·(mean texel luminance) %.5f\n", power, want);
+  EXPECT_NEAR(power, want, 0.02 * want);
+}
+
+// Path tracing (next-event estimation reads the texture where it samples the lamp, BSDF hits where
+// they land, MIS between them), light tracing (light paths start at texels drawn uniformly by area
+// and carry the texel's radiance) and bdpt agree on the floor within noise. Per quadrant of the
+// floor, the means of two renders (seeds 1, 2) per estimator differ by less than 5 standard errors
+// of the difference, the errors estimated from the two renders' pixel differences.
+TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
+  const fs::path dir = test::scratch_dir("TextureChannelsEmitterEstimators");
+  const fs::path png = write_emitter_texture(dir);
+  struct Estimate {
+    std::array<Vec3, 4> mean{}, variance{};  // per quadrant, of the mean of two renders
+  };
+  auto estimate = [&](const std::string& integrator, int spp) {
+    const Film a = test::render_text(emitter_scene(png, integrator, spp, 1));
+    const Film b = test::render_text(emitter_scene(png, integrator, spp, 2));
+    Estimate e;
+    std::array<int, 4> n{};
+    for (int y = 0; y < 12; ++y)
+      for (int x = 0; x < 12; ++x) {
+        if (x >= 3 && x < 9 && y >= 3 && y < 9) continue;  // the lamp's shadow and its black back
+        const std::size_t q = static_cast<std::size_t>((y < 6 ? 0 : 2) + (x < 6 ? 0 : 1));
+        const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
+        const Vec3 va{pa.x, pa.y, pa.z}, vb{pb.x, pb.y, pb.z}, d = va - vb;
+        e.mean[q] = e.mean[q] + (va + vb) * 0.5;
+        e.variance[q] = e.variance[q] + Vec3{d.x * d.x, d.y * d.y, d.z * d.z} * 0.25;  // var of (a + b)/2 per pixel
+        ++n[q];
+      }
+    for (std::size_t q = 0; q < 4; ++q) {
+      e.mean[q] = e.mean[q] / n[q];
+      e.variance[q] = e.variance[q] / (double(n[q]) * n[q]);
+    }
+    return e;
+  };
+  const Estimate path = estimate("path", 256), light = estimate("light", 256), bdpt = estimate("bdpt", 128);
+  for (const auto& [name, other] : {std::pair{"light", &light}, {"bdpt", &bdpt}})
+    for (std::size_t q = 0; q < 4; ++q)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double diff = path.mean[q][c] - other->mean[q][c];
+        const double sigma = std::sqrt(path.variance[q][c] + other->variance[q][c]);
+        std::printf("quadrant %zu channel %zu: path %.4f, %s %.4f (difference %.1f σ)\n", q, c, path.mean[q][c], name,
+                    other->mean[q][c], diff / sigma);
+        EXPECT_LT(std::abs(diff), 5.0 * sigma + 1e-4) << name << " quadrant " << q << " channel " << c;
+      }
+  // The texture shows: the floor under the red half is redder than under the blue half.
+  EXPECT_GT(path.mean[0][0] / path.mean[0][2], 1.5 * path.mean[1][0] / path.mean[1][2]);
+}
+
+// glTF emissiveTexture × emissiveFactor × KHR_materials_emissive_strength: the emitter's texture
+// holds factor × texel, and its radiance is D65 at Y = strength times that.
+TEST(TextureChannels, GltfEmissiveTextureFactorAndStrength) {
+  const fs::path dir = test::scratch_dir("TextureChannelsEmissive");
+  write_two_texels(dir / "glow.png", {1.0f, 1.0f, 1.0f}, {1.0f, 0.5f, 0.5f});
+  write_gltf_quad(dir / "glow.gltf",
+                  {{"name", "Glow"},
+                   {"emissiveFactor", {0.8, 0.6, 0.4}},
+                   {"emissiveTexture", {{"index", 0}}},
+                   {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 8.0}}}}}},
+                  {"glow.png"});
+  {  // the extension must be declared
+    nlohmann::json doc = nlohmann::json::parse(test::read_file(dir / "glow.gltf"));
+    doc["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+    test::write_file(dir / "glow.gltf", doc.dump());
+  }
+  const SceneDesc desc = parse_scene(fmt::format(R"({{
+      "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1, "resolution": [4, 4]}},
+      "objects": [{{"gltf": "{}"}}]
+    }})", (dir / "glow.gltf").generic_string()), dir / "s.json");
+  const ObjectDesc& o = desc.objects.at(0);
+  ASSERT_TRUE(o.emission && o.emission->texture);
+  const TextureImage& t = *o.emission->texture->image;
+  ASSERT_EQ(t.width, 8);
+  const TextureImage texels = read_texture_image(dir / "glow.png");  // the right half as decoded
+  const std::array<double, 6> want{0.8, 0.6, 0.4, 0.8, 0.6 * srgb_to_linear(texels.rgb[22]), 0.4 * srgb_to_linear(texels.rgb[23])};
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(t.rgb[i < 3 ? i : 21 + i - 3], want[i], 1e-6) << i;
+  // Head on, each half shows strength × its texel (white (1, 1, 1) at Y = 1 renders as (1, 1, 1);
+  // a colour through the reflectance lift times D65 within a few per cent).
+  const Film film = test::render_desc(desc, 2);
+  for (const auto& [x, offset] : {std::pair{0, 0}, {3, 3}}) {
+    const Vec3f p = film.rgb_at(x, 1);
+    const std::array<float, 3> rgb{p.x, p.y, p.z};
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double expected = 8.0 * want[static_cast<std::size_t>(offset) + c];
+      EXPECT_NEAR(rgb[c], expected, 0.05 * expected) << "pixel " << x << " channel " << c;
+    }
+  }
+}
+
+// JSON refuses a texture where nothing can carry it (a light, the background), in one line.
+TEST(TextureChannels, EmissionTextureOnlyOnEmitters) {
+  const fs::path dir = test::scratch_dir("TextureChannelsEmissionBad");
+  const fs::path png = write_emitter_texture(dir);
+  try {
+    parse_scene(fmt::format(R"({{"background": {{"spectrum": {{"texture": "{}"}}}},
+                                 "objects": [{{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}},
+                                              "material": {{"type": "diffuse"}}}}]}})",
+                            png.generic_string()),
+                dir / "s.json");
+    ADD_FAILURE() << "a textured background was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("s.json: background.spectrum: only an emitting object takes a texture"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    parse_scene(emitter_scene(dir / "missing.png", "path", 1, 0), dir / "s.json");
+    ADD_FAILURE() << "a missing texture was accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("objects[1].emission.spectrum.texture"), std::string::npos) << m;
+    EXPECT_NE(m.find("missing.png"), std::string::npos) << m;
+    EXPECT_EQ(test::line_count(m), 1) << m;
   }
 }
 

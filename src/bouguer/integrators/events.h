@@ -354,12 +354,30 @@ inline SampledSpectrum<N> escaped(const SceneView<N>& v, int medium, const Vec3&
   return v.tables.at(b.radiance, w);
 }
 
+// An area light's radiance spectrum at texture coordinates uv: its spectrum, times its emission
+// texture's lifted texel there (the finest level: light sampling has no ray cone, and the same
+// lookup serves every strategy, so they agree).
+template <std::size_t N>
+inline SampledSpectrum<N> area_radiance(const SceneView<N>& v, int spectrum, int texture, std::array<double, 2> uv,
+                                        const SampledWavelengths<N>& w) {
+  const SampledSpectrum<N> l = v.tables.at(spectrum, w);
+  if (texture < 0) return l;
+  return l * texture_reflectance(v.scene.textures, texel_blend(v.scene.textures, texture, uv, 0.0), w);
+}
+
+// The radiance spectrum a light sample (LightLiSample, LightLeSample) carries before its factor.
+template <std::size_t N, typename LightSample>
+inline SampledSpectrum<N> sample_radiance(const SceneView<N>& v, const LightSample& s, const SampledWavelengths<N>& w) {
+  if (s.texel >= 0) return v.tables.environment(*v.scene.environment, s.texel, w);
+  return area_radiance(v, s.spectrum, s.texture, s.uv, w);
+}
+
 template <std::size_t N>
 inline SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const Vec3& wo, const SampledWavelengths<N>& w) {
   const AreaLight& light = area_light_at(v.scene, hit);
   const double factor = emitted_factor(light, wo);
   if (factor == 0.0) return {};
-  return v.tables.at(light.radiance, w) * static_cast<float>(factor);
+  return area_radiance(v, light.radiance, light.texture, hit.uv, w) * static_cast<float>(factor);
 }
 
 // The indices on the two sides of an interface, as the path sees them (reference or kept wavelength).

@@ -103,7 +103,13 @@ ObjectDesc spot_disk(const DeltaLightDesc& l, const std::string& name) {
   return o;
 }
 
-void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, const Mesh& m, const EmissionDesc& e) {
+// A texture's mean over a triangle where it is almost black still gives the triangle a small share
+// of the light choice, so that light paths and next-event estimation reach every emitting point.
+constexpr double kMinTextureMean = 1e-3;
+
+// One area light per triangle; `texture` (-1: none) is the emission texture's id.
+void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, const Mesh& m, const EmissionDesc& e,
+                     int texture) {
   const int radiance = add_spectrum(s, e.radiance, SpectrumRole::radiance);
   surface.first_light = static_cast<int>(s.lights.size());
   for (std::uint32_t i = 0; i < m.triangles.size(); ++i) {
@@ -118,6 +124,11 @@ void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, c
     a.radiance = radiance;
     a.two_sided = e.two_sided;
     a.spot = e.spot;
+    if (texture >= 0) {
+      a.texture = texture;
+      for (std::size_t k = 0; k < 3; ++k) a.uv[k] = m.uvs[t[k]];
+      a.texture_mean = std::max(texture_mean_luminance(s.textures, texture, a.uv), kMinTextureMean);
+    }
     s.lights.push_back(a);
   }
 }
@@ -312,6 +323,8 @@ void add_parts(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>
   const int outside = medium_index(s, o.outside.value_or(desc.world_medium));
   const int contents = o.contents ? medium_index(s, *o.contents) : -1;
   auto pick = [&](Side side) { return side == Side::object ? inside : side == Side::contents ? contents : outside; };
+  const int emission_texture =
+      o.emission ? material_texture(s, o.emission->texture, TextureUse::reflectance, o, &parts, desc) : -1;
   for (const ShapePart& p : parts) {
     Surface surface = base;
     surface.medium_behind = pick(p.behind);
@@ -319,7 +332,7 @@ void add_parts(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>
     set_interface_optics(s, surface, albedo_index);
     const std::uint32_t id = s.rays.add(p.mesh);
     if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
-    if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission);
+    if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission, emission_texture);
     s.surfaces.push_back(surface);
   }
 }

@@ -79,18 +79,21 @@ struct MediumDesc {
   std::optional<ScatteringDesc> scattering;
 };
 
-// Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
-struct EmissionDesc {
-  Spectrum radiance = ConstantSpectrum{0.0};
-  bool two_sided = false;
-  std::optional<SpotProfile> spot;  // set for spot lights with a radius
-};
-
 // A texture image the builder has read (compile makes its MIP pyramid, scene/texture.h).
 struct TextureDesc {
   std::filesystem::path file;  // for messages
   std::shared_ptr<const TextureImage> image;
   UvTransform transform;
+};
+
+// Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
+struct EmissionDesc {
+  Spectrum radiance = ConstantSpectrum{0.0};
+  bool two_sided = false;
+  std::optional<SpotProfile> spot;  // set for spot lights with a radius
+  // Emitters: the radiance at a point is `radiance` times this texture's texel there, lifted as a
+  // reflectance (each value in [0, 1]); see lights/light.h, AreaLight.
+  std::optional<TextureDesc> texture;
 };
 
 // A diffuse reflectance: a spectrum, or a texture (its texels lifted to spectra; then `reflectance`

@@ -560,6 +560,7 @@ GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, co
   mat.metallic_roughness_texture = scaled_texture(src, pbr.metallicRoughnessTexture, {1.0, mat.roughness, mat.metallic},
                                                   false, pp / "metallicRoughnessTexture");
   mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
+  mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture");
   const Place pe = at / "extensions";
   if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
     mat.emissive_strength = number(*e, "emissiveStrength", pe / "KHR_materials_emissive_strength").value_or(1.0);
@@ -768,7 +769,11 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     return;
   }
   if (std::max({g.emissive.x, g.emissive.y, g.emissive.z}) * g.emissive_strength > 0.0) {
-    o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
+    if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
+      o.emission = resolve_emission(EmissionInput{TextureInput{t->name, t->image, t->transform}, g.emissive_strength},
+                                    at.source() / "emissiveTexture");
+    else
+      o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
   } else if (g.transmission > 0.0) {
     if (g.thickness == 0.0) return;  // thin-walled: index-matched, nothing to render (docs/assets.md)
     // One medium per material and placement: primitives and instances share it.

@@ -167,7 +167,8 @@ TextureInput texture_input(const json& j, const Where& w, std::vector<std::strin
 
 // ---- spectra, media ---------------------------------------------------------------------------
 
-// {"spectrum": "D65" | {"rgb": [...]} | table, "scale": s, "normalise": b, "two_sided": b}.
+// {"spectrum": "D65" | {"rgb": [...]} | table, "scale": s, "normalise": b, "two_sided": b}; an
+// emitter's (allow_two_sided) spectrum may also be {"texture": ...}.
 EmissionInput emission_input(const json& j, const Where& w, bool allow_two_sided) {
   std::vector<std::string> keys = {"spectrum", "scale", "normalise"};
   if (allow_two_sided) keys.push_back("two_sided");
@@ -182,6 +183,9 @@ EmissionInput emission_input(const json& j, const Where& w, bool allow_two_sided
   } else if (s.is_object() && s.contains("rgb")) {
     expect_keys(s, ws, {"rgb"});
     e.spectrum = rgb_input(s, ws);
+  } else if (s.is_object() && s.contains("texture")) {
+    if (!allow_two_sided) ws.fail("only an emitting object takes a texture");
+    e.spectrum = texture_input(s, ws);
   } else {
     e.spectrum = table_input(s, ws, {});
   }

@@ -80,6 +80,11 @@ double texture_level_of_detail(const TextureTable& table, int id, const Mesh& me
 
 Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend);
 
+// The mean Rec.709 luminance of texture `id` over the triangle with these corner UVs: 64 points of
+// an even barycentric grid, each read at the level whose texels are about the grid's spacing (so
+// the grid sees every texel through the pyramid's box filter).
+double texture_mean_luminance(const TextureTable& table, int id, const std::array<std::array<double, 2>, 3>& uv);
+
 // A reflectance texture's spectrum at the path's wavelengths: the blend of its texels' spectra.
 template <std::size_t N>
 SampledSpectrum<N> texture_reflectance(const TextureTable& table, const TexelBlend& blend,

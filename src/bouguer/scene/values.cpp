@@ -298,6 +298,9 @@ EmissionDesc resolve_emission(const EmissionInput& in, const Source& where) {
     e.radiance = normalised_to_luminance(*spd, in.scale);
   } else if (const auto* c = std::get_if<RgbInput>(&in.spectrum)) {
     e.radiance = scaled(Spectrum{rgb_to_illuminant(checked_rgb(*c, ws / "rgb"))}, in.scale);
+  } else if (const auto* texture = std::get_if<TextureInput>(&in.spectrum)) {
+    e.radiance = scaled(Spectrum{rgb_to_illuminant({1.0, 1.0, 1.0})}, in.scale);
+    e.texture = resolve_texture(*texture, ws / "texture", TextureUse::reflectance);
   } else {
     const Spectrum t = resolve_table(std::get<TableInput>(in.spectrum), ws);
     e.radiance = in.normalise ? normalised_to_luminance(t, in.scale) : scaled(t, in.scale);

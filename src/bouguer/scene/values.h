@@ -43,11 +43,21 @@ struct TableInput {
 // A spectral quantity (a conductor's n or k, a reflectance): a constant or a table.
 using SpectralInput = std::variant<double, TableInput>;
 
+// A texture image: a file (relative to the source's folder), or an image a front end has already
+// read (glTF's embedded images; `file` then only names it), with its glTF texture transform.
+struct TextureInput {
+  std::string file;
+  std::shared_ptr<const TextureImage> image;
+  UvTransform transform;
+};
+
 // Radiance of an emitter, a light's intensity or the background: a named illuminant ("D65"),
 // normalised to luminance Y = scale; an RGB colour (RGB (1, 1, 1) is D65 at Y = 1) times scale;
-// or a table times scale (normalised to Y = scale with `normalise`).
+// or a table times scale (normalised to Y = scale with `normalise`); for an emitter, a texture:
+// D65 at Y = scale times each texel (in [0, 1], lifted as a reflectance), so a white texel is
+// (1, 1, 1) times scale.
 struct EmissionInput {
-  std::variant<std::string, RgbInput, TableInput> spectrum;
+  std::variant<std::string, RgbInput, TableInput, TextureInput> spectrum;
   double scale = 1.0;
   bool normalise = false;
   bool two_sided = false;
@@ -114,14 +124,6 @@ struct MediumInput {
   std::vector<AbsorptionInput> absorption;
   bool absorption_listed = false;
   std::optional<ScatteringInput> scattering;
-};
-
-// A texture image: a file (relative to the source's folder), or an image a front end has already
-// read (glTF's embedded images; `file` then only names it), with its glTF texture transform.
-struct TextureInput {
-  std::string file;
-  std::shared_ptr<const TextureImage> image;
-  UvTransform transform;
 };
 
 // Opaque surfaces: a diffuse reflectance (a number, table, RGB or texture, 0 to 1; 0.5 when not
