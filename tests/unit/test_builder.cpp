@@ -46,7 +46,7 @@ SceneBuilder lit_builder() {
   lamp.name = "lamp";
   lamp.shape = QuadShape{0.5, 0.5};
   lamp.transform = Transform::translate({0, 0, -0.1});
-  lamp.emission = EmissionDesc{ConstantSpectrum{1.0}, true, std::nullopt};
+  lamp.emission = EmissionDesc{ConstantSpectrum{1.0}, true, std::nullopt, std::nullopt};
   b.object(lamp, b.at("objects[1]"));
   return b;
 }

@@ -307,8 +307,7 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
     const auto tr = transmission(v_, path_vertex(pt), li->wi, li->distance_m, medium_towards(pt, li->wi), w_, rng_,
                                  rays_, media_.sigma_mean);
     if (!tr) return {};
-    const SampledSpectrum<N> le =
-        li->texel >= 0 ? v_.tables.environment(*s_.environment, li->texel, w_) : v_.tables.at(li->spectrum, w_);
+    const SampledSpectrum<N> le = sample_radiance(v_, *li, w_);
     SampledSpectrum<N> l = pt.beta * fp * le * tr->tr *
                            static_cast<float>(li->factor / (chosen->second * li->pdf)) * mask(pt.dispersed);
     if (l.is_zero()) return {};

@@ -86,7 +86,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
           const double light_pdf = p_choice * li->pdf;
           const double weight = (mis ? mis_weight(light_pdf, vertex_pdf, *t) : 1.0) * li->factor /
                                 (light_pdf * light_ratio(*t));
-          sum += f * v.tables.at(li->spectrum, w) * t->tr * static_cast<float>(weight);
+          sum += f * sample_radiance(v, *li, w) * t->tr * static_cast<float>(weight);
         }
     }
   }

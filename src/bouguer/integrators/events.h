@@ -400,12 +400,30 @@ inline SampledSpectrum<N> escaped(const SceneView<N>& v, int medium, const Vec3&
   return v.tables.at(b.radiance, w);
 }
 
+// An area light's radiance spectrum at texture coordinates uv: its spectrum, times its emission
+// texture's lifted texel there (the finest level: light sampling has no ray cone, and the same
+// lookup serves every strategy, so they agree).
+template <std::size_t N>
+inline SampledSpectrum<N> area_radiance(const SceneView<N>& v, int spectrum, int texture, std::array<double, 2> uv,
+                                        const SampledWavelengths<N>& w) {
+  const SampledSpectrum<N> l = v.tables.at(spectrum, w);
+  if (texture < 0) return l;
+  return l * texture_reflectance(v.scene.textures, texel_blend(v.scene.textures, texture, uv, 0.0), w);
+}
+
+// The radiance spectrum a light sample (LightLiSample, LightLeSample) carries before its factor.
+template <std::size_t N, typename LightSample>
+inline SampledSpectrum<N> sample_radiance(const SceneView<N>& v, const LightSample& s, const SampledWavelengths<N>& w) {
+  if (s.texel >= 0) return v.tables.environment(*v.scene.environment, s.texel, w);
+  return area_radiance(v, s.spectrum, s.texture, s.uv, w);
+}
+
 template <std::size_t N>
 inline SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const Vec3& wo, const SampledWavelengths<N>& w) {
   const AreaLight& light = area_light_at(v.scene, hit);
   const double factor = emitted_factor(light, wo);
   if (factor == 0.0) return {};
-  return v.tables.at(light.radiance, w) * static_cast<float>(factor);
+  return area_radiance(v, light.radiance, light.texture, hit.uv, w) * static_cast<float>(factor);
 }
 
 // The indices on the two sides of an interface, as the path sees them (reference or kept wavelength).
@@ -432,37 +450,64 @@ void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, Rng& rng) {
   w.hero = std::min(static_cast<int>(rng.next_double() * static_cast<double>(N)), static_cast<int>(N) - 1);
 }
 
-// A diffuse material's reflectance at the hit: its spectrum, or its texture at the hit's UV.
-template <std::size_t N>
-inline SampledSpectrum<N> diffuse_reflectance(const SceneView<N>& v, const DiffuseMaterial& d, const Hit& hit,
-                                              const Vec3& wo, const SampledWavelengths<N>& w, double cone_width_m) {
-  if (d.reflectance_texture < 0) return v.tables.at(d.reflectance, w);
-  const TextureTable& t = v.scene.textures;
+// The texels of texture `id` at the hit's UV, at the level the ray cone chooses (the finest without one).
+inline TexelBlend texels_at(const RenderScene& s, int id, const Hit& hit, const Vec3& wo, double cone_width_m) {
   const double cos_theta = dot(wo, hit.normal);
-  const AnalyticShape* analytic = v.scene.rays.analytic(hit.geometry);
-  const double lod = analytic ? texture_level_of_detail(t, d.reflectance_texture, *analytic, hit.primitive, hit.uv,
-                                                        cone_width_m, cos_theta)
-                              : texture_level_of_detail(t, d.reflectance_texture, v.scene.rays.mesh(hit.geometry),
-                                                        hit.primitive, cone_width_m, cos_theta);
-  return texture_reflectance(t, texel_blend(t, d.reflectance_texture, hit.uv, lod), w);
+  const AnalyticShape* analytic = s.rays.analytic(hit.geometry);
+  const double lod = analytic ? texture_level_of_detail(s.textures, id, *analytic, hit.primitive, hit.uv, cone_width_m,
+                                                        cos_theta)
+                              : texture_level_of_detail(s.textures, id, s.rays.mesh(hit.geometry), hit.primitive,
+                                                        cone_width_m, cos_theta);
+  return texel_blend(s.textures, id, hit.uv, lod);
+}
+
+// A reflectance at the hit: spectrum `spectrum`, or reflectance texture `texture` (≥ 0) at the hit's UV.
+template <std::size_t N>
+inline SampledSpectrum<N> reflectance_at(const SceneView<N>& v, int spectrum, int texture, const Hit& hit,
+                                         const Vec3& wo, const SampledWavelengths<N>& w, double cone_width_m) {
+  if (texture < 0) return v.tables.at(spectrum, w);
+  return texture_reflectance(v.scene.textures, texels_at(v.scene, texture, hit, wo, cone_width_m), w);
+}
+
+// An opaque surface's material at the hit as a BSDF, its textures read at the hit's UV; `medium`
+// is the one around it.
+template <std::size_t N>
+inline Bsdf<N> opaque_bsdf(const SceneView<N>& v, const SurfaceMaterial& m, const Hit& hit, const Vec3& wo, int medium,
+                           const SampledWavelengths<N>& w, double cone_width_m) {
+  const RenderScene& s = v.scene;
+  if (const auto* d = std::get_if<DiffuseMaterial>(&m))
+    return DiffuseReflection<N>{reflectance_at(v, d->reflectance, d->reflectance_texture, hit, wo, w, cone_width_m)};
+  if (const auto* g = std::get_if<MetallicRoughnessMaterial>(&m)) {
+    double metalness = g->metalness, roughness = g->roughness;
+    if (g->metallic_roughness_texture >= 0) {
+      const Vec3 t = texture_rgb(s.textures, texels_at(s, g->metallic_roughness_texture, hit, wo, cone_width_m));
+      metalness = std::clamp(t.z, 0.0, 1.0);
+      roughness = std::clamp(t.y, 0.0, 1.0);
+    }
+    return MetallicRoughness<N>{reflectance_at(v, g->base_colour, g->base_colour_texture, hit, wo, w, cone_width_m),
+                                metalness, std::max(roughness * roughness, kMinMetallicRoughnessAlpha)};
+  }
+  const auto& c = std::get<ConductorMaterial>(m);
+  double alpha = c.alpha;
+  if (c.alpha_texture >= 0) {
+    const Vec3 t = texture_rgb(s.textures, texels_at(s, c.alpha_texture, hit, wo, cone_width_m));
+    alpha = std::clamp((t.x + t.y + t.z) / 3.0, 0.0, 1.0);
+  }
+  return ConductorReflection<N>{v.tables.at(c.n, w), v.tables.at(c.k, w),
+                                eta(s.media[static_cast<std::size_t>(medium)], v.tables, w), alpha};
 }
 
 template <std::size_t N>
 inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
                               int medium, const SampledWavelengths<N>& w, double cone_width_m) {
   const RenderScene& s = v.scene;
-  auto eta_of = [&](int m) { return eta(s.media[static_cast<std::size_t>(m)], v.tables, w); };
   const Vec3& ns = hit.shading_normal;
   if (surface.kind == SurfaceKind::opaque) {
     const double side = dot(wo, hit.normal) > 0.0 ? 1.0 : -1.0;
     const Frame frame(ns * side);
     const Vec3 ng = hit.normal * side;
     const SurfaceMaterial& m = s.materials[static_cast<std::size_t>(surface.material)];
-    if (const auto* d = std::get_if<DiffuseMaterial>(&m))
-      return {frame, DiffuseReflection<N>{diffuse_reflectance(v, *d, hit, wo, w, cone_width_m)}, medium, medium, 0, ng};
-    const auto& c = std::get<ConductorMaterial>(m);
-    return {frame, ConductorReflection<N>{v.tables.at(c.n, w), v.tables.at(c.k, w), eta_of(medium), c.alpha}, medium,
-            medium, 0, ng};
+    return {frame, opaque_bsdf(v, m, hit, wo, medium, w, cone_width_m), medium, medium, 0, ng};
   }
   const SmoothDielectric indices = interface_indices(v, surface, w);
   const Frame frame(ns);

@@ -259,8 +259,7 @@ bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, 
   const Light& light = scene.lights[static_cast<std::size_t>(chosen->first)];
   const auto le = sample_le(light, scene.bounds, u1, u2, u3, u4);
   if (!le) return false;
-  const SampledSpectrum<N> radiance =
-      le->texel >= 0 ? v.tables.environment(*scene.environment, le->texel, w) : v.tables.at(le->spectrum, w);
+  const SampledSpectrum<N> radiance = sample_radiance(v, *le, w);
   const double pmf = chosen->second;
   y = Vertex<N>{};
   y.kind = VertexKind::light;
@@ -274,6 +273,7 @@ bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, 
     y.hit.normal = a->normal;
     y.hit.geometry = a->geometry;
     y.hit.primitive = a->primitive;
+    y.hit.uv = le->uv;
   }
   y.light_dir = -le->ray.direction;
   y.beta = radiance * static_cast<float>(1.0 / (pmf * le->pdf_pos));

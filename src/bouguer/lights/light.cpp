@@ -34,9 +34,17 @@ Vec3 disk_point(const SceneBounds& b, const Vec3& w, double u1, double u2) {
   return b.centre_m + w * b.radius_m + f.s * (r * std::cos(phi)) + f.t * (r * std::sin(phi));
 }
 
-Vec3 triangle_point(const AreaLight& a, double u1, double u2) {
+// A point drawn uniformly over the triangle (the barycentrics of p1 and p2 from u1, u2), and its
+// texture coordinates for a textured light.
+struct TrianglePoint {
+  Vec3 p;
+  std::array<double, 2> uv{};
+};
+TrianglePoint triangle_point(const AreaLight& a, double u1, double u2) {
   if (u1 + u2 > 1.0) u1 = 1.0 - u1, u2 = 1.0 - u2;
-  return a.p0 * (1.0 - u1 - u2) + a.p1 * u1 + a.p2 * u2;
+  const double u0 = 1.0 - u1 - u2;
+  return {a.p0 * u0 + a.p1 * u1 + a.p2 * u2,
+          {a.uv[0][0] * u0 + a.uv[1][0] * u1 + a.uv[2][0] * u2, a.uv[0][1] * u0 + a.uv[1][1] * u1 + a.uv[2][1] * u2}};
 }
 
 LightLiSample li_sample(const Vec3& wi, double distance_m, double pdf, bool delta, double factor, int spectrum) {
@@ -64,15 +72,18 @@ double emitted_factor(const AreaLight& light, const Vec3& direction) {
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2) {
   if (const auto* a = std::get_if<AreaLight>(&light)) {
-    const Vec3 q = triangle_point(*a, u1, u2);
-    const Vec3 to = q - p;
+    const TrianglePoint q = triangle_point(*a, u1, u2);
+    const Vec3 to = q.p - p;
     const double d = length(to);
     if (d == 0.0) return std::nullopt;
     const Vec3 wi = to / d;
     const double factor = emitted_factor(*a, -wi);
     const double cos_light = std::abs(dot(a->normal, wi));
     if (factor == 0.0 || cos_light == 0.0) return std::nullopt;
-    return li_sample(wi, d, d * d / (cos_light * a->area_m2), false, factor, a->radiance);
+    LightLiSample s = li_sample(wi, d, d * d / (cos_light * a->area_m2), false, factor, a->radiance);
+    s.texture = a->texture;
+    s.uv = q.uv;
+    return s;
   }
   if (const auto* pt = std::get_if<PointLight>(&light)) {
     const Vec3 to = pt->position_m - p;
@@ -126,8 +137,10 @@ std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bo
     const Vec3 dir = Frame(n).to_world(local);
     s.factor = emitted_factor(*a, dir);
     if (s.factor == 0.0) return std::nullopt;
-    const Vec3 origin = triangle_point(*a, u1, u2);
-    s.ray = {origin, dir};
+    const TrianglePoint origin = triangle_point(*a, u1, u2);
+    s.ray = {origin.p, dir};
+    s.texture = a->texture;
+    s.uv = origin.uv;
     s.normal = n;
     s.pdf_pos = 1.0 / a->area_m2;
     s.pdf_dir = side * local.z / kPi;

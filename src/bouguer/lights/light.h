@@ -15,6 +15,7 @@
 //       and direction (per sr), 1 for a delta in either, and the factor on the spectrum.
 //   power(light, ...): emitted flux as luminance (lm-like units of the normalisation), for
 //       choosing lights in proportion to what they give.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <variant>
@@ -28,6 +29,11 @@ namespace bouguer {
 
 struct EnvironmentMap;
 
+// A textured emitter's radiance at a point is its spectrum times texture `texture`'s lifted texel
+// at the point's UV (the scene's texture table; integrators/events.h reads it). Its points are still
+// drawn uniformly by area, so every density (pdf_li, sample_le, pdf_le) is the untextured one and
+// the radiance read at the drawn point is exact; only the choice between lights by power uses the
+// texture's mean over the triangle (`texture_mean`, its luminance as a factor).
 struct AreaLight {
   std::uint32_t geometry = 0, primitive = 0;
   Vec3 p0, p1, p2;
@@ -36,6 +42,9 @@ struct AreaLight {
   int radiance = -1;  // spectrum id
   bool two_sided = false;
   std::optional<SpotProfile> spot;  // spot lights with a radius: the angular profile
+  int texture = -1;                             // -1: none
+  std::array<std::array<double, 2>, 3> uv{};    // the corners' texture coordinates
+  double texture_mean = 1.0;                    // > 0
 };
 
 struct PointLight {
@@ -80,6 +89,8 @@ struct LightLiSample {
   double factor = 0.0;
   int spectrum = -1;  // -1 with texel >= 0: the environment map's texel
   int texel = -1;
+  int texture = -1;  // a textured area light: its texture, read at uv (AreaLight)
+  std::array<double, 2> uv{};
 };
 
 struct LightLeSample {
@@ -91,6 +102,8 @@ struct LightLeSample {
   double factor = 0.0;
   int spectrum = -1;
   int texel = -1;
+  int texture = -1;  // as in LightLiSample
+  std::array<double, 2> uv{};
 };
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2);
@@ -138,7 +151,7 @@ double power(const Light& light, const SceneBounds& bounds, Luminance luminance)
   constexpr double pi = 3.14159265358979323846;
   const double disk = pi * bounds.radius_m * bounds.radius_m;
   if (const auto* a = std::get_if<AreaLight>(&light))
-    return pi * a->area_m2 * luminance(a->radiance) * (a->two_sided ? 2.0 : 1.0) *
+    return pi * a->area_m2 * luminance(a->radiance) * a->texture_mean * (a->two_sided ? 2.0 : 1.0) *
            (a->spot ? spot_cosine_power(*a->spot) : 1.0);
   if (const auto* p = std::get_if<PointLight>(&light)) return 4.0 * pi * luminance(p->intensity);
   if (const auto* s = std::get_if<SpotLight>(&light)) return 2.0 * pi * luminance(s->intensity) * spot_cone_power(s->profile);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "bouguer/materials/fresnel.h"
 #include "bouguer/spectra/spectral_sampling.h"
@@ -44,6 +45,61 @@ double rough_importance_eval(const RoughDielectric& r, const Vec3& wo, const Vec
   return f;
 }
 
+// ---- glTF metallic-roughness -------------------------------------------------------------------
+
+double schlick_weight(double cos_theta) {
+  const double m = std::clamp(1.0 - cos_theta, 0.0, 1.0);
+  return (m * m) * (m * m) * m;
+}
+
+constexpr double kDielectricF0 = 0.04;  // glTF's dielectric: ior 1.5
+
+// f·cos θi of the mix; 0 unless both directions lie above the surface.
+template <std::size_t N>
+Spec<N> metallic_roughness_eval(const MetallicRoughness<N>& g, const Vec3& wo, const Vec3& wi) {
+  if (wo.z <= 0.0 || wi.z <= 0.0) return {};
+  const double specular = ConductorBsdf{{g.alpha}}.eval(wo, wi);  // D·G/(4 cos θo), no Fresnel
+  const double s5 = schlick_weight(dot(wo, normalize(wo + wi)));
+  const double f_dielectric = kDielectricF0 + (1.0 - kDielectricF0) * s5;
+  const auto m = static_cast<float>(g.metalness);
+  const Spec<N> f_metal = g.base_colour + (constant<N>(1.0) - g.base_colour) * static_cast<float>(s5);
+  const Spec<N> diffuse = g.base_colour * static_cast<float>((1.0 - f_dielectric) * wi.z / std::numbers::pi);
+  return f_metal * static_cast<float>(m * specular) +
+         (constant<N>(f_dielectric * specular) + diffuse) * (1.0f - m);
+}
+
+// The probability of drawing the GGX lobe for wo: its share of the two lobes' weights, Schlick's
+// factors taken at cos θo; within [0.1, 0.9] while the diffuse lobe gives anything. Any choice that
+// depends on wo alone keeps the mixture's density exact; this one only sets the variance.
+template <std::size_t N>
+double metallic_roughness_specular_probability(const MetallicRoughness<N>& g, const Vec3& wo) {
+  const double s5 = schlick_weight(wo.z), base = std::clamp(double(g.base_colour.average()), 0.0, 1.0);
+  const double f_dielectric = kDielectricF0 + (1.0 - kDielectricF0) * s5;
+  const double specular = g.metalness * (base + (1.0 - base) * s5) + (1.0 - g.metalness) * f_dielectric;
+  const double diffuse = (1.0 - g.metalness) * (1.0 - f_dielectric) * base;
+  if (!(diffuse > 0.0)) return 1.0;
+  return std::clamp(specular / (specular + diffuse), 0.1, 0.9);
+}
+
+template <std::size_t N>
+double metallic_roughness_pdf(const MetallicRoughness<N>& g, const Vec3& wo, const Vec3& wi) {
+  if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+  const double p = metallic_roughness_specular_probability(g, wo);
+  return p * ConductorBsdf{{g.alpha}}.pdf(wo, wi) + (1.0 - p) * DiffuseBsdf{}.pdf(wo, wi);
+}
+
+template <std::size_t N>
+std::optional<BsdfSampleN<N>> metallic_roughness_sample(const MetallicRoughness<N>& g, const Vec3& wo, double uc,
+                                                        double u1, double u2) {
+  if (wo.z <= 0.0) return std::nullopt;
+  const bool specular = uc < metallic_roughness_specular_probability(g, wo);
+  const auto s = specular ? ConductorBsdf{{g.alpha}}.sample(wo, u1, u2) : DiffuseBsdf{}.sample(wo, u1, u2);
+  if (!s) return std::nullopt;
+  const double p = metallic_roughness_pdf(g, wo, s->wi);
+  if (!(p > 0.0)) return std::nullopt;
+  return BsdfSampleN<N>{s->wi, metallic_roughness_eval(g, wo, s->wi) * static_cast<float>(1.0 / p), p, false};
+}
+
 }  // namespace
 
 template <std::size_t N>
@@ -66,6 +122,7 @@ Spec<N> eval(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi, TransportMode mod
   }
   if (const auto* r = std::get_if<RoughDielectric>(&b))
     return constant<N>(mode == TransportMode::radiance ? rough_radiance_eval(*r, wo, wi) : rough_importance_eval(*r, wo, wi));
+  if (const auto* g = std::get_if<MetallicRoughness<N>>(&b)) return metallic_roughness_eval(*g, wo, wi);  // reciprocal
   return {};  // smooth dielectric: delta lobes only
 }
 
@@ -75,6 +132,7 @@ double pdf(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi) {
   if (const auto* c = std::get_if<ConductorReflection<N>>(&b))
     return c->alpha == 0.0 ? 0.0 : ConductorBsdf{{c->alpha}}.pdf(wo, wi);
   if (const auto* r = std::get_if<RoughDielectric>(&b)) return r->lobe.pdf(wo, wi);
+  if (const auto* g = std::get_if<MetallicRoughness<N>>(&b)) return metallic_roughness_pdf(*g, wo, wi);
   return 0.0;
 }
 
@@ -104,6 +162,7 @@ std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc
                                                            : rough_importance_eval(*r, wo, s->wi) / s->pdf;
     return BsdfSampleN<N>{s->wi, constant<N>(weight), s->pdf, s->transmitted};
   }
+  if (const auto* g = std::get_if<MetallicRoughness<N>>(&b)) return metallic_roughness_sample(*g, wo, uc, u1, u2);
   if (wo.z == 0.0) return std::nullopt;
   const DielectricSplit d = split(std::get<SmoothDielectric>(b), wo);
   if (uc < d.reflectance) return BsdfSampleN<N>{d.reflected(), constant<N>(1.0), 0.0, false};

@@ -45,6 +45,22 @@ struct ConductorReflection {
   double alpha = 0.0;
 };
 
+// glTF 2.0's metallic-roughness BRDF (the specification's appendix B), per hit from its texels:
+// mix(dielectric, metal, metalness) with both on one GGX lobe of alpha = roughness² (height-
+// correlated Smith), the metal's Fresnel Schlick's on F0 = base colour, the dielectric's Schlick's on
+// F0 = 0.04 over a Lambertian base colour weighted by 1 − F; F at the half vector. Reciprocal, so
+// both transport modes give the same values. Sampling is one mixture over the two lobes (GGX visible
+// normals, cosine) with a choice that depends on wo only, and pdf is that mixture's density, so
+// eval, pdf and sample agree (docs/assets.md).
+template <std::size_t N>
+struct MetallicRoughness {
+  SampledSpectrum<N> base_colour;  // a reflectance in [0, 1]
+  double metalness = 1.0;          // [0, 1]
+  double alpha = 1.0;              // GGX, at least kMinMetallicRoughnessAlpha
+};
+// glTF's roughness 0 is a mirror; the mixture keeps a continuous lobe this narrow instead.
+inline constexpr double kMinMetallicRoughnessAlpha = 1e-3;
+
 // A smooth boundary between two media (front: the side z > 0): reflects with probability F and
 // refracts otherwise, so the Fresnel factor cancels in the weight. Delta in both lobes.
 struct SmoothDielectric {
@@ -91,7 +107,8 @@ inline DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Ve
 }
 
 template <std::size_t N>
-using Bsdf = std::variant<DiffuseReflection<N>, ConductorReflection<N>, SmoothDielectric, RoughDielectric>;
+using Bsdf = std::variant<DiffuseReflection<N>, ConductorReflection<N>, SmoothDielectric, RoughDielectric,
+                          MetallicRoughness<N>>;
 
 template <std::size_t N>
 struct BsdfSampleN {

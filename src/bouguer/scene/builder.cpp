@@ -176,6 +176,11 @@ void check_material(const MaterialDesc& material, const Source& where) {
       (where / "reflectance").fail("a reflectance must lie between 0 and 1");
     return;
   }
+  if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material)) {
+    if (!(g->metalness >= 0.0 && g->metalness <= 1.0)) (where / "metalness").fail("must be between 0 and 1 (got {})", g->metalness);
+    if (!(g->roughness >= 0.0 && g->roughness <= 1.0)) (where / "roughness").fail("must be between 0 and 1 (got {})", g->roughness);
+    return;
+  }
   const auto& c = std::get<ConductorDesc>(material);
   if (min_value(c.n) <= 0.0) (where / "n").fail("must be positive");
   if (min_value(c.k) < 0.0) (where / "k").fail("must not be negative");

@@ -106,7 +106,13 @@ ObjectDesc spot_disk(const DeltaLightDesc& l, const std::string& name) {
   return o;
 }
 
-void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, const Mesh& m, const EmissionDesc& e) {
+// A texture's mean over a triangle where it is almost black still gives the triangle a small share
+// of the light choice, so that light paths and next-event estimation reach every emitting point.
+constexpr double kMinTextureMean = 1e-3;
+
+// One area light per triangle; `texture` (-1: none) is the emission texture's id.
+void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, const Mesh& m, const EmissionDesc& e,
+                     int texture) {
   const int radiance = add_spectrum(s, e.radiance, SpectrumRole::radiance);
   surface.first_light = static_cast<int>(s.lights.size());
   for (std::uint32_t i = 0; i < m.triangles.size(); ++i) {
@@ -121,6 +127,11 @@ void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, c
     a.radiance = radiance;
     a.two_sided = e.two_sided;
     a.spot = e.spot;
+    if (texture >= 0) {
+      a.texture = texture;
+      for (std::size_t k = 0; k < 3; ++k) a.uv[k] = m.uvs[t[k]];
+      a.texture_mean = std::max(texture_mean_luminance(s.textures, texture, a.uv), kMinTextureMean);
+    }
     s.lights.push_back(a);
   }
 }
@@ -240,20 +251,32 @@ std::vector<ShapePart> tessellate(const ObjectDesc& o, const SceneDesc& desc, st
   return parts;
 }
 
-// A diffuse material, with its reflectance texture where it has one: that needs texture
-// coordinates on every part (`parts`: the object's triangles; nullptr for an analytic shape,
-// whose hits always carry them).
-DiffuseMaterial diffuse_material(RenderScene& s, const DiffuseDesc& d, const ObjectDesc& o,
-                                 const std::vector<ShapePart>* parts, const SceneDesc& desc) {
-  DiffuseMaterial m{add_spectrum(s, d.reflectance, SpectrumRole::reflectance)};
-  if (!d.reflectance_texture) return m;
+// A texture of the object's material as an id into RenderScene::textures (-1: none). A texture
+// needs texture coordinates on every part (`parts`: the object's triangles; nullptr for an
+// analytic shape, whose hits always carry them).
+int material_texture(RenderScene& s, const std::optional<TextureDesc>& t, TextureUse use, const ObjectDesc& o,
+                     const std::vector<ShapePart>* parts, const SceneDesc& desc) {
+  if (!t) return -1;
   if (parts)
     for (const ShapePart& part : *parts)
       if (part.mesh.uvs.empty())
         fail("{}: object '{}': its texture needs texture coordinates, and its shape has none", desc.file.string(), o.name);
-  const TextureDesc& t = *d.reflectance_texture;
-  m.reflectance_texture = add_texture(s.textures, *t.image, TextureUse::reflectance, t.transform);
-  return m;
+  return add_texture(s.textures, *t->image, use, t->transform);
+}
+
+SurfaceMaterial surface_material(RenderScene& s, const MaterialDesc& material, const ObjectDesc& o,
+                                 const std::vector<ShapePart>* parts, const SceneDesc& desc) {
+  if (const auto* d = std::get_if<DiffuseDesc>(&material))
+    return DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance),
+                           material_texture(s, d->reflectance_texture, TextureUse::reflectance, o, parts, desc)};
+  if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material))
+    return MetallicRoughnessMaterial{
+        add_spectrum(s, g->base_colour, SpectrumRole::reflectance),
+        material_texture(s, g->base_colour_texture, TextureUse::reflectance, o, parts, desc), g->metalness,
+        g->roughness, material_texture(s, g->metallic_roughness_texture, TextureUse::data, o, parts, desc)};
+  const auto& c = std::get<ConductorDesc>(material);
+  return ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point), add_spectrum(s, c.k, SpectrumRole::point),
+                           c.roughness, material_texture(s, c.roughness_texture, TextureUse::data, o, parts, desc)};
 }
 
 // What the object's surfaces are (an interface, which must be a closed shape; an emitter; an
@@ -272,13 +295,7 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<Sh
   } else {
     base.kind = SurfaceKind::opaque;
     base.material = static_cast<int>(s.materials.size());
-    if (const auto* d = std::get_if<DiffuseDesc>(&*o.material))
-      s.materials.push_back(diffuse_material(s, *d, o, parts, desc));
-    else {
-      const auto& c = std::get<ConductorDesc>(*o.material);
-      s.materials.push_back(ConductorMaterial{add_spectrum(s, c.n, SpectrumRole::point),
-                                              add_spectrum(s, c.k, SpectrumRole::point), c.roughness});
-    }
+    s.materials.push_back(surface_material(s, *o.material, o, parts, desc));
   }
   return base;
 }
@@ -309,6 +326,8 @@ void add_parts(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>
   const int outside = medium_index(s, o.outside.value_or(desc.world_medium));
   const int contents = o.contents ? medium_index(s, *o.contents) : -1;
   auto pick = [&](Side side) { return side == Side::object ? inside : side == Side::contents ? contents : outside; };
+  const int emission_texture =
+      o.emission ? material_texture(s, o.emission->texture, TextureUse::reflectance, o, &parts, desc) : -1;
   for (const ShapePart& p : parts) {
     Surface surface = base;
     surface.medium_behind = pick(p.behind);
@@ -316,7 +335,7 @@ void add_parts(RenderScene& s, const ObjectDesc& o, const std::vector<ShapePart>
     set_interface_optics(s, surface, albedo_index);
     const std::uint32_t id = s.rays.add(p.mesh);
     if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
-    if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission);
+    if (base.kind == SurfaceKind::emitter) add_area_lights(s, surface, id, p.mesh, *o.emission, emission_texture);
     s.surfaces.push_back(surface);
   }
 }

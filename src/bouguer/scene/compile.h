@@ -48,8 +48,15 @@ struct DiffuseMaterial {
 struct ConductorMaterial {
   int n = -1, k = -1;
   double alpha = 0.0;
+  int alpha_texture = -1;  // read instead when set: alpha is the mean of its texel's channels
 };
-using SurfaceMaterial = std::variant<DiffuseMaterial, ConductorMaterial>;
+// glTF's metallic-roughness (MetallicRoughnessDesc); each texture read instead of its constants.
+struct MetallicRoughnessMaterial {
+  int base_colour = -1, base_colour_texture = -1;
+  double metalness = 1.0, roughness = 1.0;
+  int metallic_roughness_texture = -1;  // B: metalness, G: roughness
+};
+using SurfaceMaterial = std::variant<DiffuseMaterial, ConductorMaterial, MetallicRoughnessMaterial>;
 
 struct RenderScene {
   std::filesystem::path file;

@@ -79,18 +79,21 @@ struct MediumDesc {
   std::optional<ScatteringDesc> scattering;
 };
 
-// Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
-struct EmissionDesc {
-  Spectrum radiance = ConstantSpectrum{0.0};
-  bool two_sided = false;
-  std::optional<SpotProfile> spot;  // set for spot lights with a radius
-};
-
 // A texture image the builder has read (compile makes its MIP pyramid, scene/texture.h).
 struct TextureDesc {
   std::filesystem::path file;  // for messages
   std::shared_ptr<const TextureImage> image;
   UvTransform transform;
+};
+
+// Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.
+struct EmissionDesc {
+  Spectrum radiance = ConstantSpectrum{0.0};
+  bool two_sided = false;
+  std::optional<SpotProfile> spot;  // set for spot lights with a radius
+  // Emitters: the radiance at a point is `radiance` times this texture's texel there, lifted as a
+  // reflectance (each value in [0, 1]); see lights/light.h, AreaLight.
+  std::optional<TextureDesc> texture;
 };
 
 // A diffuse reflectance: a spectrum, or a texture (its texels lifted to spectra; then `reflectance`
@@ -100,14 +103,27 @@ struct DiffuseDesc {
   std::optional<TextureDesc> reflectance_texture;
 };
 
-// A metal: complex refractive index n + ik (spectral), GGX roughness alpha (0: a mirror).
+// A metal: complex refractive index n + ik (spectral), GGX roughness alpha (0: a mirror), or a
+// texture of alpha (the mean of its channels, each in [0, 1]; then `roughness` is unused).
 struct ConductorDesc {
   Spectrum n = ConstantSpectrum{0.2};
   Spectrum k = ConstantSpectrum{3.0};
   double roughness = 0.0;
+  std::optional<TextureDesc> roughness_texture;
 };
 
-using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc>;
+// glTF's metallic-roughness material (materials/surface_bsdf.h, MetallicRoughness): a base colour
+// (a reflectance spectrum, or a reflectance texture read instead), a metalness and a perceptual
+// roughness (GGX alpha = roughness²), the two constants or a data texture read instead (its blue
+// channel the metalness, its green the roughness, glTF's layout).
+struct MetallicRoughnessDesc {
+  Spectrum base_colour = ConstantSpectrum{1.0};
+  std::optional<TextureDesc> base_colour_texture;
+  double metalness = 1.0, roughness = 1.0;
+  std::optional<TextureDesc> metallic_roughness_texture;
+};
+
+using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc, MetallicRoughnessDesc>;
 
 struct ObjectDesc {
   std::string name;

@@ -531,16 +531,17 @@ std::shared_ptr<const TextureImage> texture_image(const TextureSources& src, int
   }
 }
 
-// baseColorTexture times baseColorFactor, in linear values (the texels sRGB-decoded first).
-std::optional<GltfTexture> base_color_texture(const TextureSources& src, const tinygltf::TextureInfo& info,
-                                              const Vec3& factor, const Place& at) {
+// A texture's texels times per-channel factors, clamped to [0, 1]: sRGB-decoded first for colour
+// (baseColorTexture), as stored for data (metallicRoughnessTexture).
+std::optional<GltfTexture> scaled_texture(const TextureSources& src, const tinygltf::TextureInfo& info,
+                                          const Vec3& factor, bool colour, const Place& at) {
   if (info.index < 0) return std::nullopt;
   if (info.texCoord != 0) (at / "texCoord").fail("only TEXCOORD_0 is read (got {})", info.texCoord);
   const auto image = texture_image(src, info.index, at);
   auto linear = std::make_shared<TextureImage>(*image);
   linear->srgb = false;
   for (std::size_t i = 0; i < linear->rgb.size(); ++i) {
-    const float v = image->srgb ? srgb_to_linear(image->rgb[i]) : image->rgb[i];
+    const float v = colour && image->srgb ? srgb_to_linear(image->rgb[i]) : image->rgb[i];
     linear->rgb[i] = std::clamp(v * static_cast<float>(std::array{factor.x, factor.y, factor.z}[i % 3]), 0.0f, 1.0f);
   }
   return GltfTexture{std::move(linear), texture_transform(info.extensions, at), at.path};
@@ -554,8 +555,12 @@ GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, co
   if (!pbr.baseColorFactor.empty()) mat.base_color = vec3(pbr.baseColorFactor, pp / "baseColorFactor", {1, 1, 1});
   mat.metallic = finite(pbr.metallicFactor, pp / "metallicFactor");
   mat.roughness = finite(pbr.roughnessFactor, pp / "roughnessFactor");
-  mat.base_color_texture = base_color_texture(src, pbr.baseColorTexture, mat.base_color, pp / "baseColorTexture");
+  mat.base_color_texture = scaled_texture(src, pbr.baseColorTexture, mat.base_color, true, pp / "baseColorTexture");
+  // glTF's layout: G roughness, B metalness (R is occlusion in packed textures, unused).
+  mat.metallic_roughness_texture = scaled_texture(src, pbr.metallicRoughnessTexture, {1.0, mat.roughness, mat.metallic},
+                                                  false, pp / "metallicRoughnessTexture");
   mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
+  mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture");
   const Place pe = at / "extensions";
   if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
     mat.emissive_strength = number(*e, "emissiveStrength", pe / "KHR_materials_emissive_strength").value_or(1.0);
@@ -665,7 +670,21 @@ ConductorInput metal(const GltfMaterial& g) {
     k.wavelength_nm.push_back(nm);
     k.value.push_back(2.0 * std::sqrt(r / (1.0 - r)));
   }
-  return {1.0, k, g.roughness * g.roughness};
+  return {1.0, k, g.roughness * g.roughness, std::nullopt};
+}
+
+// glTF's metallic-roughness BRDF itself (materials/surface_bsdf.h), for materials whose metalness
+// is textured or fractional: the base colour texture (times its factor) or the factor, and the
+// metallicRoughness texture (times the factors) or the factors.
+MetallicRoughnessInput metallic_roughness(const GltfMaterial& g) {
+  MetallicRoughnessInput in;
+  if (const auto& t = g.base_color_texture) in.base_colour = TextureInput{t->name, t->image, t->transform};
+  else in.base_colour = RgbInput{{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
+                                  std::clamp(g.base_color.z, 0.0, 1.0)}};
+  in.metalness = std::clamp(g.metallic, 0.0, 1.0);
+  in.roughness = std::clamp(g.roughness, 0.0, 1.0);
+  if (const auto& t = g.metallic_roughness_texture) in.metallic_roughness_texture = TextureInput{t->name, t->image, t->transform};
+  return in;
 }
 
 // σ_a(λ) of an attenuation colour c at distance d: the transmittance over d is the smooth
@@ -750,7 +769,11 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     return;
   }
   if (std::max({g.emissive.x, g.emissive.y, g.emissive.z}) * g.emissive_strength > 0.0) {
-    o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
+    if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
+      o.emission = resolve_emission(EmissionInput{TextureInput{t->name, t->image, t->transform}, g.emissive_strength},
+                                    at.source() / "emissiveTexture");
+    else
+      o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
   } else if (g.transmission > 0.0) {
     if (g.thickness == 0.0) return;  // thin-walled: index-matched, nothing to render (docs/assets.md)
     // One medium per material and placement: primitives and instances share it.
@@ -759,6 +782,8 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     if (declared.insert(medium).second) b.medium(medium, volume_medium(g, at), at.source());
     o.inside = medium;
     o.roughness = g.roughness * g.roughness;
+  } else if (g.metallic_roughness_texture || (g.metallic > 0.0 && g.metallic < 1.0)) {
+    o.material = resolve_surface_material(metallic_roughness(g), at.source() / "pbrMetallicRoughness");
   } else if (g.metallic >= 0.5) {
     o.material = resolve_surface_material(metal(g), at.source() / "pbrMetallicRoughness");
   } else {

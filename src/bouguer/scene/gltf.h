@@ -37,8 +37,12 @@ struct GltfMaterial {
   // baseColorTexture, its texels already multiplied by base_color (and so linear).
   std::optional<GltfTexture> base_color_texture;
   double metallic = 1.0, roughness = 1.0;
-  Vec3 emissive{0, 0, 0};  // linear, times emissive_strength (KHR_materials_emissive_strength)
-  double emissive_strength = 1.0;
+  // metallicRoughnessTexture, its texels (as stored: data) times the factors: G roughness, B metalness.
+  std::optional<GltfTexture> metallic_roughness_texture;
+  Vec3 emissive{0, 0, 0};  // linear emissiveFactor
+  double emissive_strength = 1.0;  // KHR_materials_emissive_strength
+  // emissiveTexture, its texels sRGB-decoded and multiplied by `emissive` (as the base colour's).
+  std::optional<GltfTexture> emissive_texture;
   double transmission = 0.0;  // KHR_materials_transmission
   double thickness = 0.0;     // KHR_materials_volume: 0 is thin-walled
   Vec3 attenuation_color{1, 1, 1};

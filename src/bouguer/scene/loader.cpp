@@ -134,9 +134,41 @@ TableInput table_input(const json& j, const Where& w, std::vector<std::string> e
   return t;
 }
 
+// {"texture": "label.png", "transform": {"offset": [u, v], "rotation": "30 deg", "scale": [su, sv]}}:
+// an image file (read by the builder) and a transform of its texture coordinates in Bouguer's
+// v-up convention (uv_transform_v_up, scene/texture.h). `extra` lists the caller's other keys.
+TextureInput texture_input(const json& j, const Where& w, std::vector<std::string> extra = {}) {
+  extra.insert(extra.end(), {"texture", "transform"});
+  expect_keys(j, w, extra);
+  TextureInput t{text(j["texture"], w / "texture"), nullptr, {}};
+  if (!j.contains("transform")) return t;
+  const Where wt = w / "transform";
+  const json& tj = j["transform"];
+  expect_keys(tj, wt, {"offset", "rotation", "scale"});
+  auto pair = [&](const char* key, std::array<double, 2> fallback) {
+    if (!tj.contains(key)) return fallback;
+    array(tj[key], wt / key, 2);
+    return std::array<double, 2>{number(tj[key][0], (wt / key)[0]), number(tj[key][1], (wt / key)[1])};
+  };
+  double rotation_rad = 0.0;
+  if (tj.contains("rotation")) {
+    try {
+      rotation_rad = parse_angle_rad(text(tj["rotation"], wt / "rotation"));
+    } catch (const Error& e) {
+      (wt / "rotation").fail("{}", e.what());
+    }
+  }
+  const std::array<double, 2> scale = pair("scale", {1.0, 1.0});
+  for (std::size_t i = 0; i < 2; ++i)
+    if (scale[i] == 0.0) (wt / "scale")[i].fail("must not be 0 (it would map the surface to one line of texels)");
+  t.transform = uv_transform_v_up(pair("offset", {0.0, 0.0}), rotation_rad, scale);
+  return t;
+}
+
 // ---- spectra, media ---------------------------------------------------------------------------
 
-// {"spectrum": "D65" | {"rgb": [...]} | table, "scale": s, "normalise": b, "two_sided": b}.
+// {"spectrum": "D65" | {"rgb": [...]} | table, "scale": s, "normalise": b, "two_sided": b}; an
+// emitter's (allow_two_sided) spectrum may also be {"texture": ...}.
 EmissionInput emission_input(const json& j, const Where& w, bool allow_two_sided) {
   std::vector<std::string> keys = {"spectrum", "scale", "normalise"};
   if (allow_two_sided) keys.push_back("two_sided");
@@ -151,6 +183,9 @@ EmissionInput emission_input(const json& j, const Where& w, bool allow_two_sided
   } else if (s.is_object() && s.contains("rgb")) {
     expect_keys(s, ws, {"rgb"});
     e.spectrum = rgb_input(s, ws);
+  } else if (s.is_object() && s.contains("texture")) {
+    if (!allow_two_sided) ws.fail("only an emitting object takes a texture");
+    e.spectrum = texture_input(s, ws);
   } else {
     e.spectrum = table_input(s, ws, {});
   }
@@ -444,8 +479,7 @@ MaterialDesc material(const json& j, const Where& w) {
         expect_keys(r, wr, {"rgb"});
         d.reflectance = rgb_input(r, wr);
       } else if (r.is_object() && r.contains("texture")) {
-        expect_keys(r, wr, {"texture"});
-        d.reflectance = TextureInput{text(r["texture"], wr / "texture"), nullptr, {}};
+        d.reflectance = texture_input(r, wr);
       } else if (r.is_number()) {
         d.reflectance = number(r, wr);
       } else {
@@ -457,8 +491,12 @@ MaterialDesc material(const json& j, const Where& w) {
   if (type == "conductor") {
     expect_keys(j, w, {"type", "n", "k", "roughness"});
     if (!j.contains("n") || !j.contains("k")) w.fail("a conductor needs 'n' and 'k' (numbers or tables)");
-    ConductorInput c{spectral_input(j["n"], w / "n"), spectral_input(j["k"], w / "k"), 0.0};
-    if (j.contains("roughness")) c.roughness = number(j["roughness"], w / "roughness");
+    ConductorInput c{spectral_input(j["n"], w / "n"), spectral_input(j["k"], w / "k"), 0.0, std::nullopt};
+    if (j.contains("roughness")) {
+      const json& r = j["roughness"];
+      if (r.is_object()) c.roughness_texture = texture_input(r, w / "roughness");  // GGX alpha per texel
+      else c.roughness = number(r, w / "roughness");
+    }
     return resolve_surface_material(c, w);  // its ranges checked by the builder
   }
   (w / "type").fail("unknown material '{}' (diffuse, conductor)", type);

@@ -88,6 +88,12 @@ void add_bilinear(const TextureLevel& level, std::array<double, 2> uv, float wei
 
 }  // namespace
 
+UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad, std::array<double, 2> scale) {
+  return {{offset[0] - std::sin(rotation_rad) * scale[1], 1.0 - std::cos(rotation_rad) * scale[1] - offset[1]},
+          rotation_rad,
+          scale};
+}
+
 int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform) {
   assert(image.width > 0 && image.height > 0);
   TextureEntry entry{static_cast<int>(table.levels.size()), 0, transform};
@@ -173,6 +179,32 @@ double texture_level_of_detail(const TextureTable& table, int id, const Analytic
   const double area_scale = std::pow(std::abs(shape.to_world.determinant()), 2.0 / 3.0);
   if (!(area_scale > 0.0)) return -std::numeric_limits<double>::infinity();
   return level_of_detail(table, id, uv_per_m2 / area_scale, cone_width_m, cos_theta);
+}
+
+double texture_mean_luminance(const TextureTable& table, int id, const std::array<std::array<double, 2>, 3>& uv) {
+  constexpr int kSide = 8;  // a grid of kSide² points, each the centre of a sub-triangle
+  const TextureEntry& t = table.textures[static_cast<std::size_t>(id)];
+  const TextureLevel& base = table.levels[static_cast<std::size_t>(t.first_level)];
+  const double uv_area = 0.5 * std::abs((uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) -
+                                        (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1])) *
+                         std::abs(t.transform.scale[0] * t.transform.scale[1]);
+  const double texels = uv_area * base.width * base.height;
+  const double lod = texels > 0.0 ? 0.5 * std::log2(texels / (kSide * kSide)) : 0.0;
+  double sum = 0.0;
+  int count = 0;
+  // The kSide² sub-triangles of a regular subdivision: their centroids, upward and downward ones.
+  for (int i = 0; i < kSide; ++i)
+    for (int j = 0; i + j < kSide; ++j)
+      for (int down = 0; down < 2 && (down == 0 || i + j + 1 < kSide); ++down) {
+        const double b1 = (i + (down ? 2.0 : 1.0) / 3.0) / kSide, b2 = (j + (down ? 2.0 : 1.0) / 3.0) / kSide;
+        const double b0 = 1.0 - b1 - b2;
+        const std::array<double, 2> p{b0 * uv[0][0] + b1 * uv[1][0] + b2 * uv[2][0],
+                                      b0 * uv[0][1] + b1 * uv[1][1] + b2 * uv[2][1]};
+        const Vec3 rgb = texture_rgb(table, texel_blend(table, id, p, lod));
+        sum += 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+        ++count;
+      }
+  return sum / count;
 }
 
 Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend) {

@@ -34,6 +34,12 @@ struct UvTransform {
   std::array<double, 2> scale{1.0, 1.0};
 };
 
+// The transform Bouguer's JSON gives (docs/scene-format.md), in Bouguer's own v-up coordinates:
+// uv' = offset + R(rotation) · (scale ⊙ uv), R counter-clockwise in the (u, v) plane as the image
+// is seen. Returned as the same map in glTF's v-down convention: the angle and scale carry over,
+// the offset becomes (o_u − sin θ·s_v, 1 − cos θ·s_v − o_v).
+UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad, std::array<double, 2> scale);
+
 // How texels are read: a reflectance (sRGB-decoded where the file is sRGB, each channel in [0, 1],
 // lifted to a spectrum), a colour used as it is (sRGB-decoded), or data (roughness, metalness:
 // the values as stored).
@@ -78,6 +84,11 @@ double texture_level_of_detail(const TextureTable& table, int id, const Analytic
                                std::array<double, 2> uv, double cone_width_m, double cos_theta);
 
 Vec3 texture_rgb(const TextureTable& table, const TexelBlend& blend);
+
+// The mean Rec.709 luminance of texture `id` over the triangle with these corner UVs: 64 points of
+// an even barycentric grid, each read at the level whose texels are about the grid's spacing (so
+// the grid sees every texel through the pyramid's box filter).
+double texture_mean_luminance(const TextureTable& table, int id, const std::array<std::array<double, 2>, 3>& uv);
 
 // A reflectance texture's spectrum at the path's wavelengths: the blend of its texels' spectra.
 template <std::size_t N>

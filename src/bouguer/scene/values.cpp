@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include "bouguer/core/error.h"
@@ -196,21 +197,37 @@ ScatteringDesc scattering(const ScatteringInput& in, const Source& where, const 
 
 // ---- lengths, tables, colours --------------------------------------------------------------------
 
-double parse_length_m(const std::string& s) {
+namespace {
+// A number and the unit after it ("5 mm" -> 5, "mm"); `noun` and `example` word the errors.
+std::pair<double, std::string> number_and_unit(const std::string& s, const char* noun, const char* example) {
   std::size_t i = 0;
   while (i < s.size() && s[i] == ' ') ++i;
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(s.data() + i, s.data() + s.size(), v);
-  if (ec != std::errc()) fail("'{}' is not a length (write e.g. \"5 mm\")", s);
-  if (!std::isfinite(v)) fail("'{}' is not a finite length", s);
+  if (ec != std::errc()) fail("'{}' is not {} (write e.g. \"{}\")", s, noun, example);
+  if (!std::isfinite(v)) fail("'{}' is not a finite {}", s, std::string(noun).substr(std::string(noun).find(' ') + 1));
   std::string unit(ptr, s.data() + s.size());
   unit.erase(std::remove(unit.begin(), unit.end(), ' '), unit.end());
+  return {v, unit};
+}
+}  // namespace
+
+double parse_length_m(const std::string& s) {
+  const auto [v, unit] = number_and_unit(s, "a length", "5 mm");
   if (unit.empty()) fail("'{}' has no unit (write e.g. \"{} mm\"; nm, um, mm, cm, m, km)", s, s);
   static const std::vector<std::pair<std::string, double>> units = {
       {"nm", 1e-9}, {"um", 1e-6}, {"µm", 1e-6}, {"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}, {"km", 1e3}};
   for (const auto& [name, factor] : units)
     if (unit == name) return v * factor;
   fail("'{}': unknown length unit '{}' (nm, um, mm, cm, m, km)", s, unit);
+}
+
+double parse_angle_rad(const std::string& s) {
+  const auto [v, unit] = number_and_unit(s, "an angle", "30 deg");
+  if (unit == "deg") return v * std::numbers::pi / 180.0;
+  if (unit == "rad") return v;
+  if (unit.empty()) fail("'{}' has no unit (write e.g. \"{} deg\"; deg, rad)", s, s);
+  fail("'{}': unknown angle unit '{}' (deg, rad)", s, unit);
 }
 
 double resolve_length_m(const LengthInput& length, const Source& where) {
@@ -281,6 +298,9 @@ EmissionDesc resolve_emission(const EmissionInput& in, const Source& where) {
     e.radiance = normalised_to_luminance(*spd, in.scale);
   } else if (const auto* c = std::get_if<RgbInput>(&in.spectrum)) {
     e.radiance = scaled(Spectrum{rgb_to_illuminant(checked_rgb(*c, ws / "rgb"))}, in.scale);
+  } else if (const auto* texture = std::get_if<TextureInput>(&in.spectrum)) {
+    e.radiance = scaled(Spectrum{rgb_to_illuminant({1.0, 1.0, 1.0})}, in.scale);
+    e.texture = resolve_texture(*texture, ws / "texture", TextureUse::reflectance);
   } else {
     const Spectrum t = resolve_table(std::get<TableInput>(in.spectrum), ws);
     e.radiance = in.normalise ? normalised_to_luminance(t, in.scale) : scaled(t, in.scale);
@@ -368,12 +388,12 @@ TextureDesc resolve_texture(const TextureInput& texture, const Source& where, Te
       where.fail("{}", e.what());  // the reader's line names the file; this one says where it was asked for
     }
   }
-  if (use != TextureUse::reflectance || d.image->srgb) return d;  // sRGB decodes into [0, 1]
+  if (use == TextureUse::colour || (use == TextureUse::reflectance && d.image->srgb)) return d;  // sRGB decodes into [0, 1]
   for (std::size_t i = 0; i < d.image->rgb.size(); ++i)
     if (d.image->rgb[i] < 0.0f || d.image->rgb[i] > 1.0f)
-      where.fail("{}: pixel ({}, {}) holds {}; a reflectance must lie between 0 and 1", d.file.string(),
+      where.fail("{}: pixel ({}, {}) holds {}; {} must lie between 0 and 1", d.file.string(),
                  i / 3 % static_cast<std::size_t>(d.image->width), i / 3 / static_cast<std::size_t>(d.image->width),
-                 d.image->rgb[i]);
+                 d.image->rgb[i], use == TextureUse::reflectance ? "a reflectance" : "a data texel");
   return d;
 }
 
@@ -403,19 +423,47 @@ std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Sour
   return out;
 }
 
+namespace {
+
+// An RGB reflectance, checked before the fit would clamp it: above 1 is a mistake.
+Spectrum reflectance_rgb(const RgbInput& c, const Source& wr) {
+  const Vec3 rgb = checked_rgb(c, wr / "rgb");
+  for (std::size_t i = 0; i < 3; ++i)
+    if (std::array{rgb.x, rgb.y, rgb.z}[i] > 1.0) (wr / "rgb")[i].fail("a reflectance must lie between 0 and 1");
+  return Spectrum{rgb_to_reflectance(rgb)};
+}
+
+MetallicRoughnessDesc resolve_metallic_roughness(const MetallicRoughnessInput& in, const Source& where) {
+  MetallicRoughnessDesc d;
+  const Source wb = where / "base_colour";
+  if (const auto* t = std::get_if<TextureInput>(&in.base_colour))
+    d.base_colour_texture = resolve_texture(*t, wb / "texture", TextureUse::reflectance);
+  else
+    d.base_colour = reflectance_rgb(std::get<RgbInput>(in.base_colour), wb);
+  d.metalness = in.metalness;
+  d.roughness = in.roughness;
+  if (in.metallic_roughness_texture)
+    d.metallic_roughness_texture = resolve_texture(*in.metallic_roughness_texture, where / "metallic_roughness" / "texture",
+                                                   TextureUse::data);
+  return d;
+}
+
+}  // namespace
+
 MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& where) {
-  if (const auto* c = std::get_if<ConductorInput>(&in))
-    return ConductorDesc{resolve_spectral(c->n, where / "n"), resolve_spectral(c->k, where / "k"), c->roughness};
+  if (const auto* c = std::get_if<ConductorInput>(&in)) {
+    ConductorDesc d{resolve_spectral(c->n, where / "n"), resolve_spectral(c->k, where / "k"), c->roughness, std::nullopt};
+    if (c->roughness_texture)
+      d.roughness_texture = resolve_texture(*c->roughness_texture, where / "roughness" / "texture", TextureUse::data);
+    return d;
+  }
+  if (const auto* g = std::get_if<MetallicRoughnessInput>(&in)) return resolve_metallic_roughness(*g, where);
   DiffuseDesc d;
   const auto& reflectance = std::get<DiffuseInput>(in).reflectance;
   if (!reflectance) return d;
   const Source wr = where / "reflectance";
   if (const auto* c = std::get_if<RgbInput>(&*reflectance)) {
-    // Checked here, before the fit would clamp it: an RGB reflectance above 1 is a mistake.
-    const Vec3 rgb = checked_rgb(*c, wr / "rgb");
-    for (std::size_t i = 0; i < 3; ++i)
-      if (std::array{rgb.x, rgb.y, rgb.z}[i] > 1.0) (wr / "rgb")[i].fail("a reflectance must lie between 0 and 1");
-    d.reflectance = Spectrum{rgb_to_reflectance(rgb)};
+    d.reflectance = reflectance_rgb(*c, wr);
   } else if (const auto* v = std::get_if<double>(&*reflectance)) {
     d.reflectance = ConstantSpectrum{*v};
   } else if (const auto* t = std::get_if<TextureInput>(&*reflectance)) {

@@ -43,11 +43,21 @@ struct TableInput {
 // A spectral quantity (a conductor's n or k, a reflectance): a constant or a table.
 using SpectralInput = std::variant<double, TableInput>;
 
+// A texture image: a file (relative to the source's folder), or an image a front end has already
+// read (glTF's embedded images; `file` then only names it), with its glTF texture transform.
+struct TextureInput {
+  std::string file;
+  std::shared_ptr<const TextureImage> image;
+  UvTransform transform;
+};
+
 // Radiance of an emitter, a light's intensity or the background: a named illuminant ("D65"),
 // normalised to luminance Y = scale; an RGB colour (RGB (1, 1, 1) is D65 at Y = 1) times scale;
-// or a table times scale (normalised to Y = scale with `normalise`).
+// or a table times scale (normalised to Y = scale with `normalise`); for an emitter, a texture:
+// D65 at Y = scale times each texel (in [0, 1], lifted as a reflectance), so a white texel is
+// (1, 1, 1) times scale.
 struct EmissionInput {
-  std::variant<std::string, RgbInput, TableInput> spectrum;
+  std::variant<std::string, RgbInput, TableInput, TextureInput> spectrum;
   double scale = 1.0;
   bool normalise = false;
   bool two_sided = false;
@@ -116,14 +126,6 @@ struct MediumInput {
   std::optional<ScatteringInput> scattering;
 };
 
-// A texture image: a file (relative to the source's folder), or an image a front end has already
-// read (glTF's embedded images; `file` then only names it), with its glTF texture transform.
-struct TextureInput {
-  std::string file;
-  std::shared_ptr<const TextureImage> image;
-  UvTransform transform;
-};
-
 // Opaque surfaces: a diffuse reflectance (a number, table, RGB or texture, 0 to 1; 0.5 when not
 // given) or a conductor's n and k with a GGX roughness.
 struct DiffuseInput {
@@ -132,13 +134,22 @@ struct DiffuseInput {
 struct ConductorInput {
   SpectralInput n = 0.2, k = 3.0;
   double roughness = 0.0;
+  std::optional<TextureInput> roughness_texture;  // read instead of `roughness`
 };
-using MaterialInput = std::variant<DiffuseInput, ConductorInput>;
+// glTF's metallic-roughness (MetallicRoughnessDesc): textures are read instead of the constants.
+struct MetallicRoughnessInput {
+  std::variant<RgbInput, TextureInput> base_colour = RgbInput{{1.0, 1.0, 1.0}};
+  double metalness = 1.0, roughness = 1.0;
+  std::optional<TextureInput> metallic_roughness_texture;
+};
+using MaterialInput = std::variant<DiffuseInput, ConductorInput, MetallicRoughnessInput>;
 
 // ---- what they mean ----------------------------------------------------------------------------
 
 // "5 mm", "0.5 cm", "1.2 um", "2 m" -> metres (an Error naming the text).
 double parse_length_m(const std::string& text);
+// "30 deg", "0.5 rad" -> radians (an Error naming the text; a bare number has no unit and is refused).
+double parse_angle_rad(const std::string& text);
 
 // A length within the scene's extent (core/limits.h); a positive one, at least the smallest length.
 double resolve_length_m(const LengthInput& length, const Source& where);
@@ -153,7 +164,7 @@ EmissionDesc resolve_emission(const EmissionInput& emission, const Source& where
 IorModel resolve_ior(const IorInput& ior, const Source& where);
 MediumDesc resolve_medium(const std::string& name, const MediumInput& medium, const Source& where);
 // The image read (an Error naming the file: missing, not an image, too large) and, for a
-// reflectance, every texel after sRGB decoding checked to lie in [0, 1].
+// reflectance or data, every texel (after sRGB decoding for a reflectance) checked to lie in [0, 1].
 TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use);
 // An object whose material is "mtl": its OBJ's faces split by `usemtl` into one object each (named
 // "<object>: <material>"), each diffuse with its MTL's Kd or map_Kd texture (faces without a
