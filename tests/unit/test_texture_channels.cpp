@@ -17,6 +17,7 @@
 #include "bouguer/io/texture_image.h"
 #include "bouguer/spectra/color_space.h"
 #include "bouguer/scene/loader.h"
+#include "bouguer/scene/normal_map.h"
 #include "bouguer/scene/texture.h"
 #include "support/gltf_files.h"
 #include "support/test_support.h"
@@ -509,6 +510,117 @@ TEST(TextureChannels, EmissionTextureOnlyOnEmitters) {
     EXPECT_NE(m.find("objects[1].emission.spectrum.texture"), std::string::npos) << m;
     EXPECT_NE(m.find("missing.png"), std::string::npos) << m;
     EXPECT_EQ(test::line_count(m), 1) << m;
+  }
+}
+
+// ---- normal maps ---------------------------------------------------------------------------------
+
+// A texel (r, g, b) is the tangent-space normal (2r − 1, 2g − 1, 2b − 1), glTF's scale on x and y:
+// (½ + ½ sin θ, ½, ½ + ½ cos θ) tilts the normal by θ towards +u; with scale s, by atan(s·tan θ).
+TEST(TextureChannels, TangentSpaceNormalInClosedForm) {
+  const Vec3 flat = tangent_space_normal({0.5, 0.5, 1.0}, 1.0);
+  EXPECT_NEAR(flat.z, 1.0, 1e-12);
+  for (const double theta : {0.2, 0.5, 1.0})
+    for (const double scale : {1.0, 0.5, 2.0}) {
+      const Vec3 n = tangent_space_normal({0.5 + 0.5 * std::sin(theta), 0.5, 0.5 + 0.5 * std::cos(theta)}, scale);
+      EXPECT_NEAR(std::atan2(n.x, n.z), std::atan(scale * std::tan(theta)), 1e-12) << theta << " " << scale;
+      EXPECT_NEAR(n.y, 0.0, 1e-12);
+      EXPECT_NEAR(length(n), 1.0, 1e-12);
+    }
+}
+
+// A PNG of one texel value everywhere (8 × 8), stored exactly as the bytes k/255 (the writer encodes
+// sRGB, so each value goes in as its decoded value).
+Vec3 write_constant_texel(const fs::path& path, std::array<int, 3> k) {
+  Film image(8, 8);
+  const Vec3f linear{srgb_to_linear(static_cast<float>(k[0] / 255.0)), srgb_to_linear(static_cast<float>(k[1] / 255.0)),
+                     srgb_to_linear(static_cast<float>(k[2] / 255.0))};
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) image.set_rgb(x, y, linear);
+  write_image(path, image);
+  const TextureImage stored = read_texture_image(path);
+  return {stored.rgb[0], stored.rgb[1], stored.rgb[2]};
+}
+
+// The shading normal at the middle of a scene's first object, seen from +z.
+Vec3 mapped_normal_at(const Compiled& c, double x = 0.1, double y = 0.1) {
+  const auto hit = c.scene.rays.intersect(Ray{{x, y, 1.0}, {0, 0, -1}});
+  if (!hit) throw std::runtime_error("no hit");
+  return normal_mapped(c.scene, c.scene.surfaces[hit->geometry], *hit).shading_normal;
+}
+
+// A constant normal map on a quad in the xy-plane (u along +x, v along +y, normal +z) tilts the
+// normal to the texel's tangent-space normal in that frame; turned 90° about z, the frame turns
+// with it; a texture rotation of 90° (uv' = R·uv: u' grows along −y, v' along +x) turns the frame
+// the other way; without a normal map the hit keeps its normal.
+TEST(TextureChannels, NormalMapTiltsTheShadingNormalInTheTangentFrame) {
+  const fs::path dir = test::scratch_dir("TextureChannelsNormalMap");
+  const Vec3 texel = write_constant_texel(dir / "tilt.png", {200, 100, 220});
+  const Vec3 t = tangent_space_normal(texel, 1.0);
+  auto quad = [&](const std::string& normal_map, const std::string& transform) {
+    return Compiled(fmt::format(R"({{"name": "tile", "shape": {{"type": "quad", "size": [1, 1]}}{},
+                                    "material": {{"type": "diffuse"{}}}}})",
+                                transform, normal_map),
+                    dir);
+  };
+  const std::string map = fmt::format(R"(, "normal_map": "{}")", (dir / "tilt.png").generic_string());
+  // Texels and bilinear weights are floats: 1e-6.
+  const Vec3 plain = mapped_normal_at(quad(map, ""));
+  EXPECT_NEAR(plain.x, t.x, 1e-6);
+  EXPECT_NEAR(plain.y, t.y, 1e-6);
+  EXPECT_NEAR(plain.z, t.z, 1e-6);
+  EXPECT_GT(std::acos(t.z), 0.5);  // the tilt is large: the test would see a missing map
+  const Vec3 turned = mapped_normal_at(quad(map, R"(, "transform": [{"rotate_deg": [90, [0, 0, 1]]}])"));
+  EXPECT_NEAR(turned.x, -t.y, 1e-6);  // T = +y, B = −x
+  EXPECT_NEAR(turned.y, t.x, 1e-6);
+  EXPECT_NEAR(turned.z, t.z, 1e-6);
+  const Vec3 rotated_uv = mapped_normal_at(quad(
+      fmt::format(R"(, "normal_map": {{"texture": "{}", "transform": {{"rotation": "90 deg"}}, "scale": 1}})",
+                  (dir / "tilt.png").generic_string()),
+      ""));
+  EXPECT_NEAR(rotated_uv.x, t.y, 1e-6);  // T = ∂p/∂u' = −y, B = ∂p/∂v' = +x
+  EXPECT_NEAR(rotated_uv.y, -t.x, 1e-6);
+  EXPECT_NEAR(rotated_uv.z, t.z, 1e-6);
+  const Vec3 none = mapped_normal_at(quad("", ""));
+  EXPECT_NEAR(none.z, 1.0, 1e-12);
+}
+
+// glTF normalTexture with scale 0.5: the tangent-space x and y halved (the frame as for the JSON
+// quad: glTF's v runs down the image, so the image's up is +y here too).
+TEST(TextureChannels, GltfNormalTextureWithScale) {
+  const fs::path dir = test::scratch_dir("TextureChannelsGltfNormal");
+  const Vec3 texel = write_constant_texel(dir / "bumps.png", {60, 190, 230});
+  write_gltf_quad(dir / "bumpy.gltf",
+                  {{"name", "Bumpy"},
+                   {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},
+                   {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
+                  {"bumps.png"});
+  const Vec3 want = tangent_space_normal(texel, 0.5);
+  const Vec3 n = mapped_normal_at(Compiled(fmt::format(R"({{"gltf": "{}"}})", (dir / "bumpy.gltf").generic_string()), dir));
+  EXPECT_NEAR(n.x, want.x, 1e-6);
+  EXPECT_NEAR(n.y, want.y, 1e-6);
+  EXPECT_NEAR(n.z, want.z, 1e-6);
+  EXPECT_LT(want.x, -0.1);  // the texel leans towards −u and +v
+  EXPECT_GT(want.y, 0.1);
+}
+
+// A normal map that is missing, or not an image, is one line naming the file and the key.
+TEST(TextureChannels, BadNormalMapsAreOneLine) {
+  const fs::path dir = test::scratch_dir("TextureChannelsBadNormalMap");
+  test::write_file(dir / "notes.png", "not an image\n");
+  for (const char* name : {"missing.png", "notes.png"}) {
+    try {
+      Compiled(fmt::format(R"({{"name": "tile", "shape": {{"type": "quad", "size": [1, 1]}},
+                              "material": {{"type": "diffuse", "normal_map": "{}"}}}})",
+                           (dir / name).generic_string()),
+               dir);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("objects[0].material.normal_map.texture"), std::string::npos) << m;
+      EXPECT_NE(m.find(name), std::string::npos) << m;
+      EXPECT_EQ(test::line_count(m), 1) << m;
+    }
   }
 }
 
