@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <random>
 
@@ -354,18 +355,22 @@ TEST(TextureChannels, MeanLuminanceOverATriangle) {
 // A textured emitter: a 0.4 m square at 0.3 m above a grey floor, facing down, its texture red on
 // the left and dim blue on the right, D65 at Y = 5 times the texel. The camera looks down (the
 // emitter's back, black, hides the middle).
-std::string emitter_scene(const fs::path& texture, const std::string& integrator, int spp, int seed) {
+constexpr const char* kGreyFloor =
+    R"({"name": "floor", "shape": {"type": "quad", "size": [1.2, 1.2]}, "material": {"type": "diffuse", "reflectance": 0.5}})";
+
+std::string emitter_scene(const fs::path& texture, const std::string& integrator, int spp, int seed,
+                          const std::string& floor = kGreyFloor) {
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1.2, "resolution": [12, 12]}},
     "render": {{"integrator": "{}", "spp": {}, "seed": {}, "spectral": "rgb3", "max_depth": 2}},
     "background": {{"spectrum": "D65", "scale": 0}},
     "objects": [
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1.2, 1.2]}}, "material": {{"type": "diffuse", "reflectance": 0.5}}}},
+      {},
       {{"name": "lamp", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
         "transform": [{{"rotate_deg": [180, [1, 0, 0]]}}, {{"translate": [0, 0, 0.3]}}],
         "emission": {{"spectrum": {{"texture": "{}"}}, "scale": 5}}}}
     ]
-  }})", integrator, spp, seed, texture.generic_string());
+  }})", integrator, spp, seed, floor, texture.generic_string());
 }
 
 fs::path write_emitter_texture(const fs::path& dir) {
@@ -405,34 +410,40 @@ TEST(TextureChannels, TexturedEmitterPowerIsTheTextureMean) {
 // and carry the texel's radiance) and bdpt agree on the floor within noise. Per quadrant of the
 // floor, the means of two renders (seeds 1, 2) per estimator differ by less than 5 standard errors
 // of the difference, the errors estimated from the two renders' pixel differences.
-TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
-  const fs::path dir = test::scratch_dir("TextureChannelsEmitterEstimators");
-  const fs::path png = write_emitter_texture(dir);
-  struct Estimate {
-    std::array<Vec3, 4> mean{}, variance{};  // per quadrant, of the mean of two renders
-  };
-  auto estimate = [&](const std::string& integrator, int spp) {
-    const Film a = test::render_text(emitter_scene(png, integrator, spp, 1));
-    const Film b = test::render_text(emitter_scene(png, integrator, spp, 2));
-    Estimate e;
-    std::array<int, 4> n{};
-    for (int y = 0; y < 12; ++y)
-      for (int x = 0; x < 12; ++x) {
-        if (x >= 3 && x < 9 && y >= 3 && y < 9) continue;  // the lamp's shadow and its black back
-        const std::size_t q = static_cast<std::size_t>((y < 6 ? 0 : 2) + (x < 6 ? 0 : 1));
-        const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
-        const Vec3 va{pa.x, pa.y, pa.z}, vb{pb.x, pb.y, pb.z}, d = va - vb;
-        e.mean[q] = e.mean[q] + (va + vb) * 0.5;
-        e.variance[q] = e.variance[q] + Vec3{d.x * d.x, d.y * d.y, d.z * d.z} * 0.25;  // var of (a + b)/2 per pixel
-        ++n[q];
-      }
-    for (std::size_t q = 0; q < 4; ++q) {
-      e.mean[q] = e.mean[q] / n[q];
-      e.variance[q] = e.variance[q] / (double(n[q]) * n[q]);
+// Per quadrant of the floor (the lamp's shadow left out), the mean of two renders (seeds 1, 2) and
+// the variance of that mean, estimated from the two renders' pixel differences.
+struct QuadrantEstimate {
+  std::array<Vec3, 4> mean{}, variance{};
+};
+
+QuadrantEstimate estimate_quadrants(const std::function<std::string(int seed)>& scene) {
+  const Film a = test::render_text(scene(1)), b = test::render_text(scene(2));
+  QuadrantEstimate e;
+  std::array<int, 4> n{};
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 12; ++x) {
+      if (x >= 3 && x < 9 && y >= 3 && y < 9) continue;  // the lamp's shadow and its black back
+      const std::size_t q = static_cast<std::size_t>((y < 6 ? 0 : 2) + (x < 6 ? 0 : 1));
+      const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
+      const Vec3 va{pa.x, pa.y, pa.z}, vb{pb.x, pb.y, pb.z}, d = va - vb;
+      e.mean[q] = e.mean[q] + (va + vb) * 0.5;
+      e.variance[q] = e.variance[q] + Vec3{d.x * d.x, d.y * d.y, d.z * d.z} * 0.25;  // var of (a + b)/2 per pixel
+      ++n[q];
     }
-    return e;
+  for (std::size_t q = 0; q < 4; ++q) {
+    e.mean[q] = e.mean[q] / n[q];
+    e.variance[q] = e.variance[q] / (double(n[q]) * n[q]);
+  }
+  return e;
+}
+
+// The path tracer against the light tracer and bdpt on a scene(integrator, spp, seed): every quadrant
+// and channel within 5 standard errors of the difference. Returns the path tracer's estimate.
+QuadrantEstimate expect_estimators_agree(const std::function<std::string(const std::string&, int, int)>& scene) {
+  auto run = [&](const std::string& integrator, int spp) {
+    return estimate_quadrants([&](int seed) { return scene(integrator, spp, seed); });
   };
-  const Estimate path = estimate("path", 256), light = estimate("light", 256), bdpt = estimate("bdpt", 128);
+  const QuadrantEstimate path = run("path", 256), light = run("light", 256), bdpt = run("bdpt", 128);
   for (const auto& [name, other] : {std::pair{"light", &light}, {"bdpt", &bdpt}})
     for (std::size_t q = 0; q < 4; ++q)
       for (std::size_t c = 0; c < 3; ++c) {
@@ -442,8 +453,40 @@ TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
                     other->mean[q][c], diff / sigma);
         EXPECT_LT(std::abs(diff), 5.0 * sigma + 1e-4) << name << " quadrant " << q << " channel " << c;
       }
+  return path;
+}
+
+// Path tracing (next-event estimation reads the texture where it samples the lamp, BSDF hits where
+// they land, MIS between them), light tracing (light paths start at texels drawn uniformly by area
+// and carry the texel's radiance) and bdpt agree on the floor within noise.
+TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
+  const fs::path dir = test::scratch_dir("TextureChannelsEmitterEstimators");
+  const fs::path png = write_emitter_texture(dir);
+  const QuadrantEstimate path = expect_estimators_agree(
+      [&](const std::string& integrator, int spp, int seed) { return emitter_scene(png, integrator, spp, seed); });
   // The texture shows: the floor under the red half is redder than under the blue half.
   EXPECT_GT(path.mean[0][0] / path.mean[0][2], 1.5 * path.mean[1][0] / path.mean[1][2]);
+}
+
+// The metallic-roughness mixture in every estimator: a glTF floor, metal on its left half
+// (metalness 1, roughness 0.6) and dielectric on its right (metalness 0, roughness 0.6 × 0.735),
+// base colour 0.7, under the textured lamp: path, light tracer (importance mode) and bdpt agree.
+TEST(TextureChannels, MetallicRoughnessFloorPathLightAndBdptAgree) {
+  const fs::path dir = test::scratch_dir("TextureChannelsMetalFloor");
+  const fs::path png = write_emitter_texture(dir);
+  write_two_texels(dir / "mr.png", {0.0f, 1.0f, 1.0f}, {0.0f, 0.5f, 0.0f});
+  write_gltf_quad(dir / "floor.gltf",
+                  {{"name", "Floor"},
+                   {"pbrMetallicRoughness",
+                    {{"baseColorFactor", {0.7, 0.7, 0.7, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.6},
+                     {"metallicRoughnessTexture", {{"index", 0}}}}}},
+                  {"mr.png"});
+  const std::string floor = fmt::format(R"({{"gltf": "{}", "transform": [{{"scale": 1.2}}]}})",
+                                        (dir / "floor.gltf").generic_string());
+  const QuadrantEstimate path = expect_estimators_agree([&](const std::string& integrator, int spp, int seed) {
+    return emitter_scene(png, integrator, spp, seed, floor);
+  });
+  EXPECT_GT(path.mean[0][1], 0.0);
 }
 
 // glTF emissiveTexture × emissiveFactor × KHR_materials_emissive_strength: the emitter's texture
@@ -622,6 +665,28 @@ TEST(TextureChannels, BadNormalMapsAreOneLine) {
       EXPECT_EQ(test::line_count(m), 1) << m;
     }
   }
+}
+
+// glTF: a metallicRoughness, emissive or normal texture whose image is missing or not an image is one
+// line naming the asset, the image and the file.
+TEST(TextureChannels, BadGltfTexturesAreOneLine) {
+  const fs::path dir = test::scratch_dir("TextureChannelsBadGltf");
+  test::write_file(dir / "notes.png", "not an image\n");
+  const std::vector<std::pair<std::string, nlohmann::json>> materials = {
+      {"metallicRoughnessTexture", {{"name", "M"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}}}}}}},
+      {"emissiveTexture", {{"name", "E"}, {"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}},
+      {"normalTexture", {{"name", "N"}, {"normalTexture", {{"index", 0}}}}}};
+  for (const auto& [key, material] : materials)
+    for (const char* image : {"missing.png", "notes.png"}) {
+      write_gltf_quad(dir / "bad.gltf", material, {image});
+      const test::RunResult r = test::run_bouguer({"render", (dir / "bad.gltf").string(), "-o", (dir / "out.png").string()});
+      SCOPED_TRACE(key + " " + image + ": " + r.err);
+      EXPECT_EQ(r.exit_code, 1);
+      EXPECT_EQ(test::line_count(r.err), 1);
+      EXPECT_NE(r.err.find("bad.gltf"), std::string::npos);
+      EXPECT_NE(r.err.find("images[0]"), std::string::npos);
+      EXPECT_NE(r.err.find(image), std::string::npos);
+    }
 }
 
 }  // namespace
