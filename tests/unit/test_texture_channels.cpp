@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <random>
 
@@ -17,6 +18,7 @@
 #include "bouguer/io/texture_image.h"
 #include "bouguer/spectra/color_space.h"
 #include "bouguer/scene/loader.h"
+#include "bouguer/scene/normal_map.h"
 #include "bouguer/scene/texture.h"
 #include "support/gltf_files.h"
 #include "support/test_support.h"
@@ -353,18 +355,22 @@ TEST(TextureChannels, MeanLuminanceOverATriangle) {
 // A textured emitter: a 0.4 m square at 0.3 m above a grey floor, facing down, its texture red on
 // the left and dim blue on the right, D65 at Y = 5 times the texel. The camera looks down (the
 // emitter's back, black, hides the middle).
-std::string emitter_scene(const fs::path& texture, const std::string& integrator, int spp, int seed) {
+constexpr const char* kGreyFloor =
+    R"({"name": "floor", "shape": {"type": "quad", "size": [1.2, 1.2]}, "material": {"type": "diffuse", "reflectance": 0.5}})";
+
+std::string emitter_scene(const fs::path& texture, const std::string& integrator, int spp, int seed,
+                          const std::string& floor = kGreyFloor) {
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1.2, "resolution": [12, 12]}},
     "render": {{"integrator": "{}", "spp": {}, "seed": {}, "spectral": "rgb3", "max_depth": 2}},
     "background": {{"spectrum": "D65", "scale": 0}},
     "objects": [
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1.2, 1.2]}}, "material": {{"type": "diffuse", "reflectance": 0.5}}}},
+      {},
       {{"name": "lamp", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
         "transform": [{{"rotate_deg": [180, [1, 0, 0]]}}, {{"translate": [0, 0, 0.3]}}],
         "emission": {{"spectrum": {{"texture": "{}"}}, "scale": 5}}}}
     ]
-  }})", integrator, spp, seed, texture.generic_string());
+  }})", integrator, spp, seed, floor, texture.generic_string());
 }
 
 fs::path write_emitter_texture(const fs::path& dir) {
@@ -404,34 +410,40 @@ TEST(TextureChannels, TexturedEmitterPowerIsTheTextureMean) {
 // and carry the texel's radiance) and bdpt agree on the floor within noise. Per quadrant of the
 // floor, the means of two renders (seeds 1, 2) per estimator differ by less than 5 standard errors
 // of the difference, the errors estimated from the two renders' pixel differences.
-TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
-  const fs::path dir = test::scratch_dir("TextureChannelsEmitterEstimators");
-  const fs::path png = write_emitter_texture(dir);
-  struct Estimate {
-    std::array<Vec3, 4> mean{}, variance{};  // per quadrant, of the mean of two renders
-  };
-  auto estimate = [&](const std::string& integrator, int spp) {
-    const Film a = test::render_text(emitter_scene(png, integrator, spp, 1));
-    const Film b = test::render_text(emitter_scene(png, integrator, spp, 2));
-    Estimate e;
-    std::array<int, 4> n{};
-    for (int y = 0; y < 12; ++y)
-      for (int x = 0; x < 12; ++x) {
-        if (x >= 3 && x < 9 && y >= 3 && y < 9) continue;  // the lamp's shadow and its black back
-        const std::size_t q = static_cast<std::size_t>((y < 6 ? 0 : 2) + (x < 6 ? 0 : 1));
-        const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
-        const Vec3 va{pa.x, pa.y, pa.z}, vb{pb.x, pb.y, pb.z}, d = va - vb;
-        e.mean[q] = e.mean[q] + (va + vb) * 0.5;
-        e.variance[q] = e.variance[q] + Vec3{d.x * d.x, d.y * d.y, d.z * d.z} * 0.25;  // var of (a + b)/2 per pixel
-        ++n[q];
-      }
-    for (std::size_t q = 0; q < 4; ++q) {
-      e.mean[q] = e.mean[q] / n[q];
-      e.variance[q] = e.variance[q] / (double(n[q]) * n[q]);
+// Per quadrant of the floor (the lamp's shadow left out), the mean of two renders (seeds 1, 2) and
+// the variance of that mean, estimated from the two renders' pixel differences.
+struct QuadrantEstimate {
+  std::array<Vec3, 4> mean{}, variance{};
+};
+
+QuadrantEstimate estimate_quadrants(const std::function<std::string(int seed)>& scene) {
+  const Film a = test::render_text(scene(1)), b = test::render_text(scene(2));
+  QuadrantEstimate e;
+  std::array<int, 4> n{};
+  for (int y = 0; y < 12; ++y)
+    for (int x = 0; x < 12; ++x) {
+      if (x >= 3 && x < 9 && y >= 3 && y < 9) continue;  // the lamp's shadow and its black back
+      const std::size_t q = static_cast<std::size_t>((y < 6 ? 0 : 2) + (x < 6 ? 0 : 1));
+      const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
+      const Vec3 va{pa.x, pa.y, pa.z}, vb{pb.x, pb.y, pb.z}, d = va - vb;
+      e.mean[q] = e.mean[q] + (va + vb) * 0.5;
+      e.variance[q] = e.variance[q] + Vec3{d.x * d.x, d.y * d.y, d.z * d.z} * 0.25;  // var of (a + b)/2 per pixel
+      ++n[q];
     }
-    return e;
+  for (std::size_t q = 0; q < 4; ++q) {
+    e.mean[q] = e.mean[q] / n[q];
+    e.variance[q] = e.variance[q] / (double(n[q]) * n[q]);
+  }
+  return e;
+}
+
+// The path tracer against the light tracer and bdpt on a scene(integrator, spp, seed): every quadrant
+// and channel within 5 standard errors of the difference. Returns the path tracer's estimate.
+QuadrantEstimate expect_estimators_agree(const std::function<std::string(const std::string&, int, int)>& scene) {
+  auto run = [&](const std::string& integrator, int spp) {
+    return estimate_quadrants([&](int seed) { return scene(integrator, spp, seed); });
   };
-  const Estimate path = estimate("path", 256), light = estimate("light", 256), bdpt = estimate("bdpt", 128);
+  const QuadrantEstimate path = run("path", 256), light = run("light", 256), bdpt = run("bdpt", 128);
   for (const auto& [name, other] : {std::pair{"light", &light}, {"bdpt", &bdpt}})
     for (std::size_t q = 0; q < 4; ++q)
       for (std::size_t c = 0; c < 3; ++c) {
@@ -441,8 +453,40 @@ TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
                     other->mean[q][c], diff / sigma);
         EXPECT_LT(std::abs(diff), 5.0 * sigma + 1e-4) << name << " quadrant " << q << " channel " << c;
       }
+  return path;
+}
+
+// Path tracing (next-event estimation reads the texture where it samples the lamp, BSDF hits where
+// they land, MIS between them), light tracing (light paths start at texels drawn uniformly by area
+// and carry the texel's radiance) and bdpt agree on the floor within noise.
+TEST(TextureChannels, TexturedEmitterPathLightAndBdptAgree) {
+  const fs::path dir = test::scratch_dir("TextureChannelsEmitterEstimators");
+  const fs::path png = write_emitter_texture(dir);
+  const QuadrantEstimate path = expect_estimators_agree(
+      [&](const std::string& integrator, int spp, int seed) { return emitter_scene(png, integrator, spp, seed); });
   // The texture shows: the floor under the red half is redder than under the blue half.
   EXPECT_GT(path.mean[0][0] / path.mean[0][2], 1.5 * path.mean[1][0] / path.mean[1][2]);
+}
+
+// The metallic-roughness mixture in every estimator: a glTF floor, metal on its left half
+// (metalness 1, roughness 0.6) and dielectric on its right (metalness 0, roughness 0.6 × 0.735),
+// base colour 0.7, under the textured lamp: path, light tracer (importance mode) and bdpt agree.
+TEST(TextureChannels, MetallicRoughnessFloorPathLightAndBdptAgree) {
+  const fs::path dir = test::scratch_dir("TextureChannelsMetalFloor");
+  const fs::path png = write_emitter_texture(dir);
+  write_two_texels(dir / "mr.png", {0.0f, 1.0f, 1.0f}, {0.0f, 0.5f, 0.0f});
+  write_gltf_quad(dir / "floor.gltf",
+                  {{"name", "Floor"},
+                   {"pbrMetallicRoughness",
+                    {{"baseColorFactor", {0.7, 0.7, 0.7, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.6},
+                     {"metallicRoughnessTexture", {{"index", 0}}}}}},
+                  {"mr.png"});
+  const std::string floor = fmt::format(R"({{"gltf": "{}", "transform": [{{"scale": 1.2}}]}})",
+                                        (dir / "floor.gltf").generic_string());
+  const QuadrantEstimate path = expect_estimators_agree([&](const std::string& integrator, int spp, int seed) {
+    return emitter_scene(png, integrator, spp, seed, floor);
+  });
+  EXPECT_GT(path.mean[0][1], 0.0);
 }
 
 // glTF emissiveTexture × emissiveFactor × KHR_materials_emissive_strength: the emitter's texture
@@ -510,6 +554,139 @@ TEST(TextureChannels, EmissionTextureOnlyOnEmitters) {
     EXPECT_NE(m.find("missing.png"), std::string::npos) << m;
     EXPECT_EQ(test::line_count(m), 1) << m;
   }
+}
+
+// ---- normal maps ---------------------------------------------------------------------------------
+
+// A texel (r, g, b) is the tangent-space normal (2r − 1, 2g − 1, 2b − 1), glTF's scale on x and y:
+// (½ + ½ sin θ, ½, ½ + ½ cos θ) tilts the normal by θ towards +u; with scale s, by atan(s·tan θ).
+TEST(TextureChannels, TangentSpaceNormalInClosedForm) {
+  const Vec3 flat = tangent_space_normal({0.5, 0.5, 1.0}, 1.0);
+  EXPECT_NEAR(flat.z, 1.0, 1e-12);
+  for (const double theta : {0.2, 0.5, 1.0})
+    for (const double scale : {1.0, 0.5, 2.0}) {
+      const Vec3 n = tangent_space_normal({0.5 + 0.5 * std::sin(theta), 0.5, 0.5 + 0.5 * std::cos(theta)}, scale);
+      EXPECT_NEAR(std::atan2(n.x, n.z), std::atan(scale * std::tan(theta)), 1e-12) << theta << " " << scale;
+      EXPECT_NEAR(n.y, 0.0, 1e-12);
+      EXPECT_NEAR(length(n), 1.0, 1e-12);
+    }
+}
+
+// A PNG of one texel value everywhere (8 × 8), stored exactly as the bytes k/255 (the writer encodes
+// sRGB, so each value goes in as its decoded value).
+Vec3 write_constant_texel(const fs::path& path, std::array<int, 3> k) {
+  Film image(8, 8);
+  const Vec3f linear{srgb_to_linear(static_cast<float>(k[0] / 255.0)), srgb_to_linear(static_cast<float>(k[1] / 255.0)),
+                     srgb_to_linear(static_cast<float>(k[2] / 255.0))};
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) image.set_rgb(x, y, linear);
+  write_image(path, image);
+  const TextureImage stored = read_texture_image(path);
+  return {stored.rgb[0], stored.rgb[1], stored.rgb[2]};
+}
+
+// The shading normal at the middle of a scene's first object, seen from +z.
+Vec3 mapped_normal_at(const Compiled& c, double x = 0.1, double y = 0.1) {
+  const auto hit = c.scene.rays.intersect(Ray{{x, y, 1.0}, {0, 0, -1}});
+  if (!hit) throw std::runtime_error("no hit");
+  return normal_mapped(c.scene, c.scene.surfaces[hit->geometry], *hit).shading_normal;
+}
+
+// A constant normal map on a quad in the xy-plane (u along +x, v along +y, normal +z) tilts the
+// normal to the texel's tangent-space normal in that frame; turned 90° about z, the frame turns
+// with it; a texture rotation of 90° (uv' = R·uv: u' grows along −y, v' along +x) turns the frame
+// the other way; without a normal map the hit keeps its normal.
+TEST(TextureChannels, NormalMapTiltsTheShadingNormalInTheTangentFrame) {
+  const fs::path dir = test::scratch_dir("TextureChannelsNormalMap");
+  const Vec3 texel = write_constant_texel(dir / "tilt.png", {200, 100, 220});
+  const Vec3 t = tangent_space_normal(texel, 1.0);
+  auto quad = [&](const std::string& normal_map, const std::string& transform) {
+    return Compiled(fmt::format(R"({{"name": "tile", "shape": {{"type": "quad", "size": [1, 1]}}{},
+                                    "material": {{"type": "diffuse"{}}}}})",
+                                transform, normal_map),
+                    dir);
+  };
+  const std::string map = fmt::format(R"(, "normal_map": "{}")", (dir / "tilt.png").generic_string());
+  // Texels and bilinear weights are floats: 1e-6.
+  const Vec3 plain = mapped_normal_at(quad(map, ""));
+  EXPECT_NEAR(plain.x, t.x, 1e-6);
+  EXPECT_NEAR(plain.y, t.y, 1e-6);
+  EXPECT_NEAR(plain.z, t.z, 1e-6);
+  EXPECT_GT(std::acos(t.z), 0.5);  // the tilt is large: the test would see a missing map
+  const Vec3 turned = mapped_normal_at(quad(map, R"(, "transform": [{"rotate_deg": [90, [0, 0, 1]]}])"));
+  EXPECT_NEAR(turned.x, -t.y, 1e-6);  // T = +y, B = −x
+  EXPECT_NEAR(turned.y, t.x, 1e-6);
+  EXPECT_NEAR(turned.z, t.z, 1e-6);
+  const Vec3 rotated_uv = mapped_normal_at(quad(
+      fmt::format(R"(, "normal_map": {{"texture": "{}", "transform": {{"rotation": "90 deg"}}, "scale": 1}})",
+                  (dir / "tilt.png").generic_string()),
+      ""));
+  EXPECT_NEAR(rotated_uv.x, t.y, 1e-6);  // T = ∂p/∂u' = −y, B = ∂p/∂v' = +x
+  EXPECT_NEAR(rotated_uv.y, -t.x, 1e-6);
+  EXPECT_NEAR(rotated_uv.z, t.z, 1e-6);
+  const Vec3 none = mapped_normal_at(quad("", ""));
+  EXPECT_NEAR(none.z, 1.0, 1e-12);
+}
+
+// glTF normalTexture with scale 0.5: the tangent-space x and y halved (the frame as for the JSON
+// quad: glTF's v runs down the image, so the image's up is +y here too).
+TEST(TextureChannels, GltfNormalTextureWithScale) {
+  const fs::path dir = test::scratch_dir("TextureChannelsGltfNormal");
+  const Vec3 texel = write_constant_texel(dir / "bumps.png", {60, 190, 230});
+  write_gltf_quad(dir / "bumpy.gltf",
+                  {{"name", "Bumpy"},
+                   {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},
+                   {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
+                  {"bumps.png"});
+  const Vec3 want = tangent_space_normal(texel, 0.5);
+  const Vec3 n = mapped_normal_at(Compiled(fmt::format(R"({{"gltf": "{}"}})", (dir / "bumpy.gltf").generic_string()), dir));
+  EXPECT_NEAR(n.x, want.x, 1e-6);
+  EXPECT_NEAR(n.y, want.y, 1e-6);
+  EXPECT_NEAR(n.z, want.z, 1e-6);
+  EXPECT_LT(want.x, -0.1);  // the texel leans towards −u and +v
+  EXPECT_GT(want.y, 0.1);
+}
+
+// A normal map that is missing, or not an image, is one line naming the file and the key.
+TEST(TextureChannels, BadNormalMapsAreOneLine) {
+  const fs::path dir = test::scratch_dir("TextureChannelsBadNormalMap");
+  test::write_file(dir / "notes.png", "not an image\n");
+  for (const char* name : {"missing.png", "notes.png"}) {
+    try {
+      Compiled(fmt::format(R"({{"name": "tile", "shape": {{"type": "quad", "size": [1, 1]}},
+                              "material": {{"type": "diffuse", "normal_map": "{}"}}}})",
+                           (dir / name).generic_string()),
+               dir);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("objects[0].material.normal_map.texture"), std::string::npos) << m;
+      EXPECT_NE(m.find(name), std::string::npos) << m;
+      EXPECT_EQ(test::line_count(m), 1) << m;
+    }
+  }
+}
+
+// glTF: a metallicRoughness, emissive or normal texture whose image is missing or not an image is one
+// line naming the asset, the image and the file.
+TEST(TextureChannels, BadGltfTexturesAreOneLine) {
+  const fs::path dir = test::scratch_dir("TextureChannelsBadGltf");
+  test::write_file(dir / "notes.png", "not an image\n");
+  const std::vector<std::pair<std::string, nlohmann::json>> materials = {
+      {"metallicRoughnessTexture", {{"name", "M"}, {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 0}}}}}}},
+      {"emissiveTexture", {{"name", "E"}, {"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}},
+      {"normalTexture", {{"name", "N"}, {"normalTexture", {{"index", 0}}}}}};
+  for (const auto& [key, material] : materials)
+    for (const char* image : {"missing.png", "notes.png"}) {
+      write_gltf_quad(dir / "bad.gltf", material, {image});
+      const test::RunResult r = test::run_bouguer({"render", (dir / "bad.gltf").string(), "-o", (dir / "out.png").string()});
+      SCOPED_TRACE(key + " " + image + ": " + r.err);
+      EXPECT_EQ(r.exit_code, 1);
+      EXPECT_EQ(test::line_count(r.err), 1);
+      EXPECT_NE(r.err.find("bad.gltf"), std::string::npos);
+      EXPECT_NE(r.err.find("images[0]"), std::string::npos);
+      EXPECT_NE(r.err.find(image), std::string::npos);
+    }
 }
 
 }  // namespace

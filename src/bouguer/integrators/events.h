@@ -16,6 +16,7 @@
 #include "bouguer/render/film.h"
 #include "bouguer/core/rng.h"
 #include "bouguer/scene/compile.h"
+#include "bouguer/scene/normal_map.h"
 
 namespace bouguer {
 
@@ -498,8 +499,9 @@ inline Bsdf<N> opaque_bsdf(const SceneView<N>& v, const SurfaceMaterial& m, cons
 }
 
 template <std::size_t N>
-inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
-                              int medium, const SampledWavelengths<N>& w, double cone_width_m) {
+inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& geometric_hit, const Surface& surface,
+                                     const Vec3& wo, int medium, const SampledWavelengths<N>& w, double cone_width_m) {
+  const Hit hit = normal_mapped(v.scene, surface, geometric_hit);  // its shading normal from a normal map
   const RenderScene& s = v.scene;
   const Vec3& ns = hit.shading_normal;
   if (surface.kind == SurfaceKind::opaque) {

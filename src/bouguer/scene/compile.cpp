@@ -285,6 +285,10 @@ Surface object_surface(RenderScene& s, const ObjectDesc& o, const std::vector<Sh
   Surface base;
   base.object = o.name;
   base.roughness = o.roughness;
+  if (o.normal_map) {
+    base.normal_map = material_texture(s, o.normal_map->texture, TextureUse::data, o, parts, desc);
+    base.normal_scale = o.normal_map->scale;
+  }
   if (o.inside) {
     if (!shape_is_closed(o.shape))
       fail("{}: object '{}': a flat shape cannot bound medium '{}'; use it as an emitter or a material, or use a "
@@ -436,7 +440,7 @@ void check_priority_ties(const RenderScene& s, const std::vector<NestedRange>& r
 // A sphere, cylinder or disk that is not an emitter stays exact: emitters are sampled by
 // triangle (lights/light.h), so they are always tessellated.
 std::optional<AnalyticShape> analytic_shape(const ObjectDesc& o, const SceneDesc& desc) {
-  if (o.emission) return std::nullopt;
+  if (o.emission || o.normal_map) return std::nullopt;  // a normal map needs the triangles' tangents
   const auto surface = analytic_surface(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
   if (!surface) return std::nullopt;
   if (!(std::abs(o.transform.determinant()) > 0.0))

@@ -37,6 +37,9 @@ struct Surface {
   // A surface of an object with a priority: its index k in RenderScene::nested. Its media are
   // then the path's (scene/nested.h), medium_front and medium_behind the ones it has alone.
   int nested = -1;
+  // A normal map: an id into RenderScene::textures and glTF's scale (scene/normal_map.h); -1: none.
+  int normal_map = -1;
+  double normal_scale = 1.0;
   std::string object;      // for messages
 };
 

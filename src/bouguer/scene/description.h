@@ -125,6 +125,12 @@ struct MetallicRoughnessDesc {
 
 using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc, MetallicRoughnessDesc>;
 
+// A tangent-space normal map (scene/normal_map.h): a data texture, glTF's scale on its x and y.
+struct NormalMapDesc {
+  TextureDesc texture;
+  double scale = 1.0;
+};
+
 struct ObjectDesc {
   std::string name;
   Shape shape;
@@ -137,6 +143,7 @@ struct ObjectDesc {
   // Interfaces: where objects with priorities overlap, the higher one's medium fills the overlap
   // (scene/nested.h). None: the object's surfaces keep the media of its two sides, as always.
   std::optional<int> priority;
+  std::optional<NormalMapDesc> normal_map;  // any surface kind; a shape with one is always meshed
 };
 
 // Lights without area (they cannot be hit, only sampled). Spectra use the normalisation of

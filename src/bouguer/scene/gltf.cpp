@@ -561,6 +561,12 @@ GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, co
                                                   false, pp / "metallicRoughnessTexture");
   mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
   mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture");
+  tinygltf::TextureInfo normal;  // the same fields as a TextureInfo, and a scale
+  normal.index = g.normalTexture.index;
+  normal.texCoord = g.normalTexture.texCoord;
+  normal.extensions = g.normalTexture.extensions;
+  mat.normal_texture = scaled_texture(src, normal, {1.0, 1.0, 1.0}, false, at / "normalTexture");
+  mat.normal_scale = finite(g.normalTexture.scale, at / "normalTexture" / "scale");
   const Place pe = at / "extensions";
   if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
     mat.emissive_strength = number(*e, "emissiveStrength", pe / "KHR_materials_emissive_strength").value_or(1.0);
@@ -756,6 +762,9 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   const GltfMaterial fallback;
   const GltfMaterial& g = p.material >= 0 ? asset.materials[std::size_t(p.material)] : fallback;
   const Place at = (Place{&in.file, ""} / "materials")[std::size_t(std::max(p.material, 0))];
+  if (const auto& t = g.normal_texture)  // kept under an override: it is the asset's geometry
+    o.normal_map = resolve_normal_map({TextureInput{t->name, t->image, t->transform}, g.normal_scale},
+                                      at.source() / "normalTexture");
   if (const auto it = in.materials.find(g.name); p.material >= 0 && it != in.materials.end()) {
     const GltfMaterialOverride& ov = it->second;
     const Source wo = where / "materials" / g.name;

@@ -43,6 +43,9 @@ struct GltfMaterial {
   double emissive_strength = 1.0;  // KHR_materials_emissive_strength
   // emissiveTexture, its texels sRGB-decoded and multiplied by `emissive` (as the base colour's).
   std::optional<GltfTexture> emissive_texture;
+  // normalTexture (data, as stored) and its scale; occlusionTexture is not read (docs/assets.md).
+  std::optional<GltfTexture> normal_texture;
+  double normal_scale = 1.0;
   double transmission = 0.0;  // KHR_materials_transmission
   double thickness = 0.0;     // KHR_materials_volume: 0 is thin-walled
   Vec3 attenuation_color{1, 1, 1};

@@ -502,6 +502,15 @@ MaterialDesc material(const json& j, const Where& w) {
   (w / "type").fail("unknown material '{}' (diffuse, conductor)", type);
 }
 
+// "normal_map": "bumps.png", or {"texture": "bumps.png", "scale": 1, "transform": {...}}.
+NormalMapInput normal_map_input(const json& j, const Where& w) {
+  if (j.is_string()) return {TextureInput{j.get<std::string>(), nullptr, {}}, 1.0};
+  if (!j.is_object() || !j.contains("texture")) w.fail("expected a file name or {{\"texture\": ..., \"scale\": ...}}");
+  NormalMapInput n{texture_input(j, w, {"scale"}), 1.0};
+  if (j.contains("scale")) n.scale = number(j["scale"], w / "scale");
+  return n;
+}
+
 // ---- shapes, transforms ---------------------------------------------------------------------
 
 std::vector<std::array<double, 2>> profile(const json& j, const Where& w) {
@@ -713,7 +722,15 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   if (j.contains("material") && j["material"].is_string()) {
     if (j["material"] != "mtl") (w / "material").fail("expected an object, or \"mtl\" (the OBJ's own materials)");
   } else if (j.contains("material")) {
-    o.material = material(j["material"], w / "material");
+    const Where wm = w / "material";
+    if (j["material"].is_object() && j["material"].contains("normal_map")) {
+      json m = j["material"];
+      o.normal_map = resolve_normal_map(normal_map_input(m["normal_map"], wm / "normal_map"), wm / "normal_map");
+      m.erase("normal_map");
+      o.material = material(m, wm);
+    } else {
+      o.material = material(j["material"], wm);
+    }
   }
   if (j.contains("roughness")) o.roughness = number(j["roughness"], w / "roughness");
   if (j.contains("priority")) o.priority = integer(j["priority"], w / "priority", 0, kMaxPriority);

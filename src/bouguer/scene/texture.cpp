@@ -112,6 +112,10 @@ int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, 
   return static_cast<int>(table.textures.size()) - 1;
 }
 
+std::array<double, 2> texture_coordinates(const TextureTable& table, int id, std::array<double, 2> uv) {
+  return transformed(table.textures[static_cast<std::size_t>(id)].transform, uv);
+}
+
 TexelBlend texel_blend(const TextureTable& table, int id, std::array<double, 2> uv, double level_of_detail) {
   const TextureEntry& t = table.textures[static_cast<std::size_t>(id)];
   const std::array<double, 2> st = transformed(t.transform, uv);

@@ -65,6 +65,9 @@ struct TextureTable {
 // Adds the image's pyramid; returns its id.
 int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform = {});
 
+// Texture coordinates (u, v), v up, as texture `id` reads them: its transform applied (no wrap).
+std::array<double, 2> texture_coordinates(const TextureTable& table, int id, std::array<double, 2> uv);
+
 // The texels a lookup blends (up to 4 in each of 2 levels) and their weights (summing to 1).
 struct TexelBlend {
   std::array<std::size_t, 8> texel{};

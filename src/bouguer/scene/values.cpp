@@ -450,6 +450,11 @@ MetallicRoughnessDesc resolve_metallic_roughness(const MetallicRoughnessInput& i
 
 }  // namespace
 
+NormalMapDesc resolve_normal_map(const NormalMapInput& in, const Source& where) {
+  if (!std::isfinite(in.scale)) (where / "scale").fail("must be a finite number");
+  return {resolve_texture(in.texture, where / "texture", TextureUse::data), in.scale};
+}
+
 MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& where) {
   if (const auto* c = std::get_if<ConductorInput>(&in)) {
     ConductorDesc d{resolve_spectral(c->n, where / "n"), resolve_spectral(c->k, where / "k"), c->roughness, std::nullopt};

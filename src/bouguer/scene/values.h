@@ -126,6 +126,12 @@ struct MediumInput {
   std::optional<ScatteringInput> scattering;
 };
 
+// A normal map: its texture and glTF's scale (a finite number).
+struct NormalMapInput {
+  TextureInput texture;
+  double scale = 1.0;
+};
+
 // Opaque surfaces: a diffuse reflectance (a number, table, RGB or texture, 0 to 1; 0.5 when not
 // given) or a conductor's n and k with a GGX roughness.
 struct DiffuseInput {
@@ -172,5 +178,6 @@ TextureDesc resolve_texture(const TextureInput& texture, const Source& where, Te
 std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Source& where);
 
 MaterialDesc resolve_surface_material(const MaterialInput& material, const Source& where);
+NormalMapDesc resolve_normal_map(const NormalMapInput& normal_map, const Source& where);
 
 }  // namespace bouguer
