@@ -441,14 +441,25 @@ inline const ScatteringMedium* scattering_medium(const RenderScene& scene, int m
 }
 
 // A new path's w.hero, the carried wavelength whose majorant draws its distances in scattering
-// media (media/scattering.h): uniform over the carried ones, which the spectral MIS needs (in hero
-// mode too: there index 0 is always the bluest of the four). Drawn only in scenes that scatter, so
-// other scenes' random streams are unchanged.
+// media (media/scattering.h): ⌊u·N⌋, uniform over the carried ones for a uniform u, which the
+// spectral MIS needs (in hero mode too: there index 0 is always the bluest of the four). The path
+// tracer hands it a number stratified over the pixel's samples (integrators.h:
+// start_sample_wavelengths), so that each pixel's paths draw distances at every part of the
+// spectrum equally often: where the carried wavelengths' tracking densities barely overlap (milk,
+// hundreds of events a path), the spectral MIS gives a path's weight to the wavelengths near its
+// hero, and a random hero per path left whole pixels short of some colours. 0 in scenes that do
+// not scatter.
+template <std::size_t N>
+void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, double u) {
+  w.hero = scene.scatters ? std::min(static_cast<int>(u * static_cast<double>(N)), static_cast<int>(N) - 1) : 0;
+}
+// The same from the path's own stream, drawn only in scenes that scatter (so other scenes' streams
+// are unchanged): the light tracer and the bidirectional estimators, whose test tolerances were
+// sized on these streams (their weights do not depend on the hero, so a stratified one would be
+// the same change there).
 template <std::size_t N>
 void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, Rng& rng) {
-  w.hero = 0;
-  if (!scene.scatters) return;
-  w.hero = std::min(static_cast<int>(rng.next_double() * static_cast<double>(N)), static_cast<int>(N) - 1);
+  draw_hero(scene, w, scene.scatters ? rng.next_double() : 0.0);
 }
 
 // The texels of texture `id` at the hit's UV, at the level the ray cone chooses (the finest without one).

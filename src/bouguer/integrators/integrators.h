@@ -13,6 +13,9 @@
 
 namespace bouguer {
 
+// The salt of the hero's strata (start_sample_wavelengths).
+inline constexpr std::uint64_t kHeroStrataSalt = 1;
+
 void render_whitted(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                     const RenderControl&, RenderStats&);
 void render_path(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
@@ -48,10 +51,23 @@ void add_camera_sample(FilmBuffer& film, const SpectralTables<N>& tables, const 
     film.add_sample(x, y, rgb, 1.0);
 }
 
+// Sample s's wavelengths and hero (events.h: draw_hero): hero mode's four wavelengths from
+// `strata` (the pixel's wavelength strata; the fixed modes carry theirs), the hero's index from
+// `heroes`, strata of its own, so that it stays independent of the wavelengths and of the one kept
+// at a dispersive interface (both drawn from `strata`), and each index is the hero equally often.
+template <std::size_t N>
+void start_sample_wavelengths(const RenderScene& scene, const SpectralTables<N>& tables, const WavelengthStrata& strata,
+                              const WavelengthStrata& heroes, int s, SampledWavelengths<N>& w) {
+  tables.restart(w, tables.mode() == SpectralMode::hero ? strata.u(s) / static_cast<double>(N) : 0.0);
+  draw_hero(scene, w, scene.scatters ? heroes.u(s) : 0.0);
+}
+
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
-// stream (seed, pixel, sample, salt) and its wavelengths (hero: stratified over the pixel's
-// samples in a shuffled order; the fixed modes stratify the wavelength kept at a dispersive
-// interface instead), handed to sample(x, y, s, rng, wavelengths, dispersion_u, rays). An estimator
+// stream (seed, pixel, sample, salt) and its wavelengths and hero (start_sample_wavelengths: hero
+// mode stratifies its wavelengths over the pixel's samples in a shuffled order; the fixed modes
+// stratify the wavelength kept at a dispersive interface instead; the hero of scattering media is
+// stratified in every mode, and the light tracer and bdpt draw theirs again from their own streams:
+// events.h), handed to sample(x, y, s, rng, wavelengths, dispersion_u, rays). An estimator
 // that never keeps one wavelength (kDispersion false: Whitted) gets dispersion_u 0 in the fixed
 // modes, and the strata are not drawn for it.
 template <std::size_t N, bool kDispersion = true, typename Sample>
@@ -60,7 +76,7 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
                            std::uint64_t salt, Sample sample) {
   const bool hero = settings.spectral == SpectralMode::hero;
   for_each_tile(region, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
-    WavelengthStrata strata;
+    WavelengthStrata strata, heroes;
     SampledWavelengths<N> w = tables.wavelengths(0.0);
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
@@ -68,9 +84,10 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
                            static_cast<std::uint64_t>(x);
         const bool stratify = hero || (kDispersion && scene.dispersive);
         if (stratify) strata.reset(settings.seed, pixel, settings.spp);
+        if (scene.scatters) heroes.reset(settings.seed, pixel, settings.spp, kHeroStrataSalt);
         for (int s = range.begin; s < range.end; ++s) {
           Rng rng = sample_rng(settings.seed, pixel, s, salt);
-          tables.restart(w, hero ? strata.u(s) / static_cast<double>(N) : 0.0);
+          start_sample_wavelengths(scene, tables, strata, heroes, s, w);
           const double dispersion_u = hero ? rng.next_double() : stratify ? strata.u(s) : 0.0;
           sample(x, y, s, rng, w, dispersion_u, rays);
         }

@@ -80,7 +80,6 @@ struct Radiance {
 template <std::size_t N>
 SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                         std::uint64_t& rays) {
-  draw_hero(v.scene, w, rng);
   WalkState<N> state;
   state.ray = ray;
   state.from = state.start = ray.origin;

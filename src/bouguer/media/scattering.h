@@ -10,13 +10,14 @@
 // throughput in closed form (media/medium.h). Since σ_s(x, λ) = ρ(x)·σ_s(λ), the chance that a
 // tentative collision is real, ρ(x)/ρ̄, is the same at every wavelength.
 //
-// Distances are drawn with the majorant of one carried wavelength, the path's `hero` (drawn
-// uniformly per path). Every wavelength k keeps the ratio r_u[k] of the density with which its
-// own majorant would have drawn the same events to the hero's, and r_l[k] the same for the
-// ratio-tracking density a light connection would have used: a contribution divided by the mean
-// ratio over the wavelengths is the one-sample balance combination of the N techniques (one per
-// wavelength), so a strongly chromatic σ_s (Rayleigh, milk) converges at every wavelength, not
-// only at those that happen to be sampled. Outside scattering media the ratios stay exactly 1.
+// Distances are drawn with the majorant of one carried wavelength, the path's `hero` (uniform for
+// each path; in the path tracer stratified over a pixel's samples: integrators/integrators.h).
+// Every wavelength k keeps the ratio r_u[k] of the density with which its own majorant would have
+// drawn the same events to the hero's, and r_l[k] the same for the ratio-tracking density a light
+// connection would have used: a contribution divided by the mean ratio over the wavelengths is the
+// one-sample balance combination of the N techniques (one per wavelength), so a strongly
+// chromatic σ_s (Rayleigh, milk) converges at every wavelength, not only at those that happen to
+// be sampled. Outside scattering media the ratios stay exactly 1.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -64,7 +65,10 @@ template <typename Ray, typename OnCollision>
 MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const Ray& ray, double t_max, Rng& rng,
                            OnCollision on_collision) {
   const bool carry = std::holds_alternative<GridField>(m.density);
-  auto draw = [&] { return -std::log1p(-rng.next_double()); };
+  // τ > 0: u at the middle of its 2⁻²⁴ cell, never 0. A draw of exactly 0 (one in 2²⁴, so
+  // several in a long render) put a collision at the segment's start, a vertex on top of the last,
+  // and a bidirectional MIS weight of 0/0 (#20).
+  auto draw = [&] { return -std::log1p(-(rng.next_double() + 0x1p-25)); };
   MajorantWalk walk;
   DensityMajorant majorant(m.density, ray.origin, ray.direction, t_max);
   double tau = carry ? draw() : 0.0;

@@ -53,11 +53,13 @@ inline std::uint32_t permutation_element(std::uint32_t i, std::uint32_t n, std::
 // sub-pixel position, which is stratified by the sample index too: paired in index order, each
 // wavelength would see its own part of the pixel, a bias at every edge where the image depends on
 // wavelength (dispersion). Used for the hero wavelengths and for the wavelength a path keeps at a
-// dispersive interface. O(1) per sample, so a sample range costs only its own samples.
+// dispersive interface, and (with a salt of their own) for the hero of scattering media.
+// O(1) per sample, so a sample range costs only its own samples.
 class WavelengthStrata {
  public:
-  void reset(std::uint64_t seed, std::uint64_t pixel, int spp) {
-    Rng rng(seed ^ 0x9e3779b97f4a7c15ULL, pixel);
+  // salt: an independent set of strata for another choice of the same samples (the hero wavelength).
+  void reset(std::uint64_t seed, std::uint64_t pixel, int spp, std::uint64_t salt = 0) {
+    Rng rng(seed ^ 0x9e3779b97f4a7c15ULL ^ (salt * 0xd1b54a32d192ed03ULL), pixel);
     offset_ = rng.next_double();
     key_ = rng.next_u32();
     spp_ = static_cast<std::uint32_t>(spp);

@@ -22,7 +22,8 @@ struct SampledWavelengths {
   int single = -1;              // the one wavelength left after a dispersive interface, or -1
   double single_nm = 0.0;
   // The carried wavelength whose majorant draws distances in scattering media
-  // (media/scattering.h), drawn per path (integrators/events.h: draw_hero).
+  // (media/scattering.h), drawn per sample (integrators/events.h: draw_hero; the path tracer's
+  // stratified over the pixel's samples).
   int hero = 0;
 
   // Whether the values at the carried wavelengths are the same for every path (full, rgb3), so
