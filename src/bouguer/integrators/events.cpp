@@ -168,6 +168,33 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
   return true;
 }
 
+template <std::size_t N>
+bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w, const Vec3& start,
+                        const Vec3& direction, double length_m) {
+  if (N == 1 || w.secondary_terminated()) return false;
+  const ScatteringMedium* sm = scattering_medium(v.scene, medium);
+  if (!sm) return false;
+  const SampledSpectrum<N> sigma_s = v.tables.at(sm->sigma_s, w);
+  float lo = sigma_s[0], hi = sigma_s[0];
+  for (std::size_t k = 1; k < N; ++k) {
+    lo = std::min(lo, sigma_s[k]);
+    hi = std::max(hi, sigma_s[k]);
+  }
+  if (!(hi > 0.0f) || static_cast<double>(hi) < kSplitSpread * static_cast<double>(lo)) return false;
+  return static_cast<double>(hi) * scattering_column_density(*sm, Ray{start, direction}, 0.0, length_m) >= kSplitDepth;
+}
+
+template <std::size_t N>
+void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
+                           double u_nm) {
+  constexpr std::size_t kCount = kSplitCount<N>;
+  const std::size_t j = (static_cast<std::size_t>(w.hero) + i * (N / kCount)) % N;
+  w.terminate_secondary(static_cast<int>(j), v.tables.kept_wavelength_nm(w, static_cast<int>(j), u_nm));
+  const float kept = beta[j] * static_cast<float>(N / kCount);
+  beta = SampledSpectrum<N>{};
+  beta[j] = kept;
+}
+
 namespace {
 
 // Adds `value` (already multiplied by everything but the connection and the camera's factor) at
@@ -230,6 +257,10 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                                      const PhaseFunction&, int, const SampledWavelengths<N>&,         \
                                                      const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);     \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
+  template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
+                                   double);                                                                           \
+  template void keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, \
+                                      double);                                                                        \
   template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
                                     double, Rng&);                                                                    \
   template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,         \

@@ -201,6 +201,36 @@ template <std::size_t N>
 bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
                          SampledSpectrum<N>& beta, double u, Rng& rng);
 
+// Splitting at a dense chromatic medium (the path tracer, #20). Where a camera path enters a
+// scattering medium whose σ_s differs across the carried wavelengths and in which it will scatter
+// many times, the spectral-MIS ratios of one walk collapse onto wavelengths near its hero, so a
+// pixel's colour comes from a few wavelengths with independent radiance: colour speckle. There the
+// path splits into kSplitCount<N> walks of one wavelength each (terminate_secondary), all with the
+// same random numbers from the split on. In a homogeneous medium with one phase function, a walk
+// with the same numbers at another σ_s is the same walk scaled about the entry point (distances
+// −ln(1−u)/σ_s, directions relative to the last one), so below a flat boundary it leaves at the
+// same event in the same direction: its wavelengths see the same light, and the noise left is in
+// brightness, not colour. Each walk is an ordinary single-wavelength path tracer's walk for its
+// wavelength, so the image's expectation does not change. Hero mode and rgb3 split into all the
+// carried wavelengths (weight 1); full mode into 4 bins spaced N/4 apart from the hero (stratified
+// over the pixel's samples), each weighted N/4 (every bin chosen with probability 4/N).
+template <std::size_t N>
+inline constexpr std::size_t kSplitCount = N <= 4 ? N : 4;
+// A segment splits when the medium is chromatic (largest σ_s over smallest at least
+// kSplitSpread) and dense (σ_s,max·∫ρ along it at least kSplitDepth: about that many events at
+// the most-scattering wavelength before the path could leave); the #12 furnaces (σ_s·r ≤ 1.8)
+// stay below it.
+inline constexpr double kSplitSpread = 1.1;
+inline constexpr double kSplitDepth = 8.0;
+template <std::size_t N>
+bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w, const Vec3& start,
+                        const Vec3& direction, double length_m);
+// Makes `w` and `beta` those of split walk i (of kSplitCount<N>); u_nm places a full-mode bin's
+// wavelength within the bin (the one its geometry follows at a dispersive interface).
+template <std::size_t N>
+void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
+                           double u_nm);
+
 // Whether a path crossing `surface` splits the wavelengths: an interface with a medium whose index
 // varies with wavelength on either side.
 inline bool is_dispersive(const RenderScene& scene, const Surface& surface) {

@@ -57,6 +57,13 @@ struct Radiance {
     l += x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u));
   }
 
+  // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
+  // to nothing yet; join() takes what it found.
+  Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r) const {
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings};
+  }
+  void join(const Radiance& child) { l += child.l; }
+
   bool vertex(const Vertex<N>& x) {
     const RenderScene& scene = v.scene;
     if (x.kind == VertexKind::light) {

@@ -95,6 +95,7 @@ struct WalkState {
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int crossings = 0;
+  int events = 0;  // vertices so far (Russian roulette)
 };
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
@@ -135,7 +136,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
                  SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays, Visitor& visit) {
   const RenderScene& scene = v.scene;
   double tau = 0.0;  // along the segment from the last vertex, across index-matched boundaries
-  int events = 0;    // vertices so far (Russian roulette)
+  int& events = state.events;
   auto make = [&](VertexKind kind, const Vec3& point) {
     Vertex<N> x;
     x.kind = kind;
@@ -178,6 +179,27 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     const Surface& surface = surface_seen(scene, *hit, state.inside, scratch);
     state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
     const Vec3 d = state.ray.direction;
+    // A visitor that can split (the path tracer's) does so at a dense chromatic medium (events.h:
+    // kSplitCount): each walk takes this segment again from the same state and a copy of the same
+    // random stream.
+    if constexpr (requires(Visitor& c, WalkState<N>& s, SampledWavelengths<N>& wk, Rng& r) {
+                    visit.join(visit.split(s, wk, r));
+                  }) {
+      if (splits_wavelengths(v, state.medium, w, state.start, d, length(hit->point - state.start))) {
+        const double u_nm = rng.next_double();
+        const Rng common = rng;
+        for (std::size_t i = 0; i < kSplitCount<N>; ++i) {
+          WalkState<N> sub = state;
+          SampledWavelengths<N> wk = w;
+          Rng r = common;
+          keep_split_wavelength(v, wk, sub.beta, i, u_nm);
+          auto child = visit.split(sub, wk, r);
+          random_walk(v, media, mode, sub, wk, r, rays, child);
+          visit.join(child);
+        }
+        return;
+      }
+    }
     if (const auto x = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis)) {
       state.cone_width_m += state.cone_spread_rad * length(*x - state.ray.origin);
       tau += scattering_depth(v, media, state.medium, state.start, d, length(*x - state.start));

@@ -50,7 +50,11 @@ class SpectralTables {
   // exp(−σ_a·l) for the absorption spectrum `id` (full mode: the mean over the sub-bin points).
   SampledSpectrum<N> transmittance(int id, double length_m, const SampledWavelengths<N>& w) const {
     const auto l = static_cast<float>(length_m);
-    if (mode_ == SpectralMode::full) return sub_bin_transmittance(sub_[static_cast<std::size_t>(id)], l);
+    if (mode_ == SpectralMode::full) {
+      const SubBinValues<N>& sigma = sub_[static_cast<std::size_t>(id)];
+      if (w.secondary_terminated()) return kept_bin_transmittance(w.single, [&](int k, std::size_t j) { return sigma[k][j] * l; });
+      return sub_bin_transmittance(sigma, l);
+    }
     return beer_lambert_transmittance(at(id, w), l);
   }
   // exp(−Σ_k σ_k·l_k) for several absorbers on one segment (each term: an absorption spectrum id
@@ -58,6 +62,12 @@ class SpectralTables {
   // point before the mean, as for one absorber.
   SampledSpectrum<N> transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<N>& w) const {
     if (mode_ == SpectralMode::full) {
+      if (w.secondary_terminated())
+        return kept_bin_transmittance(w.single, [&](int k, std::size_t j) {
+          float depth = 0.0f;  // the same sums, in the same order, as add_scaled's
+          for (const OpticalDepthTerm& t : terms) depth += sub_[static_cast<std::size_t>(t.id)][k][j] * static_cast<float>(t.length);
+          return depth;
+        });
       SubBinValues<N> sum{};
       for (const OpticalDepthTerm& t : terms) {
         const auto l = static_cast<float>(t.length);
@@ -99,6 +109,18 @@ class SpectralTables {
 
  private:
   Vec3 spectral_to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const;
+  // Full mode, after a path has kept one wavelength (bin j): only that bin's mean of
+  // exp(−depth(k, j)) over the sub-bin points, the others 0 (they carry nothing). The arithmetic of
+  // mean_transmittance, so the kept bin's value is the same bit for bit.
+  template <typename Depth>
+  static SampledSpectrum<N> kept_bin_transmittance(int single, Depth depth) {
+    const auto j = static_cast<std::size_t>(single);
+    float sum = 0.0f;
+    for (int k = 0; k < kSubBins; ++k) sum += exp_nonpositive(-depth(k, j));
+    SampledSpectrum<N> t{};
+    t[j] = sum * (1.0f / kSubBins);
+    return t;
+  }
 
   SpectralMode mode_;
   SpectralBasis<N> basis_;
