@@ -482,6 +482,25 @@ TEST(TextureRender, GltfClampSamplerShowsTheEdgeTexelOutsideTheImage) {
   }
 }
 
+// An embedded image whose buffer view runs past its buffer (tinygltf would hand the image loader
+// bytes beyond the buffer; found by the gltf fuzz harness) is one line naming the view and image.
+TEST(TextureRender, GltfImageViewBeyondItsBufferIsOneLine) {
+  const fs::path dir = test::scratch_dir("GltfImageViewBeyond");
+  test::GltfDoc g;
+  const int mesh = g.mesh({{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}}, {0, 2, 1});
+  const std::string png = quadrant_png();
+  const int view = g.view(png.data(), png.size());
+  g.doc["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  g.doc["bufferViews"][std::size_t(view)]["byteLength"] = png.size() + 4096;
+  g.node({{"mesh", mesh}});
+  g.write(dir / "bad_view.glb");
+  const test::RunResult r = test::run_bouguer({"render", (dir / "bad_view.glb").string(), "-o", (dir / "out.png").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(fmt::format("bad_view.glb: bufferViews[{}]: bytes", view)), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("where images[0] is read"), std::string::npos) << r.err;
+}
+
 // The same seed gives the same image on 1 and 2 threads (the path tracer, textures, MIP levels).
 TEST(TextureRender, IndependentOfTheThreadCount) {
   const fs::path dir = test::scratch_dir("TextureThreads");

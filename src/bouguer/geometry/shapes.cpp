@@ -572,7 +572,8 @@ Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what) {
   if (s.mesh.triangles.empty()) fail("{}: the triangle mesh has no triangles", what);
   if (!s.normals.empty() && s.normals.size() != n) fail("{}: {} normals for {} positions", what, s.normals.size(), n);
   if (!s.uvs.empty() && s.uvs.size() != n) fail("{}: {} UVs for {} positions", what, s.uvs.size(), n);
-  if (!s.tangents.empty() && s.tangents.size() != n) fail("{}: {} tangents for {} positions", what, s.tangents.size(), n);
+  if (!s.tangents.empty() && s.tangents.size() != n)
+    fail("{}: {} tangents for {} positions", what, s.tangents.size(), n);
   if (!s.tangents.empty() && s.normals.empty()) fail("{}: tangents need normals", what);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3& p = s.mesh.positions[i];

@@ -148,9 +148,50 @@ std::string without_draco_indices_glb(const std::string& bytes) {
   return out;
 }
 
+// The JSON of a .gltf, or of a .glb's first chunk; empty where the container is malformed (tinygltf
+// then refuses it with its own message).
+std::string document_text(const std::string& bytes, bool glb) {
+  if (!glb) return bytes;
+  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || le32(bytes, 16) != kGlbJsonChunk) return {};
+  const std::uint32_t json_length = le32(bytes, 12);
+  return json_length <= bytes.size() - 20 ? bytes.substr(20, json_length) : std::string{};
+}
+
+// tinygltf hands an embedded image's bytes to the image loader without checking that its buffer
+// view lies inside its buffer (a read past the buffer's end, found by the gltf fuzz harness): such a
+// view is refused first, against the buffer's declared byteLength, which tinygltf holds every
+// loaded buffer to. Values that are not whole numbers are left for tinygltf to refuse.
+void check_image_views(const std::string& text, const fs::path& path) {
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return;
+  const auto array = [&](const char* key) {
+    return doc.contains(key) && doc[key].is_array() ? doc[key] : nlohmann::json::array();
+  };
+  const nlohmann::json images = array("images"), views = array("bufferViews"), buffers = array("buffers");
+  const auto whole = [](const nlohmann::json& o, const char* key,
+                        std::uint64_t fallback) -> std::optional<std::uint64_t> {
+    if (!o.is_object() || !o.contains(key)) return fallback;
+    return o[key].is_number_unsigned() ? std::optional(o[key].get<std::uint64_t>()) : std::nullopt;
+  };
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const auto v = whole(images[i], "bufferView", views.size());
+    if (!v || *v >= views.size()) continue;
+    const nlohmann::json& view = views[*v];
+    const auto b = whole(view, "buffer", buffers.size());
+    if (!b || *b >= buffers.size()) continue;
+    const auto offset = whole(view, "byteOffset", 0), length = whole(view, "byteLength", 0);
+    const auto buffer_length = whole(buffers[*b], "byteLength", 0);
+    if (!offset || !length || !buffer_length) continue;
+    if (*offset >= *buffer_length || *length > *buffer_length - *offset)
+      fail("{}: bufferViews[{}]: bytes {} to {} lie beyond buffer {} ({} bytes), where images[{}] is read",
+           path.string(), *v, *offset, *offset + *length, *b, *buffer_length, i);
+  }
+}
+
 Model parse_model(const fs::path& path, DecodedImages& images) {
   const std::string file_bytes = read_file_bytes(path, kMaxMeshFileBytes);
   const bool glb = path.extension() == ".glb";
+  check_image_views(document_text(file_bytes, glb), path);
   const std::string bytes = glb ? without_draco_indices_glb(file_bytes) : without_draco_indices_json(file_bytes);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(decode_image, &images);
@@ -576,7 +617,8 @@ void read_sampler(const Model& m, int index, GltfTexture& out, const Place& at) 
     }
   };
   out.wrap = {wrap(s.wrapS, "wrapS"), wrap(s.wrapT, "wrapT")};
-  if (s.magFilter != -1 && s.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST && s.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR)
+  if (s.magFilter != -1 && s.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
+      s.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR)
     (ps / "magFilter").fail("{} is not a magnification filter (9728 NEAREST, 9729 LINEAR)", s.magFilter);
   out.nearest_magnification = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
 }

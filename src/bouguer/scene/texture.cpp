@@ -86,9 +86,12 @@ void add_bilinear(const TextureLevel& level, const TextureSampler& sampler, std:
 }
 
 // The one texel whose square holds (u, v) (glTF's NEAREST).
-void add_nearest(const TextureLevel& level, const TextureSampler& sampler, std::array<double, 2> uv, TexelBlend& blend) {
-  const std::size_t col = wrapped_index(static_cast<long>(texel_floor(uv[0] * level.width)), level.width, sampler.wrap[0]);
-  const std::size_t row = wrapped_index(static_cast<long>(texel_floor(uv[1] * level.height)), level.height, sampler.wrap[1]);
+void add_nearest(const TextureLevel& level, const TextureSampler& sampler, std::array<double, 2> uv,
+                 TexelBlend& blend) {
+  const auto x = static_cast<long>(texel_floor(uv[0] * level.width));
+  const auto y = static_cast<long>(texel_floor(uv[1] * level.height));
+  const std::size_t col = wrapped_index(x, level.width, sampler.wrap[0]);
+  const std::size_t row = wrapped_index(y, level.height, sampler.wrap[1]);
   blend.texel[0] = level.first + row * static_cast<std::size_t>(level.width) + col;
   blend.weight[0] = 1.0f;
   blend.count = 1;

@@ -385,7 +385,8 @@ TextureWrap resolve_wrap(const std::string& name, const Source& where) {
   static const std::vector<std::string> names{"repeat", "clamp", "mirror"};
   const auto it = std::find(names.begin(), names.end(), name);
   if (it == names.end()) where.fail("unknown wrap '{}'{}", name, suggestion(name, names));
-  return std::array{TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror}[static_cast<std::size_t>(it - names.begin())];
+  constexpr std::array modes{TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror};
+  return modes[static_cast<std::size_t>(it - names.begin())];
 }
 
 }  // namespace
@@ -409,8 +410,8 @@ TextureDesc resolve_texture(const TextureInput& texture, const Source& where, Te
   for (std::size_t i = 0; i < d.image->rgb.size(); ++i)
     if (d.image->rgb[i] < 0.0f || d.image->rgb[i] > 1.0f)
       wf.fail("{}: pixel ({}, {}) holds {}; {} must lie between 0 and 1", d.file.string(),
-                 i / 3 % static_cast<std::size_t>(d.image->width), i / 3 / static_cast<std::size_t>(d.image->width),
-                 d.image->rgb[i], use == TextureUse::reflectance ? "a reflectance" : "a data texel");
+              i / 3 % static_cast<std::size_t>(d.image->width), i / 3 / static_cast<std::size_t>(d.image->width),
+              d.image->rgb[i], use == TextureUse::reflectance ? "a reflectance" : "a data texel");
   return d;
 }
 
