@@ -1,5 +1,6 @@
 // Writes the seed files of tests/fuzz/corpus/gltf/: a few tiny valid assets (.glb, and .gltf with
-// its buffer as a base64 data URI), then truncated and corrupted copies. Built beside the
+// its buffer as a base64 data URI; a textured quad with a sampler and tangents), then truncated and
+// corrupted copies. Built beside the
 // harnesses (tests/fuzz/CMakeLists.txt):
 //   build-fuzz/tests/fuzz/make_gltf_corpus tests/fuzz/corpus/gltf
 #include <cstdio>
@@ -54,6 +55,30 @@ GltfDoc glass_cube() {
   g.node({{"mesh", mesh}, {"children", {child}}, {"rotation", {0, 0.7071068, 0, 0.7071068}}, {"scale", {0.1, 0.2, 0.1}}});
   return g;
 }
+// A textured quad with NORMAL, TEXCOORD_0 and TANGENT, its base colour and normal textures (one
+// 2 × 2 PNG, embedded) read through a sampler: clamp on s, mirror on t, magFilter NEAREST.
+GltfDoc sampled_quad() {
+  GltfDoc g;
+  const int m = g.material({{"name", "Label"},
+                            {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.0}}},
+                            {"normalTexture", {{"index", 0}, {"scale", 0.5}}}});
+  const int mesh = g.mesh({{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}, {-0.5, -0.5, 0}}, {0, 3, 2, 0, 2, 1}, m);
+  g.attribute(mesh, "NORMAL", {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, 3);
+  g.attribute(mesh, "TEXCOORD_0", {-0.5f, -0.5f, 1.5f, -0.5f, 1.5f, 1.5f, -0.5f, 1.5f}, 2);
+  g.attribute(mesh, "TANGENT", {0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, -1, 0, 1, 0, -1}, 4);
+  // A 2 × 2 8-bit RGB PNG (IHDR, one IDAT, IEND), its texels four tangent-space normals.
+  static const unsigned char png[] = {
+      0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00,
+      0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x02, 0x00, 0x00, 0x00, 0xfd, 0xd4, 0x9a, 0x73, 0x00, 0x00, 0x00,
+      0x15, 0x49, 0x44, 0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x91, 0x72, 0xc7, 0x66, 0xdf, 0x33, 0x86, 0x86, 0x86,
+      0xff, 0x40, 0x00, 0x00, 0x38, 0x06, 0x08, 0xe5, 0xa3, 0x81, 0xe5, 0xef, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45,
+      0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+  g.doc["images"] = {{{"bufferView", g.view(png, sizeof png)}, {"mimeType", "image/png"}}};
+  g.doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}}};
+  g.doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  g.node({{"mesh", mesh}, {"scale", {-1, 1, 1}}});
+  return g;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -83,5 +108,15 @@ int main(int argc, char** argv) {
   json bad = d;
   bad["accessors"][0]["count"] = 1000;
   put(dir / "bad_count.gltf", bad.dump());
+  // Samplers and tangents: the valid quad, a wrap code that is none, and a tangent w of 0.
+  sampled_quad().write(dir / "sampler_tangent.glb");
+  GltfDoc bad_wrap = sampled_quad();
+  bad_wrap.doc["samplers"][0]["wrapT"] = 12345;
+  bad_wrap.write(dir / "bad_wrap.glb");
+  GltfDoc bad_tangent = sampled_quad();
+  const std::size_t at = bad_tangent.doc["bufferViews"][bad_tangent.doc["accessors"][4]["bufferView"].get<std::size_t>()]["byteOffset"];
+  const float zero = 0.0f;
+  bad_tangent.bin.replace(at + 12, 4, reinterpret_cast<const char*>(&zero), 4);  // the first tangent's w
+  bad_tangent.write(dir / "bad_tangent.glb");
   return 0;
 }

@@ -49,6 +49,15 @@ int GltfDoc::indices(const std::vector<std::uint32_t>& i) {
   return int(doc["accessors"].size() - 1);
 }
 
+int GltfDoc::attribute(int mesh, const std::string& name, const std::vector<float>& values, int components) {
+  const int v = view(values.data(), values.size() * sizeof(float));
+  doc["accessors"].push_back({{"bufferView", v}, {"componentType", 5126},
+                              {"count", values.size() / std::size_t(components)},
+                              {"type", components == 2 ? "VEC2" : components == 3 ? "VEC3" : "VEC4"}});
+  doc["meshes"][std::size_t(mesh)]["primitives"][0]["attributes"][name] = doc["accessors"].size() - 1;
+  return int(doc["accessors"].size() - 1);
+}
+
 int GltfDoc::mesh(const std::vector<Vec3>& p, const std::vector<std::uint32_t>& i, int material) {
   json prim = {{"attributes", {{"POSITION", positions(p)}}}, {"indices", indices(i)}};
   if (material >= 0) prim["material"] = material;

@@ -21,6 +21,9 @@ class GltfDoc {
   int view(const void* bytes, std::size_t size, std::size_t stride = 0);
   int positions(const std::vector<Vec3>& p);  // float VEC3 with min/max
   int indices(const std::vector<std::uint32_t>& i);  // UNSIGNED_INT SCALAR
+  // A float accessor of `components` per element (2 VEC2, 3 VEC3, 4 VEC4) set as attribute `name`
+  // (NORMAL, TEXCOORD_0, TANGENT) of the mesh's first primitive; returns the accessor index.
+  int attribute(int mesh, const std::string& name, const std::vector<float>& values, int components);
   // A mesh of one triangle primitive; returns the mesh index.
   int mesh(const std::vector<Vec3>& p, const std::vector<std::uint32_t>& i, int material = -1);
   // A node (its JSON: mesh, translation, children, ...), listed in the scene when `root`.

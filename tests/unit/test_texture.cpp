@@ -121,6 +121,76 @@ TEST(TextureTable, PyramidAndBilinearLookupInClosedForm) {
   EXPECT_NEAR(texture_rgb(table, texel_blend(table, id, {0.3, 0.7}, 9.0)).x, mean, 1e-6);
 }
 
+// A 6 × 6 data texture whose texel in column x, row y from the bottom is (x/10, y/10, 0.5).
+TextureImage column_row_image() {
+  TextureImage image;
+  image.width = image.height = 6;
+  image.srgb = false;
+  for (int row = 0; row < 6; ++row)  // rows from the top in the file
+    for (int x = 0; x < 6; ++x)
+      image.rgb.insert(image.rgb.end(), {static_cast<float>(x) / 10.0f, static_cast<float>(5 - row) / 10.0f, 0.5f});
+  return image;
+}
+
+// Wrap modes per axis, at a texel centre outside [0, 1]: u = 1.25 is texel index 1.25·6 − ½ = 7,
+// which repeat reads as column 1, clamp as 5 and mirror as 2·6 − 1 − 7 = 4; u = −0.25 is index −2:
+// repeat 4, clamp 0, mirror 1. On level 1 (3 × 3, each texel the mean of a 2 × 2 block) clamp at
+// u = 1.25 reads its edge column alone, the mean of level 0's columns 4 and 5: 0.45.
+TEST(TextureTable, WrapModesInClosedForm) {
+  struct Case {
+    TextureWrap wrap;
+    int at_1_25, at_minus_0_25;
+  };
+  const Case cases[] = {{TextureWrap::repeat, 1, 4}, {TextureWrap::clamp, 5, 0}, {TextureWrap::mirror, 4, 1}};
+  for (const Case& su : cases)
+    for (const Case& sv : cases) {
+      TextureTable table;
+      const int id = add_texture(table, column_row_image(), TextureUse::data, {}, {{su.wrap, sv.wrap}});
+      const Vec3 a = texture_rgb(table, texel_blend(table, id, {1.25, -0.25}, 0.0));
+      EXPECT_NEAR(a.x, su.at_1_25 / 10.0, 1e-6) << int(su.wrap);
+      EXPECT_NEAR(a.y, sv.at_minus_0_25 / 10.0, 1e-6) << int(sv.wrap);
+      const Vec3 b = texture_rgb(table, texel_blend(table, id, {-0.25, 1.25}, 0.0));
+      EXPECT_NEAR(b.x, su.at_minus_0_25 / 10.0, 1e-6) << int(su.wrap);
+      EXPECT_NEAR(b.y, sv.at_1_25 / 10.0, 1e-6) << int(sv.wrap);
+    }
+  TextureTable table;
+  const int clamp = add_texture(table, column_row_image(), TextureUse::data, {}, {{TextureWrap::clamp, TextureWrap::clamp}});
+  EXPECT_NEAR(texture_rgb(table, texel_blend(table, clamp, {1.25, 0.5}, 1.0)).x, 0.45, 1e-6);
+  EXPECT_NEAR(texture_rgb(table, texel_blend(table, clamp, {-7.0, 0.5}, 1.0)).x, 0.05, 1e-6);
+  // Far outside, every mode still reads a texel of the image (no index out of range).
+  for (const Case& c : cases) {
+    const int id = add_texture(table, column_row_image(), TextureUse::data, {}, {{c.wrap, c.wrap}});
+    for (const double u : {-1e15, -3.5, 1e15, 1e300}) {
+      const TexelBlend blend = texel_blend(table, id, {u, -u}, 0.0);
+      for (int k = 0; k < blend.count; ++k) EXPECT_LT(blend.texel[static_cast<std::size_t>(k)], table.rgb.size());
+    }
+  }
+  // The index map itself: mirror's period is 2n.
+  EXPECT_EQ(wrapped_index(-1, 3, TextureWrap::mirror), 0u);
+  EXPECT_EQ(wrapped_index(3, 3, TextureWrap::mirror), 2u);
+  EXPECT_EQ(wrapped_index(6, 3, TextureWrap::mirror), 0u);
+  EXPECT_EQ(wrapped_index(-7, 3, TextureWrap::mirror), 0u);
+  EXPECT_EQ(wrapped_index(-1, 3, TextureWrap::repeat), 2u);
+  EXPECT_EQ(wrapped_index(-1, 3, TextureWrap::clamp), 0u);
+}
+
+// glTF's magFilter NEAREST: magnified (level of detail ≤ 0, or no cone) one texel, the one whose
+// square holds (u, v); minified, the same trilinear blend as without it.
+TEST(TextureTable, NearestMagnification) {
+  TextureTable table;
+  TextureSampler nearest;
+  nearest.nearest_magnification = true;
+  const int id = add_texture(table, column_row_image(), TextureUse::data, {}, nearest);
+  const int linear = add_texture(table, column_row_image(), TextureUse::data);
+  const TexelBlend b = texel_blend(table, id, {2.9 / 6.0, 0.2 / 6.0}, -3.0);
+  ASSERT_EQ(b.count, 1);
+  EXPECT_NEAR(texture_rgb(table, b).x, 0.2, 1e-6);
+  EXPECT_NEAR(texture_rgb(table, b).y, 0.0, 1e-6);
+  EXPECT_NEAR(texture_rgb(table, texel_blend(table, id, {-0.01, 0.5}, 0.0)).x, 0.5, 1e-6);  // repeat: the last column
+  EXPECT_NEAR(texture_rgb(table, texel_blend(table, id, {0.3, 0.6}, 1.5)).x,
+              texture_rgb(table, texel_blend(table, linear, {0.3, 0.6}, 1.5)).x, 1e-7);
+}
+
 // A 256 × 256 grey data texture.
 int add_grey_256(TextureTable& table) {
   TextureImage image;
@@ -294,12 +364,8 @@ TEST(TextureRender, GrazingCheckerboardDoesNotAlias) {
   EXPECT_GT(near_spread, 0.17);
 }
 
-// A glTF square whose baseColorTexture is a PNG embedded in the .glb (decoded by OpenImageIO through
-// tinygltf's image loader): 4 × 4 texels in four 2 × 2 quadrants, UV (0, 0) at the top-left corner
-// (glTF's v runs down). Seen head on, each quadrant's middle pixels show its texels; with
-// KHR_texture_transform's offset of half the texture along u, the left shows what was on the right.
-TEST(TextureRender, GltfBaseColorTextureAndTransform) {
-  const fs::path dir = test::scratch_dir("GltfTexture");
+// A 4 × 4 PNG (as bytes) of four 2 × 2 quadrants: red, green (top), blue, grey (bottom).
+std::string quadrant_png() {
   const std::array<Vec3, 4> quadrant{Vec3{0.8, 0.1, 0.1}, Vec3{0.1, 0.7, 0.1}, Vec3{0.1, 0.1, 0.6}, Vec3{0.5, 0.5, 0.5}};
   Film image(4, 4);
   for (int y = 0; y < 4; ++y)
@@ -307,7 +373,16 @@ TEST(TextureRender, GltfBaseColorTextureAndTransform) {
       const Vec3& c = quadrant[static_cast<std::size_t>((y / 2) * 2 + x / 2)];
       image.set_rgb(x, y, {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)});
     }
-  const std::string png = encode_png(image);
+  return encode_png(image);
+}
+
+// A glTF square whose baseColorTexture is a PNG embedded in the .glb (decoded by OpenImageIO through
+// tinygltf's image loader): 4 × 4 texels in four 2 × 2 quadrants, UV (0, 0) at the top-left corner
+// (glTF's v runs down). Seen head on, each quadrant's middle pixels show its texels; with
+// KHR_texture_transform's offset of half the texture along u, the left shows what was on the right.
+TEST(TextureRender, GltfBaseColorTextureAndTransform) {
+  const fs::path dir = test::scratch_dir("GltfTexture");
+  const std::string png = quadrant_png();
   for (const bool shifted : {false, true}) {
     test::GltfDoc g;
     nlohmann::json info = {{"index", 0}};
@@ -343,6 +418,87 @@ TEST(TextureRender, GltfBaseColorTextureAndTransform) {
         EXPECT_LT(e, 1.0) << (shifted ? "shifted, " : "") << "quadrant " << qx << ", " << qy;
       }
   }
+}
+
+// A glTF square whose UVs run from −0.5 to 1.5 (the image covers its middle half), its texture the
+// four quadrants above, embedded. With a sampler of CLAMP_TO_EDGE on both axes, the pixels outside
+// the image show its edge texels: every pixel of the 8 × 8 film whose UVs lie below 0 or above 1
+// on an axis reads the edge row or column there (the image's 2 × 2 quadrants make an edge texel the
+// quadrant's colour), e.g. the corner pixels show the corner quadrants. Under repeat (no sampler)
+// the corner pixel (0, 0) at u, v ∈ [−0.5, −0.25] reads the texture around (0.5 … 0.75): not the
+// top-left quadrant. A sampler's unknown wrap code is one line naming it.
+TEST(TextureRender, GltfClampSamplerShowsTheEdgeTexelOutsideTheImage) {
+  const fs::path dir = test::scratch_dir("GltfClampSampler");
+  const std::string png = quadrant_png();
+  const TextureImage decoded_png =
+      read_texture_image(std::span(reinterpret_cast<const unsigned char*>(png.data()), png.size()), "label.png");
+  auto asset = [&](const nlohmann::json& sampler, const std::string& name) {
+    test::GltfDoc g;
+    const int material = g.material({{"name", "Label"},
+                                     {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0.0}}}});
+    const int mesh = g.mesh({{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}, {-0.5, -0.5, 0}}, {0, 3, 2, 0, 2, 1}, material);
+    const std::vector<float> uv{-0.5f, -0.5f, 1.5f, -0.5f, 1.5f, 1.5f, -0.5f, 1.5f};
+    g.doc["accessors"].push_back({{"bufferView", g.view(uv.data(), uv.size() * sizeof(float))},
+                                  {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}});
+    g.doc["meshes"][mesh]["primitives"][0]["attributes"]["TEXCOORD_0"] = g.doc["accessors"].size() - 1;
+    g.doc["images"] = {{{"bufferView", g.view(png.data(), png.size())}, {"mimeType", "image/png"}}};
+    g.doc["textures"] = {{{"source", 0}}};
+    if (!sampler.is_null()) {
+      g.doc["samplers"] = {sampler};
+      g.doc["textures"][0]["sampler"] = 0;
+    }
+    g.node({{"mesh", mesh}});
+    g.write(dir / name);
+    return test::render_text(fmt::format(R"({{
+      "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1, "resolution": [8, 8]}},
+      "render": {{"integrator": "whitted", "spp": 4}},
+      "objects": [{{"gltf": "{}"}}],
+      "lights": [{{"type": "distant", "direction": [0, 0, -1], "spectrum": "D65", "scale": 3.141592653589793}}]
+    }})", (dir / name).string()), 2);
+  };
+  const Film clamped = asset({{"wrapS", 33071}, {"wrapT", 33071}}, "clamp.glb");
+  // Pixel p covers u ∈ [−0.5 + p/4, −0.25 + p/4]: outside the image for p ≤ 1 (the left or top
+  // edge texels) and p ≥ 6 (the right or bottom ones).
+  for (const int py : {0, 1, 6, 7})
+    for (const int px : {0, 1, 6, 7}) {
+      const int tx = px < 4 ? 0 : 3, ty = py < 4 ? 0 : 3;
+      const Vec3f p = clamped.rgb_at(px, py);
+      EXPECT_LT(delta_e({p.x, p.y, p.z}, decoded(decoded_png, tx, ty)), 1.0) << "pixel " << px << ", " << py;
+    }
+  const Film repeated = asset(nullptr, "repeat.glb");
+  const Vec3f r = repeated.rgb_at(0, 0);
+  EXPECT_GT(delta_e({r.x, r.y, r.z}, decoded(decoded_png, 0, 0)), 10.0);
+  // Mirror on u, clamp on v: pixel (1, 0) covers u ∈ [−0.25, 0], mirrored to [0, 0.25]: the top-left quadrant.
+  const Film mirrored = asset({{"wrapS", 33648}, {"wrapT", 33071}}, "mirror.glb");
+  const Vec3f m = mirrored.rgb_at(1, 0);
+  EXPECT_LT(delta_e({m.x, m.y, m.z}, decoded(decoded_png, 0, 0)), 1.0);
+  try {
+    asset({{"wrapS", 12345}}, "bad.glb");
+    ADD_FAILURE() << "an unknown wrap code was accepted";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.glb: samplers[0].wrapS: 12345 is not a wrap mode"), std::string::npos) << msg;
+    EXPECT_EQ(test::line_count(msg), 1) << msg;
+  }
+}
+
+// An embedded image whose buffer view runs past its buffer (tinygltf would hand the image loader
+// bytes beyond the buffer; found by the gltf fuzz harness) is one line naming the view and image.
+TEST(TextureRender, GltfImageViewBeyondItsBufferIsOneLine) {
+  const fs::path dir = test::scratch_dir("GltfImageViewBeyond");
+  test::GltfDoc g;
+  const int mesh = g.mesh({{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}}, {0, 2, 1});
+  const std::string png = quadrant_png();
+  const int view = g.view(png.data(), png.size());
+  g.doc["images"] = {{{"bufferView", view}, {"mimeType", "image/png"}}};
+  g.doc["bufferViews"][std::size_t(view)]["byteLength"] = png.size() + 4096;
+  g.node({{"mesh", mesh}});
+  g.write(dir / "bad_view.glb");
+  const test::RunResult r = test::run_bouguer({"render", (dir / "bad_view.glb").string(), "-o", (dir / "out.png").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(fmt::format("bad_view.glb: bufferViews[{}]: bytes", view)), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("where images[0] is read"), std::string::npos) << r.err;
 }
 
 // The same seed gives the same image on 1 and 2 threads (the path tracer, textures, MIP levels).

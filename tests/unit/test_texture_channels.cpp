@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -98,6 +99,19 @@ fs::path write_texture_png(const fs::path& dir) {
   return png;
 }
 
+// The scene is refused with one line naming the quad's reflectance and holding `expect`.
+void expect_reflectance_error(const std::string& scene, const fs::path& dir, const std::string& expect) {
+  try {
+    parse_scene(scene, dir / "s.json");
+    ADD_FAILURE() << expect << ": the scene was accepted";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(expect), std::string::npos) << m;
+    EXPECT_NE(m.find("s.json: objects[0].material.reflectance"), std::string::npos) << m;
+    EXPECT_EQ(test::line_count(m), 1) << m;
+  }
+}
+
 TEST(TextureTransform, JsonReadsOffsetRotationAndScale) {
   const fs::path dir = test::scratch_dir("TextureTransformJson");
   const fs::path png = write_texture_png(dir);
@@ -124,16 +138,42 @@ TEST(TextureTransform, JsonReadsOffsetRotationAndScale) {
         {R"(, "transform": {"rotation": 30})", "transform.rotation: expected a string"},
         {R"(, "transform": {"scale": [1, 0]})", "transform.scale[1]: must not be 0"},
         {R"(, "transform": {"shift": [1, 0]})", "transform.shift: unknown key"}}) {
-    try {
-      parse_scene(textured_quad_json(png, transform), dir / "s.json");
-      ADD_FAILURE() << transform << " was accepted";
-    } catch (const Error& e) {
-      const std::string m = e.what();
-      EXPECT_NE(m.find(expect), std::string::npos) << m;
-      EXPECT_NE(m.find("s.json: objects[0].material.reflectance"), std::string::npos) << m;
-      EXPECT_EQ(test::line_count(m), 1) << m;
-    }
+    expect_reflectance_error(textured_quad_json(png, transform), dir, expect);
   }
+}
+
+// "wrap": one name for both axes or a pair [along u, along v], checked by the builder: an unknown
+// name is one line naming the key (and the name it was likely meant to be), a wrong shape the
+// loader's line; a normal map and an emitter's texture take it too.
+TEST(TextureWrap, JsonReadsWrapModesAndRefusesUnknownOnes) {
+  const fs::path dir = test::scratch_dir("TextureWrapJson");
+  const fs::path png = write_texture_png(dir);
+  auto sampler = [&](const std::string& wrap) {
+    const SceneDesc d = parse_scene(textured_quad_json(png, wrap), dir / "s.json");
+    return std::get<DiffuseDesc>(*d.objects.at(0).material).reflectance_texture->sampler;
+  };
+  using W = std::array<TextureWrap, 2>;
+  EXPECT_EQ(sampler("").wrap, (W{TextureWrap::repeat, TextureWrap::repeat}));
+  EXPECT_EQ(sampler(R"(, "wrap": "clamp")").wrap, (W{TextureWrap::clamp, TextureWrap::clamp}));
+  EXPECT_EQ(sampler(R"(, "wrap": ["mirror", "repeat"])").wrap, (W{TextureWrap::mirror, TextureWrap::repeat}));
+  EXPECT_FALSE(sampler(R"(, "wrap": "mirror")").nearest_magnification);
+  for (const auto& [wrap, expect] :
+       {std::pair<std::string, std::string>{R"(, "wrap": "clam")",
+                                            "reflectance.wrap: unknown wrap 'clam' (did you mean 'clamp'?)"},
+        {R"(, "wrap": ["repeat", "tile"])", "reflectance.wrap[1]: unknown wrap 'tile' (known: repeat, clamp, mirror)"},
+        {R"(, "wrap": ["clamp"])", "reflectance.wrap: expected a wrap name or two"},
+        {R"(, "wrap": 33071)", "reflectance.wrap: expected a wrap name or two"}}) {
+    expect_reflectance_error(textured_quad_json(png, wrap), dir, expect);
+  }
+  const SceneDesc n = parse_scene(fmt::format(R"({{
+    "camera": {{"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 1, "resolution": [8, 8]}},
+    "objects": [{{"name": "tile", "shape": {{"type": "quad", "size": [1, 1]}},
+                  "material": {{"type": "diffuse", "normal_map": {{"texture": "{0}", "wrap": ["clamp", "mirror"]}}}}}},
+                {{"name": "lamp", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"translate": [0, 0, -1]}}],
+                  "emission": {{"spectrum": {{"texture": "{0}", "wrap": "mirror"}}}}}}]
+  }})", png.generic_string()), dir / "s.json");
+  EXPECT_EQ(n.objects.at(0).normal_map->texture.sampler.wrap, (W{TextureWrap::clamp, TextureWrap::mirror}));
+  EXPECT_EQ(n.objects.at(1).emission->texture->sampler.wrap, (W{TextureWrap::mirror, TextureWrap::mirror}));
 }
 
 
@@ -645,6 +685,110 @@ TEST(TextureChannels, GltfNormalTextureWithScale) {
   EXPECT_NEAR(n.z, want.z, 1e-6);
   EXPECT_LT(want.x, -0.1);  // the texel leans towards −u and +v
   EXPECT_GT(want.y, 0.1);
+}
+
+// A glTF quad as write_gltf_quad's (u along +x, the image's up along +y, facing +z) with NORMAL +z,
+// a normalTexture (image 0) and, unless empty, TANGENT (x, y, z, w per vertex); its node scaled by
+// `scale` (a negative x mirrors it).
+void write_tangent_quad(const fs::path& path, const std::vector<float>& tangents, const std::string& image,
+                        std::array<double, 3> scale = {1, 1, 1}) {
+  test::GltfDoc g;
+  const int m = g.material({{"name", "Bumpy"}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}},
+                            {"normalTexture", {{"index", 0}}}});
+  const int mesh = g.mesh({{-0.5, 0.5, 0}, {0.5, 0.5, 0}, {0.5, -0.5, 0}, {-0.5, -0.5, 0}}, {0, 3, 2, 0, 2, 1}, m);
+  g.attribute(mesh, "TEXCOORD_0", {0, 0, 1, 0, 1, 1, 0, 1}, 2);
+  g.attribute(mesh, "NORMAL", {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, 3);
+  if (!tangents.empty()) g.attribute(mesh, "TANGENT", tangents, 4);
+  g.doc["images"] = {{{"uri", image}}};
+  g.doc["textures"] = {{{"source", 0}}};
+  g.node({{"mesh", mesh}, {"scale", scale}});
+  g.write(path);
+}
+
+// The same tangent (x, y, z, w) at each of the quad's 4 vertices.
+std::vector<float> four(std::array<float, 4> t) {
+  std::vector<float> v(16);
+  for (std::size_t i = 0; i < 16; ++i) v[i] = t[i % 4];
+  return v;
+}
+
+// TANGENT replaces the frame of the UVs (T = +x, B = +y here): a tangent turned 90° to +y with
+// w = +1 makes B = N × T = −x, so a texel's tangent-space normal t lands at (−t.y, t.x, t.z); with
+// w = −1, B = +x and (t.y, t.x, t.z). Mirrored by its node (scale x −1), the asset's normal is the
+// mirror image of the unmirrored one's, (t.y, t.x, t.z) again for w = +1: the node's determinant
+// flips w, as the scene's own mirroring transform does. Without TANGENT the UVs' frame gives t itself.
+TEST(TextureChannels, GltfTangentAttributeGivesTheFrame) {
+  const fs::path dir = test::scratch_dir("TextureChannelsGltfTangent");
+  const Vec3 texel = write_constant_texel(dir / "tilt.png", {200, 100, 220});
+  const Vec3 t = tangent_space_normal(texel, 1.0);
+  EXPECT_GT(std::abs(t.x), 0.2);  // both tangent-space components large: a swapped or missing frame shows
+  EXPECT_GT(std::abs(t.y), 0.2);
+  struct Case {
+    std::vector<float> tangents;
+    std::array<double, 3> scale;
+    Vec3 want;
+  };
+  const std::vector<Case> cases = {{{}, {1, 1, 1}, t},
+                                   {four({0, 1, 0, 1}), {1, 1, 1}, {-t.y, t.x, t.z}},
+                                   {four({0, 1, 0, -1}), {1, 1, 1}, {t.y, t.x, t.z}},
+                                   {four({0, 1, 0, 1}), {-1, 1, 1}, {t.y, t.x, t.z}},
+                                   {four({0, 2, 0.5, 1}), {1, 1, 1}, {-t.y, t.x, t.z}}};  // Gram–Schmidt, length
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    write_tangent_quad(dir / "quad.gltf", cases[i].tangents, "tilt.png", cases[i].scale);
+    const Vec3 n = mapped_normal_at(Compiled(fmt::format(R"({{"gltf": "{}"}})", (dir / "quad.gltf").generic_string()), dir));
+    EXPECT_NEAR(n.x, cases[i].want.x, 1e-6) << "case " << i;
+    EXPECT_NEAR(n.y, cases[i].want.y, 1e-6) << "case " << i;
+    EXPECT_NEAR(n.z, cases[i].want.z, 1e-6) << "case " << i;
+  }
+  // The scene's own transform mirrors as the node does (geometry/transform.cpp flips w too).
+  write_tangent_quad(dir / "quad.gltf", four({0, 1, 0, 1}), "tilt.png");
+  const Vec3 n = mapped_normal_at(Compiled(
+      fmt::format(R"({{"gltf": "{}", "transform": [{{"scale": [-1, 1, 1]}}]}})", (dir / "quad.gltf").generic_string()), dir));
+  EXPECT_NEAR(n.x, t.y, 1e-6);
+  EXPECT_NEAR(n.y, t.x, 1e-6);
+  EXPECT_NEAR(n.z, t.z, 1e-6);
+}
+
+// A TANGENT that is not VEC4 float, has a count other than POSITION's, a NaN, a zero vector, or a
+// w other than ±1: one line naming the asset and the accessor or attribute, exit 1.
+TEST(TextureChannels, MalformedGltfTangentsAreOneLine) {
+  const fs::path dir = test::scratch_dir("TextureChannelsBadTangent");
+  write_constant_texel(dir / "tilt.png", {200, 100, 220});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  struct Bad {
+    const char* name;
+    std::vector<float> tangents;
+    std::function<void(nlohmann::json&)> edit;  // on the TANGENT accessor
+    const char* expected;
+  };
+  const std::vector<Bad> cases = {
+      {"count", four({1, 0, 0, 1}), [](nlohmann::json& a) { a["count"] = 3; },
+       "attributes.TANGENT: 3 elements where POSITION has 4"},
+      {"vec3", four({1, 0, 0, 1}), [](nlohmann::json& a) { a["type"] = "VEC3"; },
+       "where 4 components are needed (meshes[0].primitives[0].attributes.TANGENT)"},
+      {"bytes", four({1, 0, 0, 1}), [](nlohmann::json& a) { a["componentType"] = 5121; a["normalized"] = true; },
+       "componentType: 5121 is not accepted here (meshes[0].primitives[0].attributes.TANGENT)"},
+      {"nan", {1, 0, 0, 1, nan, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, nullptr,
+       "attributes.TANGENT: tangent 1 (nan, 0, 0) is zero or not finite"},
+      {"zero", {1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 0, 1}, nullptr,
+       "attributes.TANGENT: tangent 2 (0, 0, 0) is zero or not finite"},
+      {"w", {1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 0.5f}, nullptr,
+       "attributes.TANGENT: tangent 3: w is 0.5, not the handedness 1 or -1"},
+  };
+  for (const Bad& b : cases) {
+    write_tangent_quad(dir / "bad.gltf", b.tangents, "tilt.png");
+    if (b.edit) {
+      nlohmann::json doc = nlohmann::json::parse(test::read_file(dir / "bad.gltf"));
+      b.edit(doc["accessors"][doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"].get<std::size_t>()]);
+      test::write_file(dir / "bad.gltf", doc.dump());
+    }
+    const test::RunResult r = test::run_bouguer({"render", (dir / "bad.gltf").string(), "-o", (dir / "out.png").string()});
+    SCOPED_TRACE(std::string(b.name) + ": " + r.err);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(test::line_count(r.err), 1);
+    EXPECT_NE(r.err.find("bad.gltf"), std::string::npos);
+    EXPECT_NE(r.err.find(b.expected), std::string::npos);
+  }
 }
 
 // A normal map that is missing, or not an image, is one line naming the file and the key.

@@ -20,6 +20,7 @@ void append(Mesh& dst, const Mesh& src) {
   };
   join(dst.normals, src.normals);
   join(dst.uvs, src.uvs);
+  join(dst.tangents, src.tangents);
   dst.positions.insert(dst.positions.end(), src.positions.begin(), src.positions.end());
   for (const auto& t : src.triangles) dst.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
@@ -27,6 +28,7 @@ void append(Mesh& dst, const Mesh& src) {
 Mesh flipped(Mesh m) {
   for (auto& t : m.triangles) std::swap(t[1], t[2]);
   for (auto& n : m.normals) n = -n;  // shading normals stay on the geometric normal's side
+  for (auto& t : m.tangents) t.sign = -t.sign;
   return m;
 }
 
@@ -94,8 +96,10 @@ Mesh welded(const Mesh& m, double tolerance_m, bool keep_attributes) {
   Mesh out;
   std::vector<std::uint32_t> remap(m.positions.size());
   const bool normals = keep_attributes && !m.normals.empty(), uvs = keep_attributes && !m.uvs.empty();
+  const bool tangents = keep_attributes && !m.tangents.empty();
   auto same_attributes = [&](std::uint32_t j, std::size_t i) {
-    return (!normals || dot(out.normals[j], m.normals[i]) > 1.0 - 1e-12) && (!uvs || out.uvs[j] == m.uvs[i]);
+    return (!normals || dot(out.normals[j], m.normals[i]) > 1.0 - 1e-12) && (!uvs || out.uvs[j] == m.uvs[i]) &&
+           (!tangents || out.tangents[j] == m.tangents[i]);
   };
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
     const Vec3& p = m.positions[i];
@@ -123,6 +127,7 @@ Mesh welded(const Mesh& m, double tolerance_m, bool keep_attributes) {
       out.positions.push_back(p);
       if (normals) out.normals.push_back(m.normals[i]);
       if (uvs) out.uvs.push_back(m.uvs[i]);
+      if (tangents) out.tangents.push_back(m.tangents[i]);
       next.push_back(CellTable::kNone);
       grid.append({cell[0], cell[1], cell[2]}, found, next);
     }

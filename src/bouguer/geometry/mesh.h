@@ -11,6 +11,14 @@
 
 namespace bouguer {
 
+// A vertex tangent (glTF's TANGENT): a unit vector along increasing u, and the handedness of the
+// tangent frame, ±1: bitangent = sign · cross(shading normal, tangent).
+struct Tangent {
+  Vec3 direction;
+  double sign = 1.0;
+  bool operator==(const Tangent&) const = default;
+};
+
 struct Mesh {
   std::vector<Vec3> positions;  // metres
   std::vector<std::array<std::uint32_t, 3>> triangles;
@@ -18,15 +26,20 @@ struct Mesh {
   // side of the geometric normal) and texture coordinates. A hit interpolates them.
   std::vector<Vec3> normals;
   std::vector<std::array<double, 2>> uvs;
+  // Tangents, only where the source gives them (a glTF primitive's TANGENT) and then only with
+  // normals; a normal map reads them instead of the frame of the triangle's UVs (scene/normal_map.h).
+  std::vector<Tangent> tangents;
 };
 
 // Appends src's triangles; an attribute is kept only when both meshes have it (or dst is empty).
 void append(Mesh& dst, const Mesh& src);
+// The winding reversed, the normals negated (they stay on the geometric normal's side) and with
+// them the tangents' signs (the bitangent stays where it was).
 Mesh flipped(Mesh m);
 
 // Merges vertices closer than tolerance_m and drops triangles that become degenerate. The result
-// has positions only; with keep_attributes, it keeps the normals and UVs, and merges only vertices
-// whose attributes are the same too (a crease or a UV seam stays two vertices).
+// has positions only; with keep_attributes, it keeps the normals, UVs and tangents, and merges only
+// vertices whose attributes are the same too (a crease or a UV seam stays two vertices).
 Mesh welded(const Mesh& m, double tolerance_m, bool keep_attributes = false);
 
 // Signed volume (m³): positive when the triangles face outward.

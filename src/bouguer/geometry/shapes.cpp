@@ -551,7 +551,7 @@ ParsedObj parse_obj(const std::filesystem::path& path, const std::string& what, 
 Mesh corner_mesh(const ParsedObj& obj, const std::vector<tinyobj::shape_t>& shapes) {
   ObjCorners c = obj_corners(obj.attrib, shapes, obj.positions, obj.where);
   if (c.mesh.triangles.empty()) fail("{} has no faces", obj.where);
-  return checked_triangles(TriangleMeshShape{std::move(c.mesh), std::move(c.normals), std::move(c.uvs)}, obj.where);
+  return checked_triangles(TriangleMeshShape{std::move(c.mesh), std::move(c.normals), std::move(c.uvs), {}}, obj.where);
 }
 
 Mesh load_obj(const MeshShape& s, const std::string& what) {
@@ -572,6 +572,9 @@ Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what) {
   if (s.mesh.triangles.empty()) fail("{}: the triangle mesh has no triangles", what);
   if (!s.normals.empty() && s.normals.size() != n) fail("{}: {} normals for {} positions", what, s.normals.size(), n);
   if (!s.uvs.empty() && s.uvs.size() != n) fail("{}: {} UVs for {} positions", what, s.uvs.size(), n);
+  if (!s.tangents.empty() && s.tangents.size() != n)
+    fail("{}: {} tangents for {} positions", what, s.tangents.size(), n);
+  if (!s.tangents.empty() && s.normals.empty()) fail("{}: tangents need normals", what);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3& p = s.mesh.positions[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
@@ -583,6 +586,7 @@ Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what) {
   Mesh m = s.mesh;
   m.normals.clear();
   m.uvs.clear();
+  m.tangents.clear();
   if (!s.normals.empty()) {
     m.normals.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -595,6 +599,13 @@ Mesh checked_triangles(const TriangleMeshShape& s, const std::string& what) {
   for (std::size_t i = 0; i < s.uvs.size(); ++i)
     if (!std::isfinite(s.uvs[i][0]) || !std::isfinite(s.uvs[i][1])) fail("{}: UV {} is not finite", what, i);
   m.uvs = s.uvs;
+  for (std::size_t i = 0; i < s.tangents.size(); ++i) {
+    const Tangent& t = s.tangents[i];
+    const double l = length(t.direction);
+    if (!std::isfinite(l) || l == 0.0 || (t.sign != 1.0 && t.sign != -1.0))
+      fail("{}: tangent {} is not a finite, non-zero vector with a sign of ±1", what, i);
+    m.tangents.push_back({t.direction / l, t.sign});
+  }
   return m;
 }
 

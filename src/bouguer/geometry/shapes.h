@@ -57,12 +57,13 @@ struct VesselShape {
 };
 struct MeshShape { std::filesystem::path path; };
 // Triangles already in memory (a front end's own mesh: glTF, Python): positions in metres, and
-// per-vertex normals and UVs when the source has them (carried to the hit as Mesh attributes).
-// Empty normals/uvs, or one per position.
+// per-vertex normals, UVs and tangents when the source has them (carried to the hit as Mesh
+// attributes). Empty normals/uvs/tangents, or one per position; tangents only with normals.
 struct TriangleMeshShape {
   Mesh mesh;
   std::vector<Vec3> normals;
   std::vector<std::array<double, 2>> uvs;
+  std::vector<Tangent> tangents;
 };
 
 using Shape = std::variant<QuadShape, DiskShape, BoxShape, SphereShape, CylinderShape, PrismShape, PyramidShape,

@@ -43,6 +43,14 @@ Mesh transformed(Mesh m, const Transform& t) {
       n = l > 0.0 ? tn / l : n;
     }
   }
+  // Tangents lie in the surface: they go by the linear part itself. Their sign follows the
+  // determinant's: with n by the inverse transpose, cross(n', t') turns against M·b under a mirror.
+  const double handedness = t.determinant() < 0.0 ? -1.0 : 1.0;
+  for (Tangent& g : m.tangents) {
+    const Vec3 d = t.linear * g.direction;
+    const double l = length(d);
+    g = {l > 0.0 ? d / l : g.direction, g.sign * handedness};
+  }
   if (t.determinant() < 0.0)
     for (auto& tri : m.triangles) std::swap(tri[1], tri[2]);
   return m;

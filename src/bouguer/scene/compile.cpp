@@ -261,7 +261,7 @@ int material_texture(RenderScene& s, const std::optional<TextureDesc>& t, Textur
     for (const ShapePart& part : *parts)
       if (part.mesh.uvs.empty())
         fail("{}: object '{}': its texture needs texture coordinates, and its shape has none", desc.file.string(), o.name);
-  return add_texture(s.textures, *t->image, use, t->transform);
+  return add_texture(s.textures, *t->image, use, t->transform, t->sampler);
 }
 
 SurfaceMaterial surface_material(RenderScene& s, const MaterialDesc& material, const ObjectDesc& o,

@@ -84,6 +84,7 @@ struct TextureDesc {
   std::filesystem::path file;  // for messages
   std::shared_ptr<const TextureImage> image;
   UvTransform transform;
+  TextureSampler sampler;
 };
 
 // Radiance of an emitter or the background: a spectrum in the normalisation of spectra/cie.h.

@@ -148,9 +148,50 @@ std::string without_draco_indices_glb(const std::string& bytes) {
   return out;
 }
 
+// The JSON of a .gltf, or of a .glb's first chunk; empty where the container is malformed (tinygltf
+// then refuses it with its own message).
+std::string document_text(const std::string& bytes, bool glb) {
+  if (!glb) return bytes;
+  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || le32(bytes, 16) != kGlbJsonChunk) return {};
+  const std::uint32_t json_length = le32(bytes, 12);
+  return json_length <= bytes.size() - 20 ? bytes.substr(20, json_length) : std::string{};
+}
+
+// tinygltf hands an embedded image's bytes to the image loader without checking that its buffer
+// view lies inside its buffer (a read past the buffer's end, found by the gltf fuzz harness): such a
+// view is refused first, against the buffer's declared byteLength, which tinygltf holds every
+// loaded buffer to. Values that are not whole numbers are left for tinygltf to refuse.
+void check_image_views(const std::string& text, const fs::path& path) {
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return;
+  const auto array = [&](const char* key) {
+    return doc.contains(key) && doc[key].is_array() ? doc[key] : nlohmann::json::array();
+  };
+  const nlohmann::json images = array("images"), views = array("bufferViews"), buffers = array("buffers");
+  const auto whole = [](const nlohmann::json& o, const char* key,
+                        std::uint64_t fallback) -> std::optional<std::uint64_t> {
+    if (!o.is_object() || !o.contains(key)) return fallback;
+    return o[key].is_number_unsigned() ? std::optional(o[key].get<std::uint64_t>()) : std::nullopt;
+  };
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const auto v = whole(images[i], "bufferView", views.size());
+    if (!v || *v >= views.size()) continue;
+    const nlohmann::json& view = views[*v];
+    const auto b = whole(view, "buffer", buffers.size());
+    if (!b || *b >= buffers.size()) continue;
+    const auto offset = whole(view, "byteOffset", 0), length = whole(view, "byteLength", 0);
+    const auto buffer_length = whole(buffers[*b], "byteLength", 0);
+    if (!offset || !length || !buffer_length) continue;
+    if (*offset >= *buffer_length || *length > *buffer_length - *offset)
+      fail("{}: bufferViews[{}]: bytes {} to {} lie beyond buffer {} ({} bytes), where images[{}] is read",
+           path.string(), *v, *offset, *offset + *length, *b, *buffer_length, i);
+  }
+}
+
 Model parse_model(const fs::path& path, DecodedImages& images) {
   const std::string file_bytes = read_file_bytes(path, kMaxMeshFileBytes);
   const bool glb = path.extension() == ".glb";
+  check_image_views(document_text(file_bytes, glb), path);
   const std::string bytes = glb ? without_draco_indices_glb(file_bytes) : without_draco_indices_json(file_bytes);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(decode_image, &images);
@@ -346,7 +387,7 @@ Mat3 transposed(const Mat3& a) {
 // ---- meshes --------------------------------------------------------------------------------------
 
 struct Attributes {
-  std::vector<double> positions, normals, uvs, indices;
+  std::vector<double> positions, normals, uvs, tangents, indices;
   bool has_indices = false;
 };
 
@@ -388,6 +429,7 @@ Attributes draco_attributes(const Model& m, const Value& ext, const Place& at) {
   if (out.positions.empty()) (pe / "attributes").fail("needs POSITION");
   attribute("NORMAL", 3, out.normals);
   attribute("TEXCOORD_0", 2, out.uvs);
+  attribute("TANGENT", 4, out.tangents);
   out.has_indices = true;
   out.indices.reserve(std::size_t(mesh->num_faces()) * 3);
   for (draco::FaceIndex f(0); f < mesh->num_faces(); ++f)
@@ -422,12 +464,36 @@ Attributes primitive_attributes(const Model& m, const tinygltf::Primitive& p, co
                             pa / "TEXCOORD_0");
     same_count(out.uvs, 2, "TEXCOORD_0");
   }
+  if (const int tangent = find("TANGENT"); tangent >= 0) {  // glTF 3.7.2.1: VEC4, float only
+    out.tangents = read_accessor(m, tangent, 4, {TINYGLTF_COMPONENT_TYPE_FLOAT}, pa / "TANGENT");
+    same_count(out.tangents, 4, "TANGENT");
+  }
   if (p.indices >= 0) {
     out.has_indices = true;
     out.indices = read_accessor(m, p.indices, 1,
                                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
                                 at / "indices");
+  }
+  return out;
+}
+
+// TANGENT (x, y, z, w) per vertex, checked (xyz finite and not zero, w ±1) and carried into the
+// asset's frame: xyz by the node's linear part, w times the sign of its determinant (geometry/
+// transform.cpp says why).
+std::vector<Tangent> vertex_tangents(const std::vector<double>& v, std::size_t n, const Transform& to_asset,
+                                     const Place& at) {
+  if (v.size() != 4 * n) at.fail("{} elements where POSITION has {}", v.size() / 4, n);
+  const double handedness = to_asset.determinant() < 0.0 ? -1.0 : 1.0;
+  std::vector<Tangent> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 t{v[4 * i], v[4 * i + 1], v[4 * i + 2]};
+    const double w = v[4 * i + 3];
+    const Vec3 d = to_asset.linear * t;
+    const double l = length(d);
+    if (!(l > 0.0 && std::isfinite(l))) at.fail("tangent {} ({}, {}, {}) is zero or not finite", i, t.x, t.y, t.z);
+    if (w != 1.0 && w != -1.0) at.fail("tangent {}: w is {}, not the handedness 1 or -1", i, w);
+    out[i] = {d / l, w * handedness};
   }
   return out;
 }
@@ -477,6 +543,8 @@ GltfPrimitive make_primitive(const Model& m, const tinygltf::Primitive& p, const
       out.shape.normals[i] = nn / l;
     }
   }
+  if (!a.tangents.empty()) out.shape.tangents = vertex_tangents(a.tangents, n, to_asset, at / "attributes" / "TANGENT");
+  if (a.normals.empty()) out.shape.tangents.clear();  // glTF 3.7.2.1: without normals, tangents are ignored
   if (!a.uvs.empty()) {
     out.shape.uvs.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -531,6 +599,30 @@ std::shared_ptr<const TextureImage> texture_image(const TextureSources& src, int
   }
 }
 
+// Texture `index`'s sampler (glTF 5.26): wrapS and wrapT as the builder's wrap names, magFilter
+// NEAREST. minFilter is not read: every lookup is trilinear over the MIP pyramid (docs/assets.md).
+void read_sampler(const Model& m, int index, GltfTexture& out, const Place& at) {
+  const int sampler = m.textures[std::size_t(index)].sampler;
+  if (sampler < 0) return;  // none: repeat, and filtering as the renderer likes
+  const std::size_t si = checked_index(sampler, m.samplers.size(), at, "sampler");
+  const tinygltf::Sampler& s = m.samplers[si];
+  const Place ps = Place{at.file, "samplers"}[si];
+  auto wrap = [&](int code, const char* key) -> std::string {
+    switch (code) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT: return "repeat";
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return "clamp";
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return "mirror";
+      default:
+        (ps / key).fail("{} is not a wrap mode (10497 REPEAT, 33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT)", code);
+    }
+  };
+  out.wrap = {wrap(s.wrapS, "wrapS"), wrap(s.wrapT, "wrapT")};
+  if (s.magFilter != -1 && s.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST &&
+      s.magFilter != TINYGLTF_TEXTURE_FILTER_LINEAR)
+    (ps / "magFilter").fail("{} is not a magnification filter (9728 NEAREST, 9729 LINEAR)", s.magFilter);
+  out.nearest_magnification = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+}
+
 // A texture's texels times per-channel factors, clamped to [0, 1]: sRGB-decoded first for colour
 // (baseColorTexture), as stored for data (metallicRoughnessTexture).
 std::optional<GltfTexture> scaled_texture(const TextureSources& src, const tinygltf::TextureInfo& info,
@@ -544,7 +636,9 @@ std::optional<GltfTexture> scaled_texture(const TextureSources& src, const tinyg
     const float v = colour && image->srgb ? srgb_to_linear(image->rgb[i]) : image->rgb[i];
     linear->rgb[i] = std::clamp(v * static_cast<float>(std::array{factor.x, factor.y, factor.z}[i % 3]), 0.0f, 1.0f);
   }
-  return GltfTexture{std::move(linear), texture_transform(info.extensions, at), at.path};
+  GltfTexture t{std::move(linear), texture_transform(info.extensions, at), at.path};
+  read_sampler(src.model, info.index, t, at / "index");
+  return t;
 }
 
 GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, const Place& at) {
@@ -663,6 +757,10 @@ struct Walker {
 
 // ---- into the builder ----------------------------------------------------------------------------
 
+TextureInput texture_input(const GltfTexture& t) {
+  return {t.name, t.image, t.transform, t.wrap, t.nearest_magnification};
+}
+
 std::string asset_name(const fs::path& file) { return file.filename().string(); }
 
 // A metal's F0 = base colour at normal incidence, as a conductor of n = 1: F0 = k²/(4 + k²).
@@ -684,12 +782,12 @@ ConductorInput metal(const GltfMaterial& g) {
 // metallicRoughness texture (times the factors) or the factors.
 MetallicRoughnessInput metallic_roughness(const GltfMaterial& g) {
   MetallicRoughnessInput in;
-  if (const auto& t = g.base_color_texture) in.base_colour = TextureInput{t->name, t->image, t->transform};
+  if (const auto& t = g.base_color_texture) in.base_colour = texture_input(*t);
   else in.base_colour = RgbInput{{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
                                   std::clamp(g.base_color.z, 0.0, 1.0)}};
   in.metalness = std::clamp(g.metallic, 0.0, 1.0);
   in.roughness = std::clamp(g.roughness, 0.0, 1.0);
-  if (const auto& t = g.metallic_roughness_texture) in.metallic_roughness_texture = TextureInput{t->name, t->image, t->transform};
+  if (const auto& t = g.metallic_roughness_texture) in.metallic_roughness_texture = texture_input(*t);
   return in;
 }
 
@@ -763,7 +861,7 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   const GltfMaterial& g = p.material >= 0 ? asset.materials[std::size_t(p.material)] : fallback;
   const Place at = (Place{&in.file, ""} / "materials")[std::size_t(std::max(p.material, 0))];
   if (const auto& t = g.normal_texture)  // kept under an override: it is the asset's geometry
-    o.normal_map = resolve_normal_map({TextureInput{t->name, t->image, t->transform}, g.normal_scale},
+    o.normal_map = resolve_normal_map({texture_input(*t), g.normal_scale},
                                       at.source() / "normalTexture");
   if (const auto it = in.materials.find(g.name); p.material >= 0 && it != in.materials.end()) {
     const GltfMaterialOverride& ov = it->second;
@@ -779,7 +877,7 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   }
   if (std::max({g.emissive.x, g.emissive.y, g.emissive.z}) * g.emissive_strength > 0.0) {
     if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
-      o.emission = resolve_emission(EmissionInput{TextureInput{t->name, t->image, t->transform}, g.emissive_strength},
+      o.emission = resolve_emission(EmissionInput{texture_input(*t), g.emissive_strength},
                                     at.source() / "emissiveTexture");
     else
       o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
@@ -798,7 +896,7 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   } else {
     const Source wp = at.source() / "pbrMetallicRoughness";
     if (const auto& t = g.base_color_texture)
-      o.material = resolve_surface_material(DiffuseInput{TextureInput{t->name, t->image, t->transform}}, wp);
+      o.material = resolve_surface_material(DiffuseInput{texture_input(*t)}, wp);
     else
       o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, wp);
   }

@@ -24,11 +24,14 @@ namespace bouguer {
 
 // A glTF material's factors (textures ignored), with the extensions Bouguer reads.
 // A material's texture: its image decoded (OpenImageIO, through io/texture_image.h), its
-// KHR_texture_transform, and its place in the asset for messages.
+// KHR_texture_transform, its sampler's wrapS and wrapT (as the builder's names: "repeat", "clamp",
+// "mirror") and magFilter NEAREST, and its place in the asset for messages.
 struct GltfTexture {
   std::shared_ptr<const TextureImage> image;
   UvTransform transform;
   std::string name;  // "images[2]" or the file it came from
+  std::array<std::string, 2> wrap{"repeat", "repeat"};
+  bool nearest_magnification = false;
 };
 
 struct GltfMaterial {

@@ -134,13 +134,23 @@ TableInput table_input(const json& j, const Where& w, std::vector<std::string> e
   return t;
 }
 
-// {"texture": "label.png", "transform": {"offset": [u, v], "rotation": "30 deg", "scale": [su, sv]}}:
-// an image file (read by the builder) and a transform of its texture coordinates in Bouguer's
-// v-up convention (uv_transform_v_up, scene/texture.h). `extra` lists the caller's other keys.
+// "wrap": "clamp" (both axes) or ["repeat", "mirror"] (along u, along v): names, which the
+// builder checks (resolve_texture).
+std::array<std::string, 2> wrap_names(const json& j, const Where& w) {
+  if (j.is_string()) return {j.get<std::string>(), j.get<std::string>()};
+  if (!j.is_array() || j.size() != 2) w.fail("expected a wrap name or two ([along u, along v])");
+  return {text(j[0], w[0]), text(j[1], w[1])};
+}
+
+// {"texture": "label.png", "wrap": "clamp", "transform": {"offset": [u, v], "rotation": "30 deg",
+// "scale": [su, sv]}}: an image file (read by the builder), how it wraps outside [0, 1], and a
+// transform of its texture coordinates in Bouguer's v-up convention (uv_transform_v_up,
+// scene/texture.h). `extra` lists the caller's other keys.
 TextureInput texture_input(const json& j, const Where& w, std::vector<std::string> extra = {}) {
-  extra.insert(extra.end(), {"texture", "transform"});
+  extra.insert(extra.end(), {"texture", "transform", "wrap"});
   expect_keys(j, w, extra);
-  TextureInput t{text(j["texture"], w / "texture"), nullptr, {}};
+  TextureInput t = texture_file(text(j["texture"], w / "texture"));
+  if (j.contains("wrap")) t.wrap = wrap_names(j["wrap"], w / "wrap");
   if (!j.contains("transform")) return t;
   const Where wt = w / "transform";
   const json& tj = j["transform"];
@@ -504,7 +514,7 @@ MaterialDesc material(const json& j, const Where& w) {
 
 // "normal_map": "bumps.png", or {"texture": "bumps.png", "scale": 1, "transform": {...}}.
 NormalMapInput normal_map_input(const json& j, const Where& w) {
-  if (j.is_string()) return {TextureInput{j.get<std::string>(), nullptr, {}}, 1.0};
+  if (j.is_string()) return {texture_file(j.get<std::string>()), 1.0};
   if (!j.is_object() || !j.contains("texture")) w.fail("expected a file name or {{\"texture\": ..., \"scale\": ...}}");
   NormalMapInput n{texture_input(j, w, {"scale"}), 1.0};
   if (j.contains("scale")) n.scale = number(j["scale"], w / "scale");

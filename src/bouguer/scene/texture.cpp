@@ -65,28 +65,52 @@ std::array<double, 2> transformed(const UvTransform& t, std::array<double, 2> uv
   return {c * u + s * v + t.offset[0], 1.0 - (-s * u + c * v + t.offset[1])};
 }
 
-// Repeat: the index of texel coordinate i in [0, n).
-std::size_t wrapped(long i, int n) {
-  const long m = i % n;
-  return static_cast<std::size_t>(m < 0 ? m + n : m);
-}
+// A texel coordinate as a whole-texel floor that fits a long: beyond ±2^40 texels (or for a
+// coordinate that is not finite) a texture's transform has lost all precision anyway.
+double texel_floor(double x) { return std::isfinite(x) ? std::floor(std::clamp(x, -0x1p40, 0x1p40)) : 0.0; }
 
-void add_bilinear(const TextureLevel& level, std::array<double, 2> uv, float weight,
+void add_bilinear(const TextureLevel& level, const TextureSampler& sampler, std::array<double, 2> uv, float weight,
                   TexelBlend& blend) {
   const double x = uv[0] * level.width - 0.5, y = uv[1] * level.height - 0.5;
-  const double x0 = std::floor(x), y0 = std::floor(y);
-  const auto fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const double x0 = texel_floor(x), y0 = texel_floor(y);
+  const auto fx = std::clamp(static_cast<float>(x - x0), 0.0f, 1.0f);
+  const auto fy = std::clamp(static_cast<float>(y - y0), 0.0f, 1.0f);
   for (int dy = 0; dy < 2; ++dy)
     for (int dx = 0; dx < 2; ++dx) {
-      const std::size_t col = wrapped(static_cast<long>(x0) + dx, level.width);
-      const std::size_t row = wrapped(static_cast<long>(y0) + dy, level.height);
+      const std::size_t col = wrapped_index(static_cast<long>(x0) + dx, level.width, sampler.wrap[0]);
+      const std::size_t row = wrapped_index(static_cast<long>(y0) + dy, level.height, sampler.wrap[1]);
       const auto k = static_cast<std::size_t>(blend.count++);
       blend.texel[k] = level.first + row * static_cast<std::size_t>(level.width) + col;
       blend.weight[k] = weight * (dx ? fx : 1.0f - fx) * (dy ? fy : 1.0f - fy);
     }
 }
 
+// The one texel whose square holds (u, v) (glTF's NEAREST).
+void add_nearest(const TextureLevel& level, const TextureSampler& sampler, std::array<double, 2> uv,
+                 TexelBlend& blend) {
+  const auto x = static_cast<long>(texel_floor(uv[0] * level.width));
+  const auto y = static_cast<long>(texel_floor(uv[1] * level.height));
+  const std::size_t col = wrapped_index(x, level.width, sampler.wrap[0]);
+  const std::size_t row = wrapped_index(y, level.height, sampler.wrap[1]);
+  blend.texel[0] = level.first + row * static_cast<std::size_t>(level.width) + col;
+  blend.weight[0] = 1.0f;
+  blend.count = 1;
+}
+
 }  // namespace
+
+std::size_t wrapped_index(long i, int n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::clamp: return static_cast<std::size_t>(std::clamp(i, 0L, static_cast<long>(n) - 1));
+    case TextureWrap::mirror: {  // period 2n: n texels forward, then the same n backward
+      const long m = i % (2L * n), k = m < 0 ? m + 2L * n : m;
+      return static_cast<std::size_t>(k < n ? k : 2L * n - 1 - k);
+    }
+    case TextureWrap::repeat: break;
+  }
+  const long m = i % n;
+  return static_cast<std::size_t>(m < 0 ? m + n : m);
+}
 
 UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad, std::array<double, 2> scale) {
   return {{offset[0] - std::sin(rotation_rad) * scale[1], 1.0 - std::cos(rotation_rad) * scale[1] - offset[1]},
@@ -94,9 +118,10 @@ UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad,
           scale};
 }
 
-int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform) {
+int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform,
+                const TextureSampler& sampler) {
   assert(image.width > 0 && image.height > 0);
-  TextureEntry entry{static_cast<int>(table.levels.size()), 0, transform};
+  TextureEntry entry{static_cast<int>(table.levels.size()), 0, transform, sampler};
   int width = image.width, height = image.height;
   std::vector<Vec3f> level = base_level(image, use);
   for (;;) {
@@ -125,8 +150,12 @@ TexelBlend texel_blend(const TextureTable& table, int id, std::array<double, 2> 
   const auto f = static_cast<float>(lod - l0);
   TexelBlend blend;
   const auto level = [&](int l) { return table.levels[static_cast<std::size_t>(t.first_level + l)]; };
-  add_bilinear(level(l0), st, 1.0f - f, blend);
-  if (f > 0.0f && l0 + 1 < t.level_count) add_bilinear(level(l0 + 1), st, f, blend);
+  if (t.sampler.nearest_magnification && !(level_of_detail > 0.0)) {
+    add_nearest(level(0), t.sampler, st, blend);
+    return blend;
+  }
+  add_bilinear(level(l0), t.sampler, st, 1.0f - f, blend);
+  if (f > 0.0f && l0 + 1 < t.level_count) add_bilinear(level(l0 + 1), t.sampler, st, f, blend);
   return blend;
 }
 

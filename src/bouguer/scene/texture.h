@@ -5,7 +5,9 @@
 // (the sigmoid polynomial of spectra/rgb_to_spectrum.h), so a lookup blends spectra, not colours.
 //
 // Lookup: texture coordinates (u, v), v = 0 at the image's bottom row (the OBJ and quad
-// convention; the glTF importer flips its v), repeat outside [0, 1). Bilinear within a level,
+// convention; the glTF importer flips its v), outside [0, 1) wrapped per axis as the texture's
+// sampler says (repeat by default; clamp to the edge, or mirrored repeat), at every level alike.
+// Bilinear within a level,
 // linear between the two levels around the level of detail (trilinear). The level of detail comes
 // from a ray cone (Akenine-Möller et al., "Texture Level of Detail Strategies for Real-Time Ray
 // Tracing", Ray Tracing Gems, 2019): the cone's width at the hit over |cos θ| is the footprint's
@@ -40,6 +42,19 @@ struct UvTransform {
 // the offset becomes (o_u − sin θ·s_v, 1 − cos θ·s_v − o_v).
 UvTransform uv_transform_v_up(std::array<double, 2> offset, double rotation_rad, std::array<double, 2> scale);
 
+// How texture coordinates outside [0, 1) reach the image, per axis (glTF's sampler wrapS and
+// wrapT): repeat, clamp to the edge texel (CLAMP_TO_EDGE), or mirrored repeat (every other tile
+// mirrored). Applied to the texel indices the bilinear filter reads, so at an edge under clamp or
+// mirror the filter blends the edge texel with itself.
+enum class TextureWrap { repeat, clamp, mirror };
+
+struct TextureSampler {
+  std::array<TextureWrap, 2> wrap{TextureWrap::repeat, TextureWrap::repeat};  // along u (glTF's s), v (t)
+  // glTF's magFilter NEAREST: where the footprint is under a texel (level of detail ≤ 0, and every
+  // lookup without a ray cone) the nearest level-0 texel instead of the bilinear blend.
+  bool nearest_magnification = false;
+};
+
 // How texels are read: a reflectance (sRGB-decoded where the file is sRGB, each channel in [0, 1],
 // lifted to a spectrum), a colour used as it is (sRGB-decoded), or data (roughness, metalness:
 // the values as stored).
@@ -53,6 +68,7 @@ struct TextureLevel {
 struct TextureEntry {
   int first_level = 0, level_count = 0;
   UvTransform transform;
+  TextureSampler sampler;
 };
 
 struct TextureTable {
@@ -63,7 +79,11 @@ struct TextureTable {
 };
 
 // Adds the image's pyramid; returns its id.
-int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform = {});
+int add_texture(TextureTable& table, const TextureImage& image, TextureUse use, const UvTransform& transform = {},
+                const TextureSampler& sampler = {});
+
+// The index in [0, n) that texel index i of a row or column of n texels reads under `wrap`.
+std::size_t wrapped_index(long i, int n, TextureWrap wrap);
 
 // Texture coordinates (u, v), v up, as texture `id` reads them: its transform applied (no wrap).
 std::array<double, 2> texture_coordinates(const TextureTable& table, int id, std::array<double, 2> uv);

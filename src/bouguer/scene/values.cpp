@@ -300,7 +300,7 @@ EmissionDesc resolve_emission(const EmissionInput& in, const Source& where) {
     e.radiance = scaled(Spectrum{rgb_to_illuminant(checked_rgb(*c, ws / "rgb"))}, in.scale);
   } else if (const auto* texture = std::get_if<TextureInput>(&in.spectrum)) {
     e.radiance = scaled(Spectrum{rgb_to_illuminant({1.0, 1.0, 1.0})}, in.scale);
-    e.texture = resolve_texture(*texture, ws / "texture", TextureUse::reflectance);
+    e.texture = resolve_texture(*texture, ws, TextureUse::reflectance);
   } else {
     const Spectrum t = resolve_table(std::get<TableInput>(in.spectrum), ws);
     e.radiance = in.normalise ? normalised_to_luminance(t, in.scale) : scaled(t, in.scale);
@@ -378,22 +378,40 @@ MediumDesc resolve_medium(const std::string& name, const MediumInput& in, const 
   return m;
 }
 
+namespace {
+
+// "repeat", "clamp" or "mirror" (scene/texture.h's TextureWrap).
+TextureWrap resolve_wrap(const std::string& name, const Source& where) {
+  static const std::vector<std::string> names{"repeat", "clamp", "mirror"};
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) where.fail("unknown wrap '{}'{}", name, suggestion(name, names));
+  constexpr std::array modes{TextureWrap::repeat, TextureWrap::clamp, TextureWrap::mirror};
+  return modes[static_cast<std::size_t>(it - names.begin())];
+}
+
+}  // namespace
+
 TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use) {
-  TextureDesc d{texture.file, texture.image, texture.transform};
+  TextureDesc d{texture.file, texture.image, texture.transform, {}};
+  const bool per_axis = texture.wrap[0] != texture.wrap[1];  // a pair in the file, or one name for both
+  for (std::size_t i = 0; i < 2; ++i)
+    d.sampler.wrap[i] = resolve_wrap(texture.wrap[i], per_axis ? (where / "wrap")[i] : where / "wrap");
+  d.sampler.nearest_magnification = texture.nearest_magnification;
+  const Source wf = where / "texture";
   if (!d.image) {
-    d.file = where.resolve(texture.file);
+    d.file = wf.resolve(texture.file);
     try {
       d.image = std::make_shared<const TextureImage>(read_texture_image(d.file));
     } catch (const Error& e) {
-      where.fail("{}", e.what());  // the reader's line names the file; this one says where it was asked for
+      wf.fail("{}", e.what());  // the reader's line names the file; this one says where it was asked for
     }
   }
   if (use == TextureUse::colour || (use == TextureUse::reflectance && d.image->srgb)) return d;  // sRGB decodes into [0, 1]
   for (std::size_t i = 0; i < d.image->rgb.size(); ++i)
     if (d.image->rgb[i] < 0.0f || d.image->rgb[i] > 1.0f)
-      where.fail("{}: pixel ({}, {}) holds {}; {} must lie between 0 and 1", d.file.string(),
-                 i / 3 % static_cast<std::size_t>(d.image->width), i / 3 / static_cast<std::size_t>(d.image->width),
-                 d.image->rgb[i], use == TextureUse::reflectance ? "a reflectance" : "a data texel");
+      wf.fail("{}: pixel ({}, {}) holds {}; {} must lie between 0 and 1", d.file.string(),
+              i / 3 % static_cast<std::size_t>(d.image->width), i / 3 / static_cast<std::size_t>(d.image->width),
+              d.image->rgb[i], use == TextureUse::reflectance ? "a reflectance" : "a data texel");
   return d;
 }
 
@@ -409,13 +427,13 @@ std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Sour
   std::vector<ObjectDesc> out;
   for (const ObjPart& part : obj.parts) {
     ObjectDesc o = base;
-    o.shape = TriangleMeshShape{part.mesh, part.mesh.normals, part.mesh.uvs};
+    o.shape = TriangleMeshShape{part.mesh, part.mesh.normals, part.mesh.uvs, {}};
     DiffuseInput d;
     if (part.material >= 0) {
       const ObjMaterial& m = obj.materials[static_cast<std::size_t>(part.material)];
       o.name = fmt::format("{}: {}", base.name, m.name);
       if (m.map_kd.empty()) d.reflectance = RgbInput{m.kd};
-      else d.reflectance = TextureInput{m.map_kd.string(), nullptr, {}};
+      else d.reflectance = texture_file(m.map_kd.string());
     }
     o.material = resolve_surface_material(d, where);
     out.push_back(std::move(o));
@@ -437,13 +455,13 @@ MetallicRoughnessDesc resolve_metallic_roughness(const MetallicRoughnessInput& i
   MetallicRoughnessDesc d;
   const Source wb = where / "base_colour";
   if (const auto* t = std::get_if<TextureInput>(&in.base_colour))
-    d.base_colour_texture = resolve_texture(*t, wb / "texture", TextureUse::reflectance);
+    d.base_colour_texture = resolve_texture(*t, wb, TextureUse::reflectance);
   else
     d.base_colour = reflectance_rgb(std::get<RgbInput>(in.base_colour), wb);
   d.metalness = in.metalness;
   d.roughness = in.roughness;
   if (in.metallic_roughness_texture)
-    d.metallic_roughness_texture = resolve_texture(*in.metallic_roughness_texture, where / "metallic_roughness" / "texture",
+    d.metallic_roughness_texture = resolve_texture(*in.metallic_roughness_texture, where / "metallic_roughness",
                                                    TextureUse::data);
   return d;
 }
@@ -452,14 +470,14 @@ MetallicRoughnessDesc resolve_metallic_roughness(const MetallicRoughnessInput& i
 
 NormalMapDesc resolve_normal_map(const NormalMapInput& in, const Source& where) {
   if (!std::isfinite(in.scale)) (where / "scale").fail("must be a finite number");
-  return {resolve_texture(in.texture, where / "texture", TextureUse::data), in.scale};
+  return {resolve_texture(in.texture, where, TextureUse::data), in.scale};
 }
 
 MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& where) {
   if (const auto* c = std::get_if<ConductorInput>(&in)) {
     ConductorDesc d{resolve_spectral(c->n, where / "n"), resolve_spectral(c->k, where / "k"), c->roughness, std::nullopt};
     if (c->roughness_texture)
-      d.roughness_texture = resolve_texture(*c->roughness_texture, where / "roughness" / "texture", TextureUse::data);
+      d.roughness_texture = resolve_texture(*c->roughness_texture, where / "roughness", TextureUse::data);
     return d;
   }
   if (const auto* g = std::get_if<MetallicRoughnessInput>(&in)) return resolve_metallic_roughness(*g, where);
@@ -472,7 +490,7 @@ MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& whe
   } else if (const auto* v = std::get_if<double>(&*reflectance)) {
     d.reflectance = ConstantSpectrum{*v};
   } else if (const auto* t = std::get_if<TextureInput>(&*reflectance)) {
-    d.reflectance_texture = resolve_texture(*t, wr / "texture", TextureUse::reflectance);
+    d.reflectance_texture = resolve_texture(*t, wr, TextureUse::reflectance);
   } else {
     d.reflectance = resolve_table(std::get<TableInput>(*reflectance), wr);
   }

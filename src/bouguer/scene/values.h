@@ -6,10 +6,12 @@
 // into these plain inputs (no JSON here) and the functions below — or SceneBuilder::medium —
 // turn them into the description's values in SI units, checking each and failing with one line
 // that names the Source and the key below it ("scene.json: media.wine.absorption.unit: ...").
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -44,12 +46,22 @@ struct TableInput {
 using SpectralInput = std::variant<double, TableInput>;
 
 // A texture image: a file (relative to the source's folder), or an image a front end has already
-// read (glTF's embedded images; `file` then only names it), with its glTF texture transform.
+// read (glTF's embedded images; `file` then only names it), with its glTF texture transform, how
+// it wraps along u and v ("repeat", "clamp" or "mirror": names, checked by resolve_texture) and
+// glTF's magFilter NEAREST.
 struct TextureInput {
   std::string file;
   std::shared_ptr<const TextureImage> image;
   UvTransform transform;
+  std::array<std::string, 2> wrap{"repeat", "repeat"};
+  bool nearest_magnification = false;
 };
+// A texture file with the defaults: no transform, repeat, bilinear.
+inline TextureInput texture_file(std::string file) {
+  TextureInput t;
+  t.file = std::move(file);
+  return t;
+}
 
 // Radiance of an emitter, a light's intensity or the background: a named illuminant ("D65"),
 // normalised to luminance Y = scale; an RGB colour (RGB (1, 1, 1) is D65 at Y = 1) times scale;
@@ -170,7 +182,9 @@ EmissionDesc resolve_emission(const EmissionInput& emission, const Source& where
 IorModel resolve_ior(const IorInput& ior, const Source& where);
 MediumDesc resolve_medium(const std::string& name, const MediumInput& medium, const Source& where);
 // The image read (an Error naming the file: missing, not an image, too large) and, for a
-// reflectance or data, every texel (after sRGB decoding for a reflectance) checked to lie in [0, 1].
+// reflectance or data, every texel (after sRGB decoding for a reflectance) checked to lie in [0, 1];
+// its wrap names checked. `where` is the texture's own place ({"texture": ..., "wrap": ...}): an
+// error about the file names where / "texture", one about a wrap where / "wrap".
 TextureDesc resolve_texture(const TextureInput& texture, const Source& where, TextureUse use);
 // An object whose material is "mtl": its OBJ's faces split by `usemtl` into one object each (named
 // "<object>: <material>"), each diffuse with its MTL's Kd or map_Kd texture (faces without a
