@@ -6,7 +6,8 @@
 // media, a camera and lights, whose values the builder checks. What each glTF quantity becomes
 // is in docs/assets.md. Every error is one line naming the file and the place in it:
 //   bottle.glb: accessors[3]: count 10 exceeds bufferView 1 (64 bytes hold 5 of stride 12)
-// Textures are not read: the image loader keeps each image's reference and decodes nothing.
+// Textures: embedded images are decoded by OpenImageIO as tinygltf meets them, external ones when
+// a material uses them (gltf.cpp); a sampler's wrap modes and magFilter come with them.
 #include <filesystem>
 #include <map>
 #include <memory>
