@@ -65,6 +65,9 @@ bench_table() {
   for scene in $glob; do
     local name
     name=$(basename "$scene" .json)
+    # Whole milk takes about an hour a mode at 480x360, 64 spp: timed on its own in
+    # docs/performance.md ("Showcases of #20").
+    [ "$name" = milk-and-juice ] && continue
     for mode in $modes; do
       local rays rays_per_second seconds="" base_seconds="" s run
       # Baseline and current alternate, run after run; each column keeps its fastest run.

@@ -188,9 +188,19 @@ template <std::size_t N>
 void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
                            double u_nm) {
   constexpr std::size_t kCount = kSplitCount<N>;
-  const std::size_t j = (static_cast<std::size_t>(w.hero) + i * (N / kCount)) % N;
+  std::size_t j = i;
+  double weight = 1.0;
+  if constexpr (N > kCount) {  // full mode: bins by the eye-sensitivity density (events.h)
+    double u = w.hero_u + static_cast<double>(i) / kCount;
+    if (u >= 1.0) u -= 1.0;
+    const double width_nm = (kLambdaMaxNm - kLambdaMinNm) / static_cast<double>(N);
+    const double nm = sample_visible_wavelength(u);
+    j = std::min(static_cast<std::size_t>(std::max(0.0, (nm - kLambdaMinNm) / width_nm)), N - 1);
+    const double lo = kLambdaMinNm + static_cast<double>(j) * width_nm;
+    weight = 1.0 / (kCount * visible_wavelength_probability(lo, lo + width_nm));
+  }
   w.terminate_secondary(static_cast<int>(j), v.tables.kept_wavelength_nm(w, static_cast<int>(j), u_nm));
-  const float kept = beta[j] * static_cast<float>(N / kCount);
+  const float kept = beta[j] * static_cast<float>(weight);
   beta = SampledSpectrum<N>{};
   beta[j] = kept;
 }

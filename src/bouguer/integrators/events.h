@@ -212,8 +212,10 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
 // same event in the same direction: its wavelengths see the same light, and the noise left is in
 // brightness, not colour. Each walk is an ordinary single-wavelength path tracer's walk for its
 // wavelength, so the image's expectation does not change. Hero mode and rgb3 split into all the
-// carried wavelengths (weight 1); full mode into 4 bins spaced N/4 apart from the hero (stratified
-// over the pixel's samples), each weighted N/4 (every bin chosen with probability 4/N).
+// carried wavelengths (weight 1); full mode into 4 bins drawn as hero mode draws its wavelengths
+// (the eye-sensitivity density at 4 equal offsets of the hero's stratified number, w.hero_u), each
+// weighted 1/(4·P(bin)), P the density's mass over the bin: the bins that matter to the colour
+// are drawn more often, so a pixel's colour does not hang on how often each of 96 bins came up.
 template <std::size_t N>
 inline constexpr std::size_t kSplitCount = N <= 4 ? N : 4;
 // A segment splits when the medium is chromatic (largest σ_s over smallest at least
@@ -482,6 +484,7 @@ inline const ScatteringMedium* scattering_medium(const RenderScene& scene, int m
 template <std::size_t N>
 void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, double u) {
   w.hero = scene.scatters ? std::min(static_cast<int>(u * static_cast<double>(N)), static_cast<int>(N) - 1) : 0;
+  w.hero_u = u;
 }
 // The same from the path's own stream, drawn only in scenes that scatter (so other scenes' streams
 // are unchanged): the light tracer and the bidirectional estimators, whose test tolerances were

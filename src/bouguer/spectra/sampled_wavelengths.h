@@ -25,6 +25,7 @@ struct SampledWavelengths {
   // (media/scattering.h), drawn per sample (integrators/events.h: draw_hero; the path tracer's
   // stratified over the pixel's samples).
   int hero = 0;
+  double hero_u = 0.0;  // the number hero was drawn from (full mode's split places its bins with it)
 
   // Whether the values at the carried wavelengths are the same for every path (full, rgb3), so
   // spectra can be taken from tables precomputed for the mode.

@@ -94,6 +94,11 @@ double visible_wavelength_pdf(double wavelength_nm) {
   return 0.0039398042 / (c * c);
 }
 
+double visible_wavelength_probability(double lo_nm, double hi_nm) {
+  auto cdf = [](double nm) { return 0.0039398042 / 0.0072 * std::tanh(0.0072 * (std::clamp(nm, kLambdaMinNm, kLambdaMaxNm) - 538.0)); };
+  return cdf(hi_nm) - cdf(lo_nm);
+}
+
 HeroWavelengths sample_hero_wavelengths(double u) {
   HeroWavelengths w;
   for (std::size_t i = 0; i < kHeroCount; ++i) {

@@ -80,6 +80,9 @@ inline constexpr std::size_t kHeroCount = 4;
 
 double sample_visible_wavelength(double u);
 double visible_wavelength_pdf(double wavelength_nm);
+// The probability that sample_visible_wavelength lands in [lo_nm, hi_nm] (in closed form: its CDF
+// is a tanh).
+double visible_wavelength_probability(double lo_nm, double hi_nm);
 
 struct HeroWavelengths {
   std::array<double, kHeroCount> nm{};
