@@ -183,7 +183,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     // kSplitCount): each walk takes this segment again from the same state and a copy of the same
     // random stream.
     if constexpr (requires(Visitor& c, WalkState<N>& s, SampledWavelengths<N>& wk, Rng& r) {
-                    visit.join(visit.split(s, wk, r));
+                    c.join(c.split(s, wk, r));
                   }) {
       if (splits_wavelengths(v, state.medium, w, state.start, d, length(hit->point - state.start))) {
         const double u_nm = rng.next_double();
