@@ -6,6 +6,9 @@
 # 2. A skimmed-milk ball (4 mm, under the grey sky of tests/data/whole_milk_ball, 16x16, full, path)
 # against a long reference rendered by the first build with every path tracked at one wavelength
 # (the milk's index made to vary by 1e-6, as tests/data/whole_milk_ball/make_reference.sh does).
+# 3. The whole-milk ball of Scattering.WholeMilkBallMatchesItsReference (1.5 mm, 16x16, full,
+#    path) against the reference kept in tests/data/whole_milk_ball (16384 spp, one wavelength a
+#    path; its README says how it was made).
 # Each build renders at doubling spp (seed 1) until its mean ΔE00 to the reference is below 1 or
 # MAX_SPP is passed. Reports only; the figures are in docs/performance.md.
 #   bench/chromatic_convergence.sh build/bouguer [/path/to/other/bouguer ...]
@@ -69,3 +72,11 @@ converge "$tmp/furnace.json" "$tmp/sky.exr" 64 hero "$@"
   -o "$tmp/reference.exr" --stats-json "$tmp/reference.stats"
 echo "reference: $ref_spp spp in $(seconds "$tmp/reference.stats") s"
 converge "$tmp/skim.json" "$tmp/reference.exr" 96 full "$@"
+python3 - "$repo/tests/data/whole_milk_ball" "$tmp" <<'PY'
+import json, sys
+data, out = sys.argv[1], sys.argv[2]
+scene = json.load(open(data + "/scene.json"))
+scene["background"]["environment"] = data + "/sky.pfm"
+json.dump(scene, open(out + "/whole.json", "w"), indent=1)
+PY
+converge "$tmp/whole.json" "$repo/tests/data/whole_milk_ball/reference.exr" 32 full "$@"
