@@ -191,7 +191,7 @@ void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Samp
   std::size_t j = i;
   double weight = 1.0;
   if constexpr (N > kCount) {  // full mode: bins by the eye-sensitivity density (events.h)
-    double u = w.hero_u + static_cast<double>(i) / kCount;
+    double u = w.split_u + static_cast<double>(i) / kCount;
     if (u >= 1.0) u -= 1.0;
     const double width_nm = (kLambdaMaxNm - kLambdaMinNm) / static_cast<double>(N);
     const double nm = sample_visible_wavelength(u);

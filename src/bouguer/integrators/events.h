@@ -213,9 +213,12 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
 // brightness, not colour. Each walk is an ordinary single-wavelength path tracer's walk for its
 // wavelength, so the image's expectation does not change. Hero mode and rgb3 split into all the
 // carried wavelengths (weight 1); full mode into 4 bins drawn as hero mode draws its wavelengths
-// (the eye-sensitivity density at 4 equal offsets of the hero's stratified number, w.hero_u), each
-// weighted 1/(4·P(bin)), P the density's mass over the bin: the bins that matter to the colour
-// are drawn more often, so a pixel's colour does not hang on how often each of 96 bins came up.
+// (the eye-sensitivity density at 4 equal offsets of w.split_u, a number stratified over the
+// pixel's samples and independent of the hero, whose majorant drew the path's distances so far),
+// each weighted 1/(4·P(j)), P(j) the density's mass over [360 + j·w, 360 + (j + 1)·w] nm, w =
+// 470/96 nm, which is how a drawn wavelength picks its index (close to the bin's own whole
+// nanometres; the weight has only to match the choice): the bins that matter to the colour are
+// drawn more often, so a pixel's colour does not hang on how often each of 96 bins came up.
 template <std::size_t N>
 inline constexpr std::size_t kSplitCount = N <= 4 ? N : 4;
 // A segment splits when the medium is chromatic (largest σ_s over smallest at least
@@ -484,7 +487,6 @@ inline const ScatteringMedium* scattering_medium(const RenderScene& scene, int m
 template <std::size_t N>
 void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, double u) {
   w.hero = scene.scatters ? std::min(static_cast<int>(u * static_cast<double>(N)), static_cast<int>(N) - 1) : 0;
-  w.hero_u = u;
 }
 // The same from the path's own stream, drawn only in scenes that scatter (so other scenes' streams
 // are unchanged): the light tracer and the bidirectional estimators, whose test tolerances were

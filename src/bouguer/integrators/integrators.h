@@ -13,8 +13,9 @@
 
 namespace bouguer {
 
-// The salt of the hero's strata (start_sample_wavelengths).
+// The salts of the hero's strata and of the split's bins (start_sample_wavelengths).
 inline constexpr std::uint64_t kHeroStrataSalt = 1;
+inline constexpr std::uint64_t kSplitStrataSalt = 2;
 
 void render_whitted(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                     const RenderControl&, RenderStats&);
@@ -55,11 +56,16 @@ void add_camera_sample(FilmBuffer& film, const SpectralTables<N>& tables, const 
 // `strata` (the pixel's wavelength strata; the fixed modes carry theirs), the hero's index from
 // `heroes`, strata of its own, so that it stays independent of the wavelengths and of the one kept
 // at a dispersive interface (both drawn from `strata`), and each index is the hero equally often.
+// Full mode's split at a dense chromatic medium places its bins with `splits`, strata of a third
+// salt: independent of the hero, whose majorant drew the distances before the split (a bin choice
+// tied to the hero would weight each bin right only on average over heroes, not for the path).
 template <std::size_t N>
 void start_sample_wavelengths(const RenderScene& scene, const SpectralTables<N>& tables, const WavelengthStrata& strata,
-                              const WavelengthStrata& heroes, int s, SampledWavelengths<N>& w) {
+                              const WavelengthStrata& heroes, const WavelengthStrata& splits, int s,
+                              SampledWavelengths<N>& w) {
   tables.restart(w, tables.mode() == SpectralMode::hero ? strata.u(s) / static_cast<double>(N) : 0.0);
   draw_hero(scene, w, scene.scatters ? heroes.u(s) : 0.0);
+  w.split_u = scene.scatters ? splits.u(s) : 0.0;
 }
 
 // Every sample of every pixel of `region` × `range`, tiles in parallel: each with its own random
@@ -76,7 +82,7 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
                            std::uint64_t salt, Sample sample) {
   const bool hero = settings.spectral == SpectralMode::hero;
   for_each_tile(region, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
-    WavelengthStrata strata, heroes;
+    WavelengthStrata strata, heroes, splits;
     SampledWavelengths<N> w = tables.wavelengths(0.0);
     for (int y = tile.y0; y < tile.y1; ++y)
       for (int x = tile.x0; x < tile.x1; ++x) {
@@ -84,10 +90,13 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
                            static_cast<std::uint64_t>(x);
         const bool stratify = hero || (kDispersion && scene.dispersive);
         if (stratify) strata.reset(settings.seed, pixel, settings.spp);
-        if (scene.scatters) heroes.reset(settings.seed, pixel, settings.spp, kHeroStrataSalt);
+        if (scene.scatters) {
+          heroes.reset(settings.seed, pixel, settings.spp, kHeroStrataSalt);
+          splits.reset(settings.seed, pixel, settings.spp, kSplitStrataSalt);
+        }
         for (int s = range.begin; s < range.end; ++s) {
           Rng rng = sample_rng(settings.seed, pixel, s, salt);
-          start_sample_wavelengths(scene, tables, strata, heroes, s, w);
+          start_sample_wavelengths(scene, tables, strata, heroes, splits, s, w);
           const double dispersion_u = hero ? rng.next_double() : stratify ? strata.u(s) : 0.0;
           sample(x, y, s, rng, w, dispersion_u, rays);
         }

@@ -25,7 +25,9 @@ struct SampledWavelengths {
   // (media/scattering.h), drawn per sample (integrators/events.h: draw_hero; the path tracer's
   // stratified over the pixel's samples).
   int hero = 0;
-  double hero_u = 0.0;  // the number hero was drawn from (full mode's split places its bins with it)
+  // Places the bins of full mode's split at a dense chromatic medium (integrators/events.h:
+  // keep_split_wavelength): uniform, independent of the hero; the path tracer's stratified.
+  double split_u = 0.0;
 
   // Whether the values at the carried wavelengths are the same for every path (full, rgb3), so
   // spectra can be taken from tables precomputed for the mode.
