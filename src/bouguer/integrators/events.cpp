@@ -190,11 +190,10 @@ void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Samp
   constexpr std::size_t kCount = kSplitCount<N>;
   std::size_t j = i;
   double weight = 1.0;
-  if constexpr (N > kCount) {  // full mode: bins by the eye-sensitivity density (events.h)
-    double u = w.split_u + static_cast<double>(i) / kCount;
-    if (u >= 1.0) u -= 1.0;
+  if constexpr (N > kCount) {  // full mode: bins as hero mode draws its wavelengths (events.h)
+    static_assert(kCount == kHeroCount);
     const double width_nm = (kLambdaMaxNm - kLambdaMinNm) / static_cast<double>(N);
-    const double nm = sample_visible_wavelength(u);
+    const double nm = sample_hero_wavelengths(w.split_u).nm[i];
     j = std::min(static_cast<std::size_t>(std::max(0.0, (nm - kLambdaMinNm) / width_nm)), N - 1);
     const double lo = kLambdaMinNm + static_cast<double>(j) * width_nm;
     weight = 1.0 / (kCount * visible_wavelength_probability(lo, lo + width_nm));
