@@ -9,6 +9,7 @@
 #include <numbers>
 #include <random>
 #include <span>
+#include <stdexcept>
 
 #include "bouguer/io/image_io.h"
 #include "bouguer/media/scattering.h"
@@ -77,6 +78,23 @@ std::string ball_furnace(double camera_z, const char* sigma_s_per_m, double g, c
                      camera_z, sigma_s_per_m, g, radius);
 }
 
+// A furnace scene made index-matched (n = 1, so next-event estimation reaches the lights through
+// the ball's boundary) and lit by a uniform white environment map written into `dir`.
+std::string under_a_white_map(std::string json, const fs::path& dir) {
+  Film white(16, 8);
+  std::fill(white.rgb.begin(), white.rgb.end(), 1.0f);
+  write_pfm(dir / "white.pfm", white);
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = json.find(from);
+    if (at == std::string::npos) throw std::runtime_error("furnace scene without " + from);
+    json.replace(at, from.size(), to);
+  };
+  replace("\"ior\": 1.33", "\"ior\": 1.0");
+  replace("\"background\": {\"spectrum\": \"D65\", \"scale\": 1}",
+          fmt::format("\"background\": {{\"environment\": \"{}\"}}", (dir / "white.pfm").string()));
+  return json;
+}
+
 // The dense white furnace (#20): albedo 1, σ_s·r = 500, g = 0.85, in a sphere of index 1.33, about
 // 550 scattering events a path. Every path brings back exactly the background, so with the
 // roulette of integrators/events.h, which undoes the (η_o/η_i)² of refraction (roulette_scale),
@@ -88,6 +106,20 @@ TEST(Scattering, DenseWhiteFurnaceInBoundedTime) {
   const auto start = std::chrono::steady_clock::now();
   expect_white_furnace(json, "dense", 4, 0.01);
   std::printf("dense white furnace: %.2f s for both modes at 4 spp\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+// A dense ball (grey σ_s·r = 100, g = 0.85) of index 1 under a uniform environment map: the
+// boundary is index-matched, so next-event estimation from every medium vertex reaches the map and
+// shares it with phase sampling. Deep inside, where a connection crosses more than 3 mean free
+// paths, it is thinned (integrators/events.h: nee_probability_in_medium), down to 1 in 64 at the
+// centre; what it finds is divided by its probability, so the furnace stays white.
+TEST(Scattering, DenseFurnaceUnderAnEnvironmentMapThinsNextEventEstimation) {
+  const std::string json = under_a_white_map(ball_furnace(0.048, "[16667, 16667]", 0.85, "6 mm"),
+                                             test::scratch_dir("scattering_dense_env_furnace"));
+  const auto start = std::chrono::steady_clock::now();
+  expect_white_furnace(json, "dense, environment map", 256, 0.015);
+  std::printf("dense environment furnace: %.2f s for both modes\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
@@ -169,18 +201,8 @@ TEST(Scattering, WhiteFurnaceWithAGridDensity) {
 // medium vertices reaches the map through the index-matched boundary and is weighted against
 // phase sampling, so this checks that the two strategies share the light without loss or excess.
 TEST(Scattering, WhiteFurnaceUnderAnEnvironmentMapWithNextEventEstimation) {
-  const fs::path dir = test::scratch_dir("scattering_env_furnace");
-  Film white(16, 8);
-  std::fill(white.rgb.begin(), white.rgb.end(), 1.0f);
-  write_pfm(dir / "white.pfm", white);
-  std::string json = test::furnace_scene("", "path");
-  auto replace = [&](const std::string& from, const std::string& to) {
-    ASSERT_NE(json.find(from), std::string::npos) << from;
-    json.replace(json.find(from), from.size(), to);
-  };
-  replace("\"ior\": 1.33", "\"ior\": 1.0");
-  replace("\"background\": {\"spectrum\": \"D65\", \"scale\": 1}",
-          fmt::format("\"background\": {{\"environment\": \"{}\"}}", (dir / "white.pfm").string()));
+  const std::string json =
+      under_a_white_map(test::furnace_scene("", "path"), test::scratch_dir("scattering_env_furnace"));
   const SceneDesc desc = parse_scene(json, "furnace.json");
   ASSERT_TRUE(desc.environment.has_value());
   for (const SpectralMode mode : {SpectralMode::full, SpectralMode::hero}) {

@@ -146,6 +146,52 @@ std::optional<double> axis_crossing_z(const RayScene& scene, double h, double n)
 // (paraxial). Rays parallel to the axis at heights h ≤ 0.02 R, refracted twice through the
 // RayScene's hits, cross the axis within their spherical aberration, about (h/R)²·R/2 of f. The
 // same rays through the 96-segment tessellated ball, for contrast, miss by more.
+// The distance from a point to each analytic surface in its local frame, in closed form.
+TEST(AnalyticSurface, DistancesInClosedForm) {
+  EXPECT_DOUBLE_EQ(distance_local(SphereSurface{2.0}, {0, 0, 0}), 2.0);
+  EXPECT_DOUBLE_EQ(distance_local(SphereSurface{2.0}, {0, 3, 4}), 3.0);
+  const CylinderSurface cyl{1.0, 4.0};
+  EXPECT_DOUBLE_EQ(distance_local(cyl, {0, 2, 0}), 1.0);        // on the axis, halfway: the side
+  EXPECT_DOUBLE_EQ(distance_local(cyl, {0, 0.25, 0}), 0.25);    // near the bottom cap
+  EXPECT_DOUBLE_EQ(distance_local(cyl, {0.5, 4.5, 0}), 0.5);    // above the top cap
+  EXPECT_DOUBLE_EQ(distance_local(cyl, {4, 2, 0}), 3.0);        // beside the side
+  EXPECT_DOUBLE_EQ(distance_local(cyl, {0, -4, 4}), 5.0);       // beyond the bottom rim
+  EXPECT_DOUBLE_EQ(distance_local(DiskSurface{1.0}, {0.5, 0, -2}), 2.0);
+  EXPECT_DOUBLE_EQ(distance_local(DiskSurface{1.0}, {4, 0, 4}), 5.0);
+}
+
+// Through RayScene, an analytic surface placed by an affine transform: a rotated, uniformly scaled
+// sphere gives its exact distance (to rounding); a sphere stretched
+// into an ellipsoid gives a lower bound, never above the distance to any of its surface points.
+TEST(AnalyticSurface, DistanceThroughATransformIsALowerBound) {
+  RayScene round, ellipsoid;
+  round.add(AnalyticShape{SphereSurface{1.0}, Transform::scale({2, 2, 2})
+                                                    .then(Transform::rotate_deg(40.0, {1, 1, 0}))
+                                                    .then(Transform::translate({1, 0, 0}))});
+  round.commit();
+  const Transform t = Transform::scale({3.0, 1.0, 0.5}).then(Transform::rotate_deg(30.0, {0, 0, 1}));
+  ellipsoid.add(AnalyticShape{SphereSurface{1.0}, t});
+  ellipsoid.commit();
+  for (const Vec3 p : {Vec3{1, 0, 0}, Vec3{1.5, 0.5, 0.2}, Vec3{5, -3, 1}}) {
+    const double exact = std::abs(length(p - Vec3{1, 0, 0}) - 2.0);
+    EXPECT_LE(round.distance_to_surfaces(p, 100.0), exact * (1 + 1e-12));
+    EXPECT_GE(round.distance_to_surfaces(p, 100.0), exact * (1 - 1e-8));
+  }
+  for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{1, 0.2, 0.1}, Vec3{4, 1, 0}, Vec3{0, 0, 2}}) {
+    double nearest = 1e300;
+    for (int i = 0; i <= 200; ++i)
+      for (int j = 0; j < 400; ++j) {
+        const double theta = std::numbers::pi * i / 200, phi = 2 * std::numbers::pi * j / 400;
+        const Vec3 s = t.apply({std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)});
+        nearest = std::min(nearest, length(p - s));
+      }
+    const double bound = ellipsoid.distance_to_surfaces(p, 100.0);
+    EXPECT_LE(bound, nearest) << p.x;
+  }
+  // At the centre the nearest point is on the shortest axis: the bound is exact there.
+  EXPECT_NEAR(ellipsoid.distance_to_surfaces({0, 0, 0}, 100.0), 0.5, 1e-8);
+}
+
 TEST(AnalyticSurface, BallLensFocusesAtItsParaxialFocalLength) {
   const double radius = 0.01, n = 1.5;
   RayScene exact, faceted;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "bouguer/core/error.h"
 #include "bouguer/geometry/ray_scene.h"
@@ -166,6 +167,47 @@ TEST(Shapes, MirroringTransformKeepsFacesOutward) {
 }
 
 // Rays through a 0.1 mm sliver of glass and across a 10 m room: every crossing is found, none twice.
+// The distance to a triangle in each of its seven Voronoi regions (face, three edges, three
+// corners), in closed form, and for a degenerate triangle (a segment).
+TEST(TriangleDistance, EveryRegionInClosedForm) {
+  const Vec3 a{0, 0, 0}, b{2, 0, 0}, c{0, 2, 0};
+  EXPECT_DOUBLE_EQ(triangle_distance({0.5, 0.5, 3}, a, b, c), 3.0);            // above the face
+  EXPECT_DOUBLE_EQ(triangle_distance({0.5, 0.5, -0.25}, a, b, c), 0.25);       // below it
+  EXPECT_DOUBLE_EQ(triangle_distance({1, -3, 4}, a, b, c), 5.0);               // edge ab
+  EXPECT_DOUBLE_EQ(triangle_distance({-3, 1, 4}, a, b, c), 5.0);               // edge ac
+  EXPECT_NEAR(triangle_distance({2, 2, 0}, a, b, c), std::sqrt(2.0), 1e-15);   // edge bc
+  EXPECT_DOUBLE_EQ(triangle_distance({-3, -4, 0}, a, b, c), 5.0);              // corner a
+  EXPECT_DOUBLE_EQ(triangle_distance({5, -4, 0}, a, b, c), 5.0);               // corner b
+  EXPECT_DOUBLE_EQ(triangle_distance({0, 5, 4}, a, b, c), 5.0);                // corner c
+  EXPECT_DOUBLE_EQ(triangle_distance({1, 0, 0}, a, b, c), 0.0);                // on an edge
+  EXPECT_DOUBLE_EQ(triangle_distance({1, 1, 0}, a, b, {4, 0, 0}), 1.0);        // a segment: its middle
+}
+
+// RayScene's point query: over a closed box and a sphere mesh, the distance it finds is the least
+// of triangle_distance over every triangle (brute force), at points inside, outside and on the
+// surfaces; a radius below that distance is returned as it is.
+TEST(RayScene, DistanceToSurfacesIsTheNearestTriangle) {
+  RayScene scene;
+  const Mesh box = single(BoxShape{{0.02, 0.01, 0.03}});
+  Mesh ball = single(SphereShape{0.004, 24});
+  ball = transformed(ball, Transform::translate({0.03, 0.0, 0.0}));
+  scene.add(box);
+  scene.add(ball);
+  scene.commit();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.04, 0.04);
+  for (int i = 0; i < 400; ++i) {
+    const Vec3 p{u(rng), u(rng) * 0.5, u(rng)};
+    double brute = 1e300;
+    for (const Mesh* m : {&box, static_cast<const Mesh*>(&ball)})
+      for (const auto& t : m->triangles)
+        brute = std::min(brute, triangle_distance(p, m->positions[t[0]], m->positions[t[1]], m->positions[t[2]]));
+    EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(p, 1.0), brute) << i;
+    EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(p, 0.5 * brute), 0.5 * brute) << i;
+  }
+  EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(box.positions[0], 1.0), 0.0);
+}
+
 TEST(RayScene, ThinSliversAndLargeScenesWithoutLeaksOrAcne) {
   RayScene scene;
   scene.add(single(BoxShape{{0.01, 0.0001, 0.01}}));                                            // sliver at origin

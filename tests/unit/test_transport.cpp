@@ -13,6 +13,7 @@
 #include "bouguer/materials/surface_bsdf.h"
 #include "bouguer/render/camera.h"
 #include "bouguer/render/compare.h"
+#include "bouguer/integrators/events.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
@@ -31,6 +32,77 @@ constexpr double kPi = std::numbers::pi;
 bool bit_identical(const Film& a, const Film& b) {
   return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
          std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+// Next-event estimation's probability at a medium vertex (integrators/events.h:
+// nee_probability_in_medium), in a 10 mm ball of σ_s = 1000 per m: 1 within 3 mean free paths of
+// the surface, exp(3 − τ_R) below, 1/64 from τ_R = 3 + ln 64 on; 1 near a point light and where
+// the least-scattering wavelength sees the surface within reach; the single wavelength's σ_s in a
+// walk of one wavelength. Reusing the last query (NeeDepth) gives the same probability as a fresh
+// one along a walk of small steps.
+TEST(NeeProbability, FollowsTheDistanceToTheSurfacesAndTheLights) {
+  auto scene_with = [](const char* sigma, const char* density, const char* lights) {
+    return compile(parse_scene(fmt::format(R"({{
+      "camera": {{"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [4, 4]}},
+      "media": {{"milky": {{"ior": 1.33, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
+                "value": {}, "phase": {{"type": "isotropic"}}{}}}}}}},
+      "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "10 mm"}}, "inside": "milky"}}],
+      "lights": [{}]
+    }})", sigma, density, lights), "nee.json"));
+  };
+  const RenderScene grey = scene_with("[1000, 1000]", "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})");
+  const SpectralTables<kHeroCount> tables(grey.spectra, SpectralMode::hero);
+  const Camera camera(grey.camera);
+  const SceneView<kHeroCount> v{grey, tables, camera, 8};
+  const int milky = grey.surfaces[0].medium_behind;
+  ASSERT_GE(milky, 0);
+  const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
+  auto q_at = [&](const SceneView<kHeroCount>& view, const Vec3& x, const SampledWavelengths<kHeroCount>& wl) {
+    NeeDepth fresh;
+    return nee_probability_in_medium(view, milky, x, wl, fresh);
+  };
+  EXPECT_DOUBLE_EQ(q_at(v, {0, 0, 0}, w), kNeeFloor);              // τ_R = 10
+  EXPECT_DOUBLE_EQ(q_at(v, {0, 0.0075, 0}, w), 1.0);               // τ_R = 2.5
+  EXPECT_NEAR(q_at(v, {0.006, 0, 0}, w), std::exp(3.0 - 4.0), 1e-7);  // τ_R = 4 (an analytic sphere: exact)
+  // The same ball with a point light at its centre: every vertex near it connects.
+  const RenderScene lamp = scene_with("[1000, 1000]", "", R"({"type": "point", "position": [0, 0, 0], "spectrum": "D65", "scale": 1})");
+  const SceneView<kHeroCount> vl{lamp, tables, camera, 8};
+  EXPECT_DOUBLE_EQ(q_at(vl, {0.001, 0, 0}, w), 1.0);
+  EXPECT_NEAR(q_at(vl, {0.0055, 0, 0}, w), std::exp(3.0 - 4.5), 1e-7);  // 4.5 mm from both
+  // Chromatic: σ_s 1000 → 100 per m, so the red end sees τ_R = 1 from the centre.
+  const RenderScene chromatic = scene_with("[1000, 100]", "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})");
+  const SpectralTables<kHeroCount> ct(chromatic.spectra, SpectralMode::hero);
+  const SceneView<kHeroCount> vc{chromatic, ct, camera, 8};
+  SampledWavelengths<kHeroCount> wc = ct.wavelengths(0.3);
+  EXPECT_DOUBLE_EQ(q_at(vc, {0, 0, 0}, wc), 1.0);
+  // A walk of one wavelength at the blue end (σ_s ≈ 1000): deep again.
+  std::size_t blue = 0;
+  for (std::size_t k = 1; k < kHeroCount; ++k)
+    if (wc.nm[k] < wc.nm[blue]) blue = k;
+  wc.terminate_secondary(static_cast<int>(blue), wc.nm[blue]);
+  ASSERT_LT(wc.nm[blue], 480.0);
+  EXPECT_LT(q_at(vc, {0, 0, 0}, wc), 0.05);
+  // A density that varies has no lower bound along a ray: always 1.
+  const RenderScene varying = scene_with(
+      "[1000, 1000]", R"(, "density": {"field": "exponential", "axis": [0, 1, 0], "value": 1, "scale_length": "10 mm"})",
+      R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})");
+  const SceneView<kHeroCount> vv{varying, tables, camera, 8};
+  EXPECT_DOUBLE_EQ(q_at(vv, {0, 0, 0}, w), 1.0);
+  // Reuse: a walk of 2000 steps of 0.4 mm from the centre, clamped to the ball.
+  NeeDepth reused;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> step(0.0, 0.4e-3);
+  Vec3 x{};
+  int queries_saved = 0;
+  for (int i = 0; i < 2000; ++i) {
+    x = x + Vec3{step(rng), step(rng), step(rng)};
+    if (length(x) > 0.0095) x = x * (0.0095 / length(x));
+    const NeeDepth before = reused;
+    EXPECT_DOUBLE_EQ(nee_probability_in_medium(v, milky, x, w, reused), q_at(v, x, w)) << i;
+    if (before.centre == reused.centre && before.radius_m == reused.radius_m) ++queries_saved;
+  }
+  std::printf("NEE probability: %d of 2000 steps reused the last distance query\n", queries_saved);
+  EXPECT_GT(queries_saved, 500);
 }
 
 TEST(Splits, SampleRangesAndPixelRegionsGiveTheWholeRenderBitForBit) {

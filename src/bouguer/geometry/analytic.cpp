@@ -121,6 +121,23 @@ std::optional<LocalHit> intersect_local(const AnalyticSurface& s, const Vec3& o,
   return std::visit(Visitor{o, d, t_min, t_max}, s);
 }
 
+double distance_local(const AnalyticSurface& s, const Vec3& p) {
+  struct Visitor {
+    const Vec3& p;
+    double operator()(const SphereSurface& x) const { return std::abs(length(p) - x.radius_m); }
+    double operator()(const CylinderSurface& x) const {
+      const double rho = std::hypot(p.x, p.z);
+      const double side = std::hypot(rho - x.radius_m, p.y - std::clamp(p.y, 0.0, x.height_m));
+      const double outside = std::max(rho - x.radius_m, 0.0);
+      return std::min({side, std::hypot(p.y, outside), std::hypot(p.y - x.height_m, outside)});
+    }
+    double operator()(const DiskSurface& x) const {
+      return std::hypot(p.z, std::max(std::hypot(p.x, p.y) - x.radius_m, 0.0));
+    }
+  };
+  return std::visit(Visitor{p}, s);
+}
+
 std::array<Vec3, 2> local_bounds(const AnalyticSurface& s) {
   struct Visitor {
     std::array<Vec3, 2> operator()(const SphereSurface& x) const {

@@ -43,6 +43,10 @@ struct LocalHit {
 std::optional<LocalHit> intersect_local(const AnalyticSurface& s, const Vec3& o, const Vec3& d, double t_min,
                                         double t_max);
 
+// The distance from the local point p to the nearest point of the surface (the cylinder's side
+// and both caps).
+double distance_local(const AnalyticSurface& s, const Vec3& p);
+
 // The surface's local bounding box (lo, hi).
 std::array<Vec3, 2> local_bounds(const AnalyticSurface& s);
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "bouguer/core/error.h"
@@ -18,7 +19,61 @@ struct AnalyticRecord {
   Mat3 normal_to_world;  // its transpose: normals go by the inverse transpose
   unsigned geometry = RTC_INVALID_GEOMETRY_ID;
   std::array<Vec3, 2> world_bounds;
+  double min_stretch = 1.0;  // the linear part's smallest singular value (a hair less)
 };
+
+// The smallest singular value of the linear part a: the square root of the least eigenvalue of
+// the symmetric aᵀa, in closed form (Smith 1961, "Eigenvalues of a symmetric 3 × 3 matrix"),
+// made a little smaller so that rounding never puts it above the true value.
+double smallest_stretch(const Mat3& a) {
+  double s[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) s[i][j] = a.m[0][i] * a.m[0][j] + a.m[1][i] * a.m[1][j] + a.m[2][i] * a.m[2][j];
+  const double off = s[0][1] * s[0][1] + s[0][2] * s[0][2] + s[1][2] * s[1][2];
+  const double q = (s[0][0] + s[1][1] + s[2][2]) / 3.0;
+  double least;
+  const double p2 = (s[0][0] - q) * (s[0][0] - q) + (s[1][1] - q) * (s[1][1] - q) + (s[2][2] - q) * (s[2][2] - q) + 2.0 * off;
+  if (p2 <= 1e-30 * q * q) {
+    least = std::min({s[0][0], s[1][1], s[2][2]});
+  } else {
+    const double p = std::sqrt(p2 / 6.0);
+    double b[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) b[i][j] = (s[i][j] - (i == j ? q : 0.0)) / p;
+    const double det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+                       b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
+    const double phi = std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0;
+    least = q + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+  }
+  return std::sqrt(std::max(0.0, least)) * (1.0 - 1e-9) - 1e-12 * std::sqrt(q);
+}
+
+// A point query's state: the double-precision point, the nearest distance so far, and the
+// geometry (meshes by id, analytic records by id).
+struct DistanceQuery {
+  Vec3 p;
+  double best;
+  double pad;  // the float point's error
+  const std::vector<Mesh>* meshes;
+  const std::vector<std::unique_ptr<AnalyticRecord>>* analytic;
+};
+
+bool distance_callback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<DistanceQuery*>(args->userPtr);
+  double d;
+  if (const auto& r = (*q->analytic)[args->geomID]) {
+    d = distance_local(r->shape.surface, r->to_local * (q->p - r->shape.to_world.translation)) * r->min_stretch;
+  } else {
+    const Mesh& m = (*q->meshes)[args->geomID];
+    const auto& tri = m.triangles[args->primID];
+    d = triangle_distance(q->p, m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]);
+  }
+  if (!(d < q->best)) return false;
+  q->best = d;
+  // Embree culls with its float point and radius: padded so that no nearer primitive is culled.
+  args->query->radius = std::nextafter(static_cast<float>(d * (1.0 + 1e-6) + q->pad), INFINITY);
+  return true;
+}
 
 // Embree's context extended with the query's double-precision ray (Embree's is float) and the
 // analytic hit last accepted, which is the nearest analytic one: each accepted hit shortens tfar.
@@ -144,6 +199,7 @@ std::uint32_t RayScene::add(const AnalyticShape& shape) {
   record->to_local = inverse(shape.to_world.linear);
   record->normal_to_world = transpose(record->to_local);
   record->world_bounds = world_bounds(shape);
+  record->min_stretch = smallest_stretch(shape.to_world.linear);
   RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(g, 1);
   rtcSetGeometryUserData(g, record.get());
@@ -171,6 +227,20 @@ std::array<Vec3, 2> RayScene::bounds(std::uint32_t geometry) const {
   for (const Vec3& p : impl_->meshes[geometry].positions)
     for (std::size_t i = 0; i < 3; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
   return {lo, hi};
+}
+
+double RayScene::distance_to_surfaces(const Vec3& p, double radius_m) const {
+  const double magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1e-3});
+  DistanceQuery q{p, radius_m, 1e-6 * magnitude, &impl_->meshes, &impl_->analytic};
+  RTCPointQuery query;
+  query.x = static_cast<float>(p.x), query.y = static_cast<float>(p.y), query.z = static_cast<float>(p.z);
+  query.time = 0.0f;
+  // The float point is up to half an ulp of the largest coordinate off: the radius covers that.
+  query.radius = static_cast<float>(radius_m * (1.0 + 1e-6) + q.pad);
+  RTCPointQueryContext context;
+  rtcInitPointQueryContext(&context);
+  rtcPointQuery(impl_->scene, &query, &context, distance_callback, &q);
+  return std::max(0.0, q.best);
 }
 
 std::optional<Hit> RayScene::intersect(const Ray& ray) const {

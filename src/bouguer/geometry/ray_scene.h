@@ -53,6 +53,11 @@ class RayScene {
   void commit();
 
   std::optional<Hit> intersect(const Ray& ray) const;
+  // The distance from p to the nearest surface (triangle or analytic), or radius_m where none is
+  // nearer (Embree's point query over the same tree). Never more than the true distance, up to
+  // rounding: an affinely placed analytic surface gives its local distance times the transform's
+  // smallest stretch.
+  double distance_to_surfaces(const Vec3& p, double radius_m) const;
   // The triangles of a mesh geometry (empty for an analytic one).
   const Mesh& mesh(std::uint32_t geometry) const;
   // The analytic shape of a geometry, or null for a mesh.

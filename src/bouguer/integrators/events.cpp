@@ -204,6 +204,35 @@ void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Samp
   beta[j] = kept;
 }
 
+template <std::size_t N>
+double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                                 NeeDepth& last) {
+  const ScatteringMedium* sm = scattering_medium(v.scene, medium);
+  const auto* constant = sm ? std::get_if<ConstantField>(&sm->density) : nullptr;
+  if (!constant) return 1.0;
+  const SampledSpectrum<N> sigma_s = v.tables.at(sm->sigma_s, w);
+  float lo = w.secondary_terminated() ? sigma_s[static_cast<std::size_t>(w.single)] : sigma_s[0];
+  if (!w.secondary_terminated())
+    for (std::size_t k = 1; k < N; ++k) lo = std::min(lo, sigma_s[k]);
+  const double sigma_per_m = static_cast<double>(lo) * constant->value;
+  if (!(sigma_per_m > 0.0)) return 1.0;
+  const double full_m = kNeeFullDepth / sigma_per_m;
+  const double floor_m = (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m;
+  if (last.radius_m >= 0.0) {
+    const double moved = length(x - last.centre);
+    if (last.radius_m + moved <= full_m) return 1.0;  // (a capped radius is larger than full_m)
+    if (last.radius_m - moved >= floor_m) return kNeeFloor;
+  }
+  double r_m = v.scene.rays.distance_to_surfaces(x, 2.0 * floor_m);
+  for (const int index : v.scene.delta_lights) {
+    const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
+    if (const auto* p = std::get_if<PointLight>(&light)) r_m = std::min(r_m, length(x - p->position_m));
+    if (const auto* s = std::get_if<SpotLight>(&light)) r_m = std::min(r_m, length(x - s->position_m));
+  }
+  last = {x, r_m};
+  return std::clamp(std::exp(kNeeFullDepth - sigma_per_m * r_m), kNeeFloor, 1.0);
+}
+
 namespace {
 
 // Adds `value` (already multiplied by everything but the connection and the camera's factor) at
@@ -266,6 +295,8 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                                      const PhaseFunction&, int, const SampledWavelengths<N>&,         \
                                                      const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);     \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
+  template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,      \
+                                            NeeDepth&);                                                               \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
                                    double);                                                                           \
   template void keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, \

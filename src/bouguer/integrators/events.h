@@ -175,6 +175,31 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
                                           InsideSet inside = 0);
 
+// Next-event estimation deep in a dense medium (the path tracer, #20). A connection from a medium
+// vertex that is R from every surface and every point or spot light crosses at least R of its
+// medium, so in a homogeneous one it gets through with probability at most exp(−τ_R), τ_R =
+// σ_s·ρ·R at the least-scattering carried wavelength. Deep in whole milk that is e^−100, and the
+// light's sample, its shadow ray and the tracking that finds the ray blocked took half of a walk's
+// time. The path tracer does next-event estimation at a medium vertex with probability
+// q = min(1, max(kNeeFloor, exp(kNeeFullDepth − τ_R))) and divides what it finds by q: the
+// expectation is the same for any q > 0, and the MIS weights against phase sampling keep their
+// meaning (they sum to 1 over the strategies, the roulette only thins one of them). A connection
+// that q thins finds at most e^−3 of a light's unshadowed value before the division, so the
+// division adds no outliers. R comes from a point query (RayScene::distance_to_surfaces) and is
+// reused while the triangle inequality decides: |x − c| from the last query point c, the distance
+// at x lies within R(c) ± |x − c|, so a vertex within reach of a surface (q = 1) or far below it
+// (q = kNeeFloor) needs no query. Media whose density varies keep q = 1 (their ρ along a ray has
+// no lower bound).
+inline constexpr double kNeeFullDepth = 3.0;
+inline constexpr double kNeeFloor = 1.0 / 64.0;
+struct NeeDepth {
+  Vec3 centre;             // where the last query was made
+  double radius_m = -1.0;  // the distance found there (capped); < 0: none yet
+};
+template <std::size_t N>
+double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                                 NeeDepth& last);
+
 // The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
 // where the ratios are not read); with `connection`, of the path's ratios times a connection's.
 template <std::size_t N>
