@@ -210,10 +210,14 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
   const ScatteringMedium* sm = scattering_medium(v.scene, medium);
   const auto* constant = sm ? std::get_if<ConstantField>(&sm->density) : nullptr;
   if (!constant) return 1.0;
-  const SampledSpectrum<N> sigma_s = v.tables.at(sm->sigma_s, w);
-  float lo = w.secondary_terminated() ? sigma_s[static_cast<std::size_t>(w.single)] : sigma_s[0];
-  if (!w.secondary_terminated())
+  float lo;
+  if (w.secondary_terminated()) {
+    lo = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
+  } else {
+    const SampledSpectrum<N> sigma_s = v.tables.at(sm->sigma_s, w);
+    lo = sigma_s[0];
     for (std::size_t k = 1; k < N; ++k) lo = std::min(lo, sigma_s[k]);
+  }
   const double sigma_per_m = static_cast<double>(lo) * constant->value;
   if (!(sigma_per_m > 0.0)) return 1.0;
   const double full_m = kNeeFullDepth / sigma_per_m;

@@ -321,16 +321,21 @@ inline float roulette_scale(const RenderScene& scene, int medium, TransportMode 
 // Russian roulette from depth 4, never where the medium forbids it (inside an absorber,
 // media/medium.h); the survival probability is the largest throughput over wavelengths (beta over
 // the mean of the path's ratios, which is what a contribution is divided by, times
-// roulette_scale), at least 5 %. Whether the path goes on (beta rescaled if it does).
+// roulette_scale), at least 5 %. Whether the path goes on (beta rescaled if it does). `single`:
+// the index of the only wavelength carried (every other's throughput is 0), or −1.
 template <std::size_t N>
 bool survives_roulette(const RenderScene& scene, int depth, int medium, SampledSpectrum<N>& beta, Rng& rng,
-                       float mean_ratio = 1.0f, float scale = 1.0f) {
+                       float mean_ratio = 1.0f, float scale = 1.0f, int single = -1) {
   constexpr int kRouletteDepth = 4;
   if (depth < kRouletteDepth || (medium >= 0 && !allows_roulette(scene.media[static_cast<std::size_t>(medium)].medium)))
     return true;
-  const float survive = std::max(0.05f, std::min(1.0f, beta.max_value() * scale / mean_ratio));
+  const float largest = single >= 0 ? beta[static_cast<std::size_t>(single)] : beta.max_value();
+  const float survive = std::max(0.05f, std::min(1.0f, largest * scale / mean_ratio));
   if (rng.next_double() >= survive) return false;
-  beta /= survive;
+  if (single >= 0)
+    beta[static_cast<std::size_t>(single)] /= survive;
+  else
+    beta /= survive;
   return true;
 }
 
@@ -364,18 +369,19 @@ inline int medium_arrived_through(const Surface& surface, const Ray& ray, const 
 
 // A path's next step from a surface event: wi drawn from the BSDF in the path's transport mode,
 // beta multiplied by its weight, the medium wi travels in, the next ray from the hit, Russian
-// roulette. Returns the sample's pdf (0: specular), or nullopt when the path ends.
+// roulette (`single` as survives_roulette's). Returns the sample's pdf (0: specular), or nullopt
+// when the path ends.
 template <std::size_t N>
 std::optional<double> continue_path(const RenderScene& scene, const Hit& hit, const SurfaceEvent<N>& e,
                                     const Vec3& wo, TransportMode mode, int depth, SampledSpectrum<N>& beta,
-                                    int& medium, Ray& ray, Rng& rng, float mean_ratio = 1.0f) {
+                                    int& medium, Ray& ray, Rng& rng, float mean_ratio = 1.0f, int single = -1) {
   const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
   const auto s = e.sample(wo, uc, u1, u2, mode);
   if (!s) return std::nullopt;
   const Vec3 wi = s->wi;
   beta *= s->weight;
   medium = e.medium_towards(wi);
-  if (!survives_roulette(scene, depth, medium, beta, rng, mean_ratio, roulette_scale(scene, medium, mode)) ||
+  if (!survives_roulette(scene, depth, medium, beta, rng, mean_ratio, roulette_scale(scene, medium, mode), single) ||
       beta.is_zero())
     return std::nullopt;
   ray = {offset_ray_origin(hit, wi), wi};
@@ -407,10 +413,12 @@ std::optional<Vec3> through_medium(const SceneView<N>& v, int medium, const Vec3
 template <std::size_t N>
 std::optional<double> continue_from_medium(const RenderScene& scene, const ScatteringMedium& sm, const Vec3& x,
                                            int events, int medium, SampledSpectrum<N>& beta,
-                                           const SpectralMis<N>& mis, Ray& ray, Rng& rng, TransportMode mode) {
+                                           const SpectralMis<N>& mis, Ray& ray, Rng& rng, TransportMode mode,
+                                           int single = -1) {
   const double u1 = rng.next_double(), u2 = rng.next_double();
   const PhaseSample ps = sample_phase(sm.phase, ray.direction, u1, u2);
-  if (!survives_roulette(scene, events, medium, beta, rng, mean_ratio(scene, mis.r_u), roulette_scale(scene, medium, mode)))
+  if (!survives_roulette(scene, events, medium, beta, rng, mean_ratio(scene, mis.r_u), roulette_scale(scene, medium, mode),
+                         single))
     return std::nullopt;
   ray = {x, ps.out};
   return ps.pdf;

@@ -211,7 +211,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       if (!record(vx)) return;
       // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
       const auto phase_pdf =
-          continue_from_medium(scene, sm, *x, events + 1, state.medium, state.beta, state.mis, state.ray, rng, mode);
+          continue_from_medium(scene, sm, *x, events + 1, state.medium, state.beta, state.mis, state.ray, rng, mode,
+                               w.secondary_terminated() ? w.single : -1);
       if (!phase_pdf) return;
       if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
       state.pdf_dir = *phase_pdf;
@@ -250,7 +251,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
-                                        mean_ratio(scene, state.mis.r_u));
+                                        mean_ratio(scene, state.mis.r_u), w.secondary_terminated() ? w.single : -1);
     if (!bsdf_pdf) return;
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)

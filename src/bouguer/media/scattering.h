@@ -147,19 +147,30 @@ template <typename Tables, typename Ray, std::size_t N>
 MediumEvent sample_scattering(const ScatteringMedium& m, const Tables& tables, const Ray& ray, double t_max,
                               const SampledWavelengths<N>& w, Rng& rng, SampledSpectrum<N>& beta,
                               SpectralMis<N>& mis) {
-  const SampledSpectrum<N> sigma_s = tables.at(m.sigma_s, w);
   const bool single = w.secondary_terminated();
   const auto hero = static_cast<std::size_t>(single ? w.single : w.hero);
   MediumEvent event;
   double null_ratio = 1.0;  // Π 1/(1 − ρ/ρ̄) over the null collisions: a light connection's density is T_maj·σ̄
-  const detail::MajorantWalk walk = detail::walk_majorant(m, sigma_s[hero], ray, t_max, rng, [&](double t, double real) {
+  auto on_collision = [&](double t, double real) {
     if (rng.next_double() < real) {  // real: density T_maj·σ_s at the hero
       event = {true, t};
       return false;
     }
     null_ratio /= 1.0 - real;  // null: density T_maj·σ_n, σ_n = σ_s·(ρ̄ − ρ)
     return true;
-  });
+  };
+  if (single) {
+    // One wavelength carried (after a dispersive interface or a split): the walk factor is 1 and
+    // every other wavelength's throughput is 0, so only the kept one is touched (the same values
+    // bit for bit as the full update).
+    detail::walk_majorant(m, tables.at_index(m.sigma_s, w, hero), ray, t_max, rng, on_collision);
+    if (null_ratio != 1.0) mis.r_l *= static_cast<float>(null_ratio);
+    if (!m.absorbers.empty())
+      beta[hero] *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, event.scattered ? event.t : t_max, w)[hero];
+    return event;
+  }
+  const SampledSpectrum<N> sigma_s = tables.at(m.sigma_s, w);
+  const detail::MajorantWalk walk = detail::walk_majorant(m, sigma_s[hero], ray, t_max, rng, on_collision);
   const SampledSpectrum<N> f = detail::walk_factor(sigma_s, hero, single, walk);
   beta *= f;
   mis.r_u *= f;

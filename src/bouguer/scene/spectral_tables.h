@@ -45,6 +45,12 @@ class SpectralTables {
     for (std::size_t i = 0; i < N; ++i) s[i] = at_nm(id, w.nm[i]);
     return s;
   }
+  // Its value at carried wavelength j alone (at(id, w)[j], without the others: a walk of one
+  // wavelength).
+  float at_index(int id, const SampledWavelengths<N>& w, std::size_t j) const {
+    if (w.fixed()) return fixed_[static_cast<std::size_t>(id)][j];
+    return at_nm(id, w.nm[j]);
+  }
   // At any wavelength (linear between whole nanometres, held beyond 360–830 nm).
   float at_nm(int id, double wavelength_nm) const;
   // exp(−σ_a·l) for the absorption spectrum `id` (full mode: the mean over the sub-bin points).
