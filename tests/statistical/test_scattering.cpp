@@ -372,6 +372,7 @@ TEST(Scattering, LightTracerAgreesWithThePathTracerInAMedium) {
 struct TestTables {
   SampledSpectrum<4> sigma_s;
   SampledSpectrum<4> at(int, const SampledWavelengths<4>&) const { return sigma_s; }
+  float at_index(int, const SampledWavelengths<4>&, std::size_t j) const { return sigma_s[j]; }
   SampledSpectrum<4> transmittance(std::span<const OpticalDepthTerm>, const SampledWavelengths<4>&) const {
     return SampledSpectrum<4>::constant(1.0f);
   }
