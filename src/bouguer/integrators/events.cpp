@@ -206,7 +206,7 @@ void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Samp
 
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
-                                 NeeDepth& last) {
+                                 SurfaceDistance& last) {
   const ScatteringMedium* sm = scattering_medium(v.scene, medium);
   const auto* constant = sm ? std::get_if<ConstantField>(&sm->density) : nullptr;
   if (!constant) return 1.0;
@@ -300,7 +300,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                                      const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);     \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
   template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,      \
-                                            NeeDepth&);                                                               \
+                                            SurfaceDistance&);                                                               \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
                                    double);                                                                           \
   template void keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, \

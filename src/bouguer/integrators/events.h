@@ -192,13 +192,16 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
 // no lower bound).
 inline constexpr double kNeeFullDepth = 3.0;
 inline constexpr double kNeeFloor = 1.0 / 64.0;
-struct NeeDepth {
+// The last such query of a walk: a point and its distance to the nearest surface or point light
+// (capped). The walk reuses it too (walk.h: a walk of one wavelength deep in a homogeneous medium
+// needs no ray where the next collision falls within the bound).
+struct SurfaceDistance {
   Vec3 centre;             // where the last query was made
   double radius_m = -1.0;  // the distance found there (capped); < 0: none yet
 };
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
-                                 NeeDepth& last);
+                                 SurfaceDistance& last);
 
 // The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
 // where the ratios are not read); with `connection`, of the path's ratios times a connection's.

@@ -36,7 +36,6 @@ struct Radiance {
   Vec3 previous;  // the last vertex: where next-event estimation would have started
   SampledSpectrum<N> l;
   int surfaces = 0, scatterings = 0;
-  NeeDepth depth;  // the last distance to the surfaces, for next-event estimation in media
 
   // A light met along a direction drawn with density state.pdf_dir (0: specular, or the camera).
   void arrived_at_light(const Vertex<N>& x) {
@@ -61,7 +60,7 @@ struct Radiance {
   // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r) const {
-    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, depth};
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings};
   }
   void join(const Radiance& child) { l += child.l; }
 
@@ -75,7 +74,7 @@ struct Radiance {
       if (++scatterings > kMaxScatterings) return false;
       const PhaseFunction& phase = scattering_medium(scene, x.medium)->phase;
       // Thinned deep in a dense medium, where it finds nothing (events.h: nee_probability_in_medium).
-      const double q = nee_probability_in_medium(v, x.medium, x.point, w, depth);
+      const double q = nee_probability_in_medium(v, x.medium, x.point, w, state.near);
       if (q >= 1.0 || rng.next_double() < q)
         l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, state.mis.r_u, rng, rays, x.inside) *
              static_cast<float>(1.0 / q);
@@ -100,7 +99,7 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
   const Camera::Cone cone = v.camera.pixel_cone();
   state.cone_width_m = cone.width_m;
   state.cone_spread_rad = cone.spread_rad;
-  Radiance<N> li{v, w, state, rng, rays, ray.origin, {}, 0, 0, {}};
+  Radiance<N> li{v, w, state, rng, rays, ray.origin, {}, 0, 0};
   random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
   return li.l;
 }

@@ -96,6 +96,10 @@ struct WalkState {
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int crossings = 0;
   int events = 0;  // vertices so far (Russian roulette)
+  // A lower bound on the distance to every surface near the walk (events.h: the path tracer's
+  // next-event estimation keeps it): deep in a homogeneous medium, a walk of one wavelength whose
+  // next collision falls within it needs no ray.
+  SurfaceDistance near;
 };
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
@@ -116,6 +120,27 @@ double to_area_density(double pdf_dir, const Vec3& from, const V& to, double tau
   if (tau > 0.0) pdf *= std::exp(-tau);
   if (to.kind == VertexKind::medium) pdf *= to.sigma_rho;
   return pdf;
+}
+
+// A walk of one wavelength deep in a homogeneous scattering medium (#20): when the bound in
+// state.near (the distance from its last query point to the nearest surface, less how far the
+// walk has moved from there, less a float margin) exceeds where the next collision falls (read
+// from a copy of the stream), the collision comes before any surface, so it is taken without a
+// ray: the same vertex, from the same numbers, as the ray would have given. Nothing otherwise
+// (more than one wavelength carried, a varying density, no bound yet, a collision beyond it).
+template <std::size_t N>
+std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const SampledWavelengths<N>& w, Rng& rng) {
+  if (!w.secondary_terminated() || !(state.near.radius_m > 0.0)) return std::nullopt;
+  const ScatteringMedium* sm = scattering_medium(v.scene, state.medium);
+  if (!sm) return std::nullopt;
+  const Vec3& p = state.start;
+  const double margin_m = 1e-5 * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1e-3});
+  const double safe_m = state.near.radius_m - length(p - state.near.centre) - margin_m;
+  if (!(safe_m > 0.0)) return std::nullopt;
+  const auto single = static_cast<std::size_t>(w.single);
+  if (!(first_collision_m(*sm, v.tables, w, single, rng) < safe_m)) return std::nullopt;
+  const MediumEvent e = sample_scattering(*sm, v.tables, Ray{p, state.ray.direction}, safe_m, w, rng, state.beta, state.mis);
+  return p + state.ray.direction * e.t;
 }
 
 // Walks on from `state` in the transport mode of the subpath (radiance: from the camera, which
@@ -160,7 +185,31 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     ++events;
   };
   Surface scratch;  // a nested object's surface as this path sees it (kept: its name's storage is reused)
+  // A vertex in the medium at x, reached along d (by the ray's segment, or by walk_deep without a
+  // ray): record it, then the phase function's direction and the roulette. False ends the walk.
+  auto medium_vertex = [&](const Vec3& x, const Vec3& d) -> bool {
+    state.cone_width_m += state.cone_spread_rad * length(x - state.ray.origin);
+    tau += scattering_depth(v, media, state.medium, state.start, d, length(x - state.start));
+    if (state.beta.is_zero()) return false;
+    const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
+    Vertex<N> vx = make(VertexKind::medium, x);
+    vx.medium = state.medium;
+    vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
+    if (!record(vx)) return false;
+    // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
+    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, state.mis, state.ray,
+                                                rng, mode, w.secondary_terminated() ? w.single : -1);
+    if (!phase_pdf) return false;
+    if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
+    state.pdf_dir = *phase_pdf;
+    moved_on(x);
+    return true;
+  };
   for (;;) {
+    if (const auto x = walk_deep(v, state, w, rng)) {
+      if (!medium_vertex(*x, state.ray.direction)) return;
+      continue;
+    }
     ++rays;
     const auto hit = scene.rays.intersect(state.ray);
     if (!hit) {  // a camera subpath may end on a light at infinity
@@ -201,22 +250,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       }
     }
     if (const auto x = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis)) {
-      state.cone_width_m += state.cone_spread_rad * length(*x - state.ray.origin);
-      tau += scattering_depth(v, media, state.medium, state.start, d, length(*x - state.start));
-      if (state.beta.is_zero()) return;
-      const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
-      Vertex<N> vx = make(VertexKind::medium, *x);
-      vx.medium = state.medium;
-      vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, *x);
-      if (!record(vx)) return;
-      // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
-      const auto phase_pdf =
-          continue_from_medium(scene, sm, *x, events + 1, state.medium, state.beta, state.mis, state.ray, rng, mode,
-                               w.secondary_terminated() ? w.single : -1);
-      if (!phase_pdf) return;
-      if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
-      state.pdf_dir = *phase_pdf;
-      moved_on(*x);
+      if (!medium_vertex(*x, d)) return;
       continue;
     }
     tau += scattering_depth(v, media, state.medium, state.start, d, length(hit->point - state.start));

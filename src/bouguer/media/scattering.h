@@ -47,6 +47,11 @@ double scattering_column_density(const ScatteringMedium& m, const Ray& ray, doub
 
 namespace detail {
 
+// An exponentially distributed optical depth from the stream: u at the middle of its 2⁻²⁴ cell,
+// never 0. A draw of exactly 0 (one in 2²⁴, so several in a long render) put a collision at the
+// segment's start, a vertex on top of the last, and a bidirectional MIS weight of 0/0 (#20).
+inline double draw_optical_depth(Rng& rng) { return -std::log1p(-(rng.next_double() + 0x1p-25)); }
+
 // A walk along a segment drawing tentative collisions with the hero's majorant σ_s,hero·ρ̄: how
 // many it drew (n) and M = ∫ρ̄ dt over the part it walked.
 struct MajorantWalk {
@@ -65,10 +70,7 @@ template <typename Ray, typename OnCollision>
 MajorantWalk walk_majorant(const ScatteringMedium& m, double sigma_hero, const Ray& ray, double t_max, Rng& rng,
                            OnCollision on_collision) {
   const bool carry = std::holds_alternative<GridField>(m.density);
-  // τ > 0: u at the middle of its 2⁻²⁴ cell, never 0. A draw of exactly 0 (one in 2²⁴, so
-  // several in a long render) put a collision at the segment's start, a vertex on top of the last,
-  // and a bidirectional MIS weight of 0/0 (#20).
-  auto draw = [&] { return -std::log1p(-(rng.next_double() + 0x1p-25)); };
+  auto draw = [&] { return draw_optical_depth(rng); };
   MajorantWalk walk;
   DensityMajorant majorant(m.density, ray.origin, ray.direction, t_max);
   double tau = carry ? draw() : 0.0;
@@ -177,6 +179,21 @@ MediumEvent sample_scattering(const ScatteringMedium& m, const Tables& tables, c
   mis.r_l *= f * static_cast<float>(null_ratio);
   beta *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, event.scattered ? event.t : t_max, w);
   return event;
+}
+
+// Where sample_scattering would stop in a homogeneous medium (constant density) if no surface
+// were in the way: its first tentative collision, which is real there, at carried wavelength
+// `hero`, from a copy of the stream (the walk's own stream is not advanced): walk_majorant's
+// arithmetic for the one piece of a constant density. Infinite for any other density.
+template <typename Tables, std::size_t N>
+double first_collision_m(const ScatteringMedium& m, const Tables& tables, const SampledWavelengths<N>& w,
+                         std::size_t hero, Rng rng) {
+  const auto* constant = std::get_if<ConstantField>(&m.density);
+  if (!constant || !(constant->value > 0.0)) return std::numeric_limits<double>::infinity();
+  const double sigma_hero = tables.at_index(m.sigma_s, w, hero);
+  const double rate = sigma_hero * constant->value;
+  if (!(rate > 0.0)) return std::numeric_limits<double>::infinity();
+  return detail::draw_optical_depth(rng) / rate;
 }
 
 // Ratio tracking over [0, t_max] for a connection (to a light or the camera): multiplies tr by an
