@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <numbers>
+#include <vector>
 
 #include "bouguer/core/error.h"
 #include "bouguer/geometry/analytic.h"
@@ -142,10 +143,6 @@ std::optional<double> axis_crossing_z(const RayScene& scene, double h, double n)
   return ray.origin.z - ray.origin.x * ray.direction.z / ray.direction.x;
 }
 
-// A ball lens (n = 1.5, R = 1 cm) focuses a distant light at f = nR / (2(n − 1)) from its centre
-// (paraxial). Rays parallel to the axis at heights h ≤ 0.02 R, refracted twice through the
-// RayScene's hits, cross the axis within their spherical aberration, about (h/R)²·R/2 of f. The
-// same rays through the 96-segment tessellated ball, for contrast, miss by more.
 // The distance from a point to each analytic surface in its local frame, in closed form.
 TEST(AnalyticSurface, DistancesInClosedForm) {
   EXPECT_DOUBLE_EQ(distance_local(SphereSurface{2.0}, {0, 0, 0}), 2.0);
@@ -190,8 +187,37 @@ TEST(AnalyticSurface, DistanceThroughATransformIsALowerBound) {
   }
   // At the centre the nearest point is on the shortest axis: the bound is exact there.
   EXPECT_NEAR(ellipsoid.distance_to_surfaces({0, 0, 0}, 100.0), 0.5, 1e-8);
+  // A cylinder and a disk a kilometre from the origin, rotated and stretched (the disk 10⁴ times
+  // thinner in z, which does not change it): never above the distance to sampled surface points.
+  RayScene far;
+  const Vec3 at{1000.0, -500.0, 250.0};
+  const Transform tc = Transform::scale({1.0, 2.0, 0.5}).then(Transform::rotate_deg(25.0, {1, 0, 1})).then(Transform::translate(at));
+  const Transform td = Transform::scale({10.0, 10.0, 1e-3}).then(Transform::rotate_deg(60.0, {0, 1, 0})).then(Transform::translate(at + Vec3{0, 30, 0}));
+  far.add(AnalyticShape{CylinderSurface{1.0, 3.0}, tc});
+  far.add(AnalyticShape{DiskSurface{1.0}, td});
+  far.commit();
+  std::vector<Vec3> surface;
+  for (int i = 0; i <= 60; ++i)
+    for (int j = 0; j < 120; ++j) {
+      const double a = 2 * std::numbers::pi * j / 120, f = i / 60.0;
+      surface.push_back(tc.apply({std::cos(a), 3.0 * f, std::sin(a)}));                        // side
+      surface.push_back(tc.apply({f * std::cos(a), 0.0, f * std::sin(a)}));                    // bottom cap
+      surface.push_back(tc.apply({f * std::cos(a), 3.0, f * std::sin(a)}));                    // top cap
+      surface.push_back(td.apply({f * std::cos(a), f * std::sin(a), 0.0}));                    // disk
+    }
+  for (const Vec3 d : {Vec3{0, 1.5, 0}, Vec3{0.3, 1, 0.2}, Vec3{3, 0, 0}, Vec3{0, 30, 2}, Vec3{5, 28, -1}}) {
+    double nearest = 1e300;
+    for (const Vec3& s : surface) nearest = std::min(nearest, length(at + d - s));
+    const double bound = far.distance_to_surfaces(at + d, 1e6);
+    EXPECT_LE(bound, nearest) << d.x << " " << d.y;
+    EXPECT_GT(bound, 0.0) << d.x << " " << d.y;
+  }
 }
 
+// A ball lens (n = 1.5, R = 1 cm) focuses a distant light at f = nR / (2(n − 1)) from its centre
+// (paraxial). Rays parallel to the axis at heights h ≤ 0.02 R, refracted twice through the
+// RayScene's hits, cross the axis within their spherical aberration, about (h/R)²·R/2 of f. The
+// same rays through the 96-segment tessellated ball, for contrast, miss by more.
 TEST(AnalyticSurface, BallLensFocusesAtItsParaxialFocalLength) {
   const double radius = 0.01, n = 1.5;
   RayScene exact, faceted;

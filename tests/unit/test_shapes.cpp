@@ -166,7 +166,6 @@ TEST(Shapes, MirroringTransformKeepsFacesOutward) {
   EXPECT_EQ(closed_surface_problem(m), std::nullopt);
 }
 
-// Rays through a 0.1 mm sliver of glass and across a 10 m room: every crossing is found, none twice.
 // The distance to a triangle in each of its seven Voronoi regions (face, three edges, three
 // corners), in closed form, and for a degenerate triangle (a segment).
 TEST(TriangleDistance, EveryRegionInClosedForm) {
@@ -208,6 +207,7 @@ TEST(RayScene, DistanceToSurfacesIsTheNearestTriangle) {
   EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(box.positions[0], 1.0), 0.0);
 }
 
+// Rays through a 0.1 mm sliver of glass and across a 10 m room: every crossing is found, none twice.
 TEST(RayScene, ThinSliversAndLargeScenesWithoutLeaksOrAcne) {
   RayScene scene;
   scene.add(single(BoxShape{{0.01, 0.0001, 0.01}}));                                            // sliver at origin

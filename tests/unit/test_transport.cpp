@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <numbers>
 #include <random>
 
@@ -148,7 +149,12 @@ TEST(WalkDeep, TakesTheCollisionTheRayWouldHaveGiven) {
       WalkState<kFullBins> deep = state;
       Rng deep_rng = rng;
       const auto x = walk_deep(v, deep, w, deep_rng);
-      if (!x) continue;
+      if (!x) {  // declined: nothing drawn, nothing changed
+        Rng fresh = rng;
+        EXPECT_EQ(deep_rng.next_u32(), fresh.next_u32()) << i;
+        EXPECT_EQ(std::memcmp(deep.beta.v.data(), state.beta.v.data(), sizeof(float) * kFullBins), 0) << i;
+        continue;
+      }
       ++taken;
       WalkState<kFullBins> ray = state;
       Rng ray_rng = rng;
@@ -163,6 +169,74 @@ TEST(WalkDeep, TakesTheCollisionTheRayWouldHaveGiven) {
     }
     std::printf("walk_deep (%s): %d of %d collisions taken without a ray\n", *shape ? "mesh" : "analytic", taken, tried);
     EXPECT_GT(taken, tried / 2);
+  }
+}
+
+// The same through random_walk: walks of one wavelength from outside into a denser ball (σ_s
+// 20000 → 8000 per m; refraction at n = 1.33, then hundreds of collisions), once with the bound that next-event estimation keeps
+// (so walk_deep takes most collisions without a ray) and once with the bound thrown away after each
+// vertex (every collision by a ray): the same vertices, the same throughputs bit for bit, the same
+// random stream at the end.
+template <std::size_t N>
+struct RecordVertices {
+  static constexpr bool kReverse = false;
+  const SceneView<N>& v;
+  WalkState<N>& state;
+  const SampledWavelengths<N>& w;
+  bool keep_bound;
+  std::vector<Vec3> points;
+  std::vector<float> betas;
+  bool vertex(const Vertex<N>& x) {
+    points.push_back(x.point);
+    betas.push_back(x.beta[static_cast<std::size_t>(w.single)]);
+    if (x.kind == VertexKind::medium) {
+      nee_probability_in_medium(v, x.medium, x.point, w, state.near);
+      if (!keep_bound) state.near = {};
+    }
+    return x.kind != VertexKind::light && points.size() < 20000;
+  }
+};
+
+TEST(WalkDeep, RandomWalksAreTheSameWithAndWithoutIt) {
+  for (const char* shape : {"", R"(, "segments": 48)"}) {
+    const RenderScene scene = ball_of_medium("[20000, 8000]", "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})", shape);
+    const SpectralTables<kFullBins> tables(scene.spectra, SpectralMode::full);
+    const Camera camera(scene.camera);
+    const SceneView<kFullBins> v{scene, tables, camera, 1000};
+    std::size_t vertices = 0;
+    std::array<std::uint64_t, 2> rays{};
+    for (int i = 0; i < 40; ++i) {
+      SampledWavelengths<kFullBins> w = tables.wavelengths(0.0);
+      const int bin = (i * 37) % kFullBins;
+      w.terminate_secondary(bin, w.nm[static_cast<std::size_t>(bin)]);
+      std::array<RecordVertices<kFullBins>*, 2> runs{};
+      std::array<Rng, 2> rngs{Rng(5, static_cast<std::uint64_t>(i)), Rng(5, static_cast<std::uint64_t>(i))};
+      std::array<WalkState<kFullBins>, 2> states;
+      std::vector<std::unique_ptr<RecordVertices<kFullBins>>> keep;
+      for (int k = 0; k < 2; ++k) {
+        WalkState<kFullBins>& state = states[static_cast<std::size_t>(k)];
+        state.ray = {{0.001 * (i % 7 - 3), 0.0005 * (i % 5 - 2), 0.05}, {0, 0, -1}};
+        state.start = state.from = state.ray.origin;
+        state.medium = scene.world_medium;
+        state.beta = SampledSpectrum<kFullBins>{};
+        state.beta[static_cast<std::size_t>(bin)] = 1.0f;
+        keep.push_back(std::make_unique<RecordVertices<kFullBins>>(RecordVertices<kFullBins>{v, state, w, k == 0, {}, {}}));
+        runs[static_cast<std::size_t>(k)] = keep.back().get();
+        SampledWavelengths<kFullBins> wk = w;
+        random_walk(v, WalkMedia{}, TransportMode::radiance, state, wk, rngs[static_cast<std::size_t>(k)],
+                    rays[static_cast<std::size_t>(k)], *keep.back());
+      }
+      ASSERT_EQ(runs[0]->points.size(), runs[1]->points.size()) << i;
+      EXPECT_TRUE(runs[0]->points == runs[1]->points) << i;
+      EXPECT_TRUE(runs[0]->betas == runs[1]->betas) << i;
+      EXPECT_EQ(rngs[0].next_u32(), rngs[1].next_u32()) << i;
+      vertices += runs[0]->points.size();
+    }
+    std::printf("random walks with and without walk_deep (%s): %zu vertices, the same; %llu rays against %llu\n",
+                *shape ? "mesh" : "analytic", vertices, static_cast<unsigned long long>(rays[0]),
+                static_cast<unsigned long long>(rays[1]));
+    EXPECT_GT(vertices, 40u * 100u);
+    EXPECT_LT(rays[0] * 4, rays[1]);  // most collisions were taken without a ray
   }
 }
 

@@ -199,6 +199,9 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const Vec3 n = cross(ab, ac);
+  if (!(dot(n, n) > 1e-24 * std::max(dot(ab, ab), dot(ac, ac)) * std::max(dot(ab, ab), dot(ac, ac))))  // a segment or a point
+    return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
   if (d1 <= 0.0 && d2 <= 0.0) return length(ap);  // corner a
   const Vec3 bp = p - b;
@@ -215,8 +218,6 @@ double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0)  // edge bc
     return length(bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
   const double denom = va + vb + vc;
-  if (!(denom > 0.0))  // degenerate (a segment or a point): its edges
-    return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
   return length(ap - ab * (vb / denom) - ac * (vc / denom));  // the face
 }
 

@@ -22,19 +22,21 @@ struct AnalyticRecord {
   double min_stretch = 1.0;  // the linear part's smallest singular value (a hair less)
 };
 
-// The smallest singular value of the linear part a: the square root of the least eigenvalue of
-// the symmetric aᵀa, in closed form (Smith 1961, "Eigenvalues of a symmetric 3 × 3 matrix"),
-// made a little smaller so that rounding never puts it above the true value.
-double smallest_stretch(const Mat3& a) {
+// The smallest singular value of the linear part a, as 1/σ_max(a⁻¹): the square root of the
+// largest eigenvalue of the symmetric a⁻ᵀa⁻¹, in closed form (Smith 1961, "Eigenvalues of a
+// symmetric 3 × 3 matrix"), which is well conditioned however unequal the stretches are; made a
+// hair smaller so that rounding never puts it above the true value.
+double smallest_stretch(const Mat3& to_local) {
   double s[3][3];
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) s[i][j] = a.m[0][i] * a.m[0][j] + a.m[1][i] * a.m[1][j] + a.m[2][i] * a.m[2][j];
+    for (int j = 0; j < 3; ++j)
+      s[i][j] = to_local.m[0][i] * to_local.m[0][j] + to_local.m[1][i] * to_local.m[1][j] + to_local.m[2][i] * to_local.m[2][j];
   const double off = s[0][1] * s[0][1] + s[0][2] * s[0][2] + s[1][2] * s[1][2];
   const double q = (s[0][0] + s[1][1] + s[2][2]) / 3.0;
-  double least;
   const double p2 = (s[0][0] - q) * (s[0][0] - q) + (s[1][1] - q) * (s[1][1] - q) + (s[2][2] - q) * (s[2][2] - q) + 2.0 * off;
+  double largest;
   if (p2 <= 1e-30 * q * q) {
-    least = std::min({s[0][0], s[1][1], s[2][2]});
+    largest = std::max({s[0][0], s[1][1], s[2][2]});
   } else {
     const double p = std::sqrt(p2 / 6.0);
     double b[3][3];
@@ -42,10 +44,10 @@ double smallest_stretch(const Mat3& a) {
       for (int j = 0; j < 3; ++j) b[i][j] = (s[i][j] - (i == j ? q : 0.0)) / p;
     const double det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
                        b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    const double phi = std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0;
-    least = q + 2.0 * p * std::cos(phi + 2.0 * std::numbers::pi / 3.0);
+    largest = q + 2.0 * p * std::cos(std::acos(std::clamp(det / 2.0, -1.0, 1.0)) / 3.0);
   }
-  return std::sqrt(std::max(0.0, least)) * (1.0 - 1e-9) - 1e-12 * std::sqrt(q);
+  if (!(largest > 0.0) || !std::isfinite(largest)) return 0.0;
+  return (1.0 - 1e-9) / std::sqrt(largest);
 }
 
 // A point query's state: the double-precision point, the nearest distance so far, and the
@@ -155,6 +157,7 @@ struct RayScene::Impl {
   RTCScene scene = nullptr;
   std::vector<Mesh> meshes;                                // by geometry id; empty for analytic ones
   std::vector<std::unique_ptr<AnalyticRecord>> analytic;  // by geometry id; null for meshes (fixed addresses for Embree)
+  double extent_m = 0.0;  // the largest absolute coordinate of the committed scene's box
 
   Impl() {
     device = rtcNewDevice(nullptr);
@@ -199,7 +202,7 @@ std::uint32_t RayScene::add(const AnalyticShape& shape) {
   record->to_local = inverse(shape.to_world.linear);
   record->normal_to_world = transpose(record->to_local);
   record->world_bounds = world_bounds(shape);
-  record->min_stretch = smallest_stretch(shape.to_world.linear);
+  record->min_stretch = smallest_stretch(record->to_local);
   RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(g, 1);
   rtcSetGeometryUserData(g, record.get());
@@ -213,7 +216,14 @@ std::uint32_t RayScene::add(const AnalyticShape& shape) {
   return impl_->analytic.back()->geometry;
 }
 
-void RayScene::commit() { rtcCommitScene(impl_->scene); }
+void RayScene::commit() {
+  rtcCommitScene(impl_->scene);
+  RTCBounds b;
+  rtcGetSceneBounds(impl_->scene, &b);
+  impl_->extent_m = 0.0;
+  for (const float c : {b.lower_x, b.lower_y, b.lower_z, b.upper_x, b.upper_y, b.upper_z})
+    if (std::isfinite(c)) impl_->extent_m = std::max(impl_->extent_m, static_cast<double>(std::abs(c)));
+}
 
 const Mesh& RayScene::mesh(std::uint32_t geometry) const { return impl_->meshes[geometry]; }
 const AnalyticShape* RayScene::analytic(std::uint32_t geometry) const {
@@ -229,8 +239,11 @@ std::array<Vec3, 2> RayScene::bounds(std::uint32_t geometry) const {
   return {lo, hi};
 }
 
+double RayScene::extent_m() const { return impl_->extent_m; }
+
 double RayScene::distance_to_surfaces(const Vec3& p, double radius_m) const {
-  const double magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1e-3});
+  // Embree culls with its float point and the tree's float boxes: the pad covers their rounding.
+  const double magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), impl_->extent_m, 1e-3});
   DistanceQuery q{p, radius_m, 1e-6 * magnitude, &impl_->meshes, &impl_->analytic};
   RTCPointQuery query;
   query.x = static_cast<float>(p.x), query.y = static_cast<float>(p.y), query.z = static_cast<float>(p.z);

@@ -58,6 +58,9 @@ class RayScene {
   // rounding: an affinely placed analytic surface gives its local distance times the transform's
   // smallest stretch.
   double distance_to_surfaces(const Vec3& p, double radius_m) const;
+  // The largest absolute coordinate of the committed scene's box (m): the scale of its float
+  // rounding.
+  double extent_m() const;
   // The triangles of a mesh geometry (empty for an analytic one).
   const Mesh& mesh(std::uint32_t geometry) const;
   // The analytic shape of a geometry, or null for a mesh.

@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "bouguer/core/error.h"
 #include "bouguer/integrators/events.h"
 
 namespace bouguer {
@@ -127,19 +128,25 @@ double to_area_density(double pdf_dir, const Vec3& from, const V& to, double tau
 // walk has moved from there, less a float margin) exceeds where the next collision falls (read
 // from a copy of the stream), the collision comes before any surface, so it is taken without a
 // ray: the same vertex, from the same numbers, as the ray would have given. Nothing otherwise
-// (more than one wavelength carried, a varying density, no bound yet, a collision beyond it).
+// (more than one wavelength carried, a varying density, a medium no object encloses, no bound
+// yet, a collision beyond it). This holds where the scene's media agree: the ray takes the medium
+// from the surface it will meet (medium_arrived_through), walk_deep keeps the vertex's, and the
+// two differ only where two surfaces disagree about the medium between them.
 template <std::size_t N>
 std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const SampledWavelengths<N>& w, Rng& rng) {
   if (!w.secondary_terminated() || !(state.near.radius_m > 0.0)) return std::nullopt;
   const ScatteringMedium* sm = scattering_medium(v.scene, state.medium);
-  if (!sm) return std::nullopt;
+  if (!sm || !v.scene.media[static_cast<std::size_t>(state.medium)].enclosed) return std::nullopt;
   const Vec3& p = state.start;
-  const double margin_m = 1e-5 * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), 1e-3});
+  // The ray's hit point is on the double-precision triangle within float rounding of the scene's
+  // coordinates.
+  const double margin_m = 1e-5 * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), v.scene.rays.extent_m(), 1e-3});
   const double safe_m = state.near.radius_m - length(p - state.near.centre) - margin_m;
   if (!(safe_m > 0.0)) return std::nullopt;
   const auto single = static_cast<std::size_t>(w.single);
   if (!(first_collision_m(*sm, v.tables, w, single, rng) < safe_m)) return std::nullopt;
   const MediumEvent e = sample_scattering(*sm, v.tables, Ray{p, state.ray.direction}, safe_m, w, rng, state.beta, state.mis);
+  if (!e.scattered) fail("internal error: walk_deep's first collision ({}) disagrees with the tracking's", safe_m);
   return p + state.ray.direction * e.t;
 }
 
@@ -197,8 +204,9 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
     if (!record(vx)) return false;
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
-    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, state.mis, state.ray,
-                                                rng, mode, w.secondary_terminated() ? w.single : -1);
+    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta,
+                                                mean_ratio(scene, state.mis.r_u), state.ray, rng, mode,
+                                                w.secondary_terminated() ? w.single : -1);
     if (!phase_pdf) return false;
     if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
     state.pdf_dir = *phase_pdf;

@@ -119,6 +119,10 @@ struct SceneMedium {
   int ior = -1;        // spectrum id of n(λ) (SpectrumRole::point)
   double ior_reference = 1.0;  // n at kReferenceWavelengthNm
   bool dispersive = false;     // n varies over 360–830 nm
+  // Some surface has it behind (it is the inside or the contents of an object). A scattering
+  // medium that is only ever in front of surfaces (an `outside` that nothing encloses) is open to
+  // infinity, where a walk ends at a ray that escapes: walk_deep (integrators/walk.h) leaves it alone.
+  bool enclosed = false;
 };
 
 // The index a path sees: the reference index until it has kept a single wavelength, after a

@@ -491,6 +491,8 @@ void add_geometry(RenderScene& s, const SceneDesc& desc) {
           nested_range(s, first, static_cast<std::uint32_t>(s.surfaces.size()), o.name);
   }
   s.rays.commit();
+  for (const Surface& surface : s.surfaces)
+    if (surface.medium_behind >= 0) s.media[static_cast<std::size_t>(surface.medium_behind)].enclosed = true;
   check_priority_ties(s, ranges, desc);
 }
 
