@@ -113,6 +113,22 @@ TEST(NeeProbability, FollowsTheDistanceToTheSurfacesAndTheLights) {
   EXPECT_GT(queries_saved, 500);
 }
 
+// A ball_of_medium lit by a distant light, with full mode's tables and a view of it (which holds
+// references to the others: not to be copied).
+struct FullModeBall {
+  RenderScene scene;
+  SpectralTables<kFullBins> tables;
+  Camera camera;
+  SceneView<kFullBins> view;
+  FullModeBall(const char* sigma, const char* shape, int max_depth)
+      : scene(ball_of_medium(sigma, "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})", shape)),
+        tables(scene.spectra, SpectralMode::full),
+        camera(scene.camera),
+        view{scene, tables, camera, max_depth} {}
+  FullModeBall(const FullModeBall&) = delete;
+  FullModeBall& operator=(const FullModeBall&) = delete;
+};
+
 // A walk of one wavelength deep in a homogeneous medium takes its next collision without a ray
 // when the distance bound allows (walk.h: walk_deep). For 2000 random points and directions in a
 // 10 mm ball (analytic and tessellated) with absorption, at random wavelengths: whenever walk_deep
@@ -121,10 +137,10 @@ TEST(NeeProbability, FollowsTheDistanceToTheSurfacesAndTheLights) {
 // most of them (a collision within a few mean free paths, the bound several of them).
 TEST(WalkDeep, TakesTheCollisionTheRayWouldHaveGiven) {
   for (const char* shape : {"", R"(, "segments": 48)"}) {
-    const RenderScene scene = ball_of_medium("[2000, 800]", "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})", shape);
-    const SpectralTables<kFullBins> tables(scene.spectra, SpectralMode::full);
-    const Camera camera(scene.camera);
-    const SceneView<kFullBins> v{scene, tables, camera, 8};
+    const FullModeBall ball("[2000, 800]", shape, 8);
+    const RenderScene& scene = ball.scene;
+    const SpectralTables<kFullBins>& tables = ball.tables;
+    const SceneView<kFullBins>& v = ball.view;
     const int milky = scene.surfaces[0].medium_behind;
     std::mt19937_64 gen(11);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -199,10 +215,10 @@ struct RecordVertices {
 
 TEST(WalkDeep, RandomWalksAreTheSameWithAndWithoutIt) {
   for (const char* shape : {"", R"(, "segments": 48)"}) {
-    const RenderScene scene = ball_of_medium("[20000, 8000]", "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})", shape);
-    const SpectralTables<kFullBins> tables(scene.spectra, SpectralMode::full);
-    const Camera camera(scene.camera);
-    const SceneView<kFullBins> v{scene, tables, camera, 1000};
+    const FullModeBall ball("[20000, 8000]", shape, 1000);
+    const RenderScene& scene = ball.scene;
+    const SpectralTables<kFullBins>& tables = ball.tables;
+    const SceneView<kFullBins>& v = ball.view;
     std::size_t vertices = 0;
     std::array<std::uint64_t, 2> rays{};
     for (int i = 0; i < 40; ++i) {
