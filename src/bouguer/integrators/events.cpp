@@ -185,7 +185,7 @@ bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWaveleng
 }
 
 template <std::size_t N>
-void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
+double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
                            double u_nm) {
   constexpr std::size_t kCount = kSplitCount<N>;
   std::size_t j = i;
@@ -202,6 +202,7 @@ void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Samp
   const float kept = beta[j] * static_cast<float>(weight);
   beta = SampledSpectrum<N>{};
   beta[j] = kept;
+  return weight;
 }
 
 template <std::size_t N>
@@ -303,7 +304,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                             SurfaceDistance&);                                                               \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
                                    double);                                                                           \
-  template void keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, \
+  template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, \
                                       double);                                                                        \
   template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
                                     double, Rng&);                                                                    \

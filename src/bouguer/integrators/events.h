@@ -259,9 +259,11 @@ template <std::size_t N>
 bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w, const Vec3& start,
                         const Vec3& direction, double length_m);
 // Makes `w` and `beta` those of split walk i (of kSplitCount<N>); u_nm places a full-mode bin's
-// wavelength within the bin (the one its geometry follows at a dispersive interface).
+// wavelength within the bin (the one its geometry follows at a dispersive interface). Returns the
+// weight given to the bin (1 but in full mode), which the roulette leaves out (walk.h:
+// WalkState::split_weight).
 template <std::size_t N>
-void keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
+double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
                            double u_nm);
 
 // Whether a path crossing `surface` splits the wavelengths: an interface with a medium whose index

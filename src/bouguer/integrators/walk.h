@@ -101,6 +101,11 @@ struct WalkState {
   // next-event estimation keeps it): deep in a homogeneous medium, a walk of one wavelength whose
   // next collision falls within it needs no ray.
   SurfaceDistance near;
+  // The weight the split gave a walk's bin (full mode: 1/(4·P(bin)); 1 otherwise). It is a
+  // choice of spectral sample, not a path's attenuation: the roulette judges the throughput
+  // without it, as it judged the path before the split (without this, full mode's split walks,
+  // at about 24 times their path's throughput, never played it; events.h: kSplitCount).
+  float split_weight = 1.0f;
 };
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
@@ -205,7 +210,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!record(vx)) return false;
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
     const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta,
-                                                mean_ratio(scene, state.mis.r_u), state.ray, rng, mode,
+                                                mean_ratio(scene, state.mis.r_u) * state.split_weight, state.ray, rng, mode,
                                                 w.secondary_terminated() ? w.single : -1);
     if (!phase_pdf) return false;
     if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
@@ -249,7 +254,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
           WalkState<N> sub = state;
           SampledWavelengths<N> wk = w;
           Rng r = common;
-          keep_split_wavelength(v, wk, sub.beta, i, u_nm);
+          sub.split_weight = static_cast<float>(keep_split_wavelength(v, wk, sub.beta, i, u_nm)) * state.split_weight;
           auto child = visit.split(sub, wk, r);
           random_walk(v, media, mode, sub, wk, r, rays, child);
           visit.join(child);
@@ -293,7 +298,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
-                                        mean_ratio(scene, state.mis.r_u), w.secondary_terminated() ? w.single : -1);
+                                        mean_ratio(scene, state.mis.r_u) * state.split_weight, w.secondary_terminated() ? w.single : -1);
     if (!bsdf_pdf) return;
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
