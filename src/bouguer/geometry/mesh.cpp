@@ -184,10 +184,6 @@ double max_extent(const Mesh& m) {
   return e;
 }
 
-}  // namespace bouguer
-
-namespace bouguer {
-
 namespace {
 double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -200,7 +196,8 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const Vec3 n = cross(ab, ac);
-  if (!(dot(n, n) > 1e-24 * std::max(dot(ab, ab), dot(ac, ac)) * std::max(dot(ab, ab), dot(ac, ac))))  // a segment or a point
+  const double longest2 = std::max(dot(ab, ab), dot(ac, ac));
+  if (!(dot(n, n) > 1e-24 * longest2 * longest2))  // a segment or a point
     return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
   if (d1 <= 0.0 && d2 <= 0.0) return length(ap);  // corner a

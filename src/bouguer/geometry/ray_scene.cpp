@@ -239,12 +239,13 @@ std::array<Vec3, 2> RayScene::bounds(std::uint32_t geometry) const {
   return {lo, hi};
 }
 
-double RayScene::extent_m() const { return impl_->extent_m; }
+double RayScene::rounding_scale_m(const Vec3& p) const {
+  return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), impl_->extent_m, 1e-3});
+}
 
 double RayScene::distance_to_surfaces(const Vec3& p, double radius_m) const {
   // Embree culls with its float point and the tree's float boxes: the pad covers their rounding.
-  const double magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), impl_->extent_m, 1e-3});
-  DistanceQuery q{p, radius_m, 1e-6 * magnitude, &impl_->meshes, &impl_->analytic};
+  DistanceQuery q{p, radius_m, 1e-6 * rounding_scale_m(p), &impl_->meshes, &impl_->analytic};
   RTCPointQuery query;
   query.x = static_cast<float>(p.x), query.y = static_cast<float>(p.y), query.z = static_cast<float>(p.z);
   query.time = 0.0f;

@@ -58,9 +58,10 @@ class RayScene {
   // rounding: an affinely placed analytic surface gives its local distance times the transform's
   // smallest stretch.
   double distance_to_surfaces(const Vec3& p, double radius_m) const;
-  // The largest absolute coordinate of the committed scene's box (m): the scale of its float
-  // rounding.
-  double extent_m() const;
+  // The scale of float rounding about p (m): its largest absolute coordinate or the committed
+  // scene's box's, whichever is larger (at least 1 mm). Embree's float boxes and hits are off by
+  // about 1e-7 of it.
+  double rounding_scale_m(const Vec3& p) const;
   // The triangles of a mesh geometry (empty for an analytic one).
   const Mesh& mesh(std::uint32_t geometry) const;
   // The analytic shape of a geometry, or null for a mesh.

@@ -301,11 +301,11 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
                                                      const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);     \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
   template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,      \
-                                            SurfaceDistance&);                                                               \
+                                            SurfaceDistance&);                                                        \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
                                    double);                                                                           \
-  template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, \
-                                      double);                                                                        \
+  template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&,            \
+                                        std::size_t, double);                                                         \
   template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
                                     double, Rng&);                                                                    \
   template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,         \

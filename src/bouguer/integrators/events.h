@@ -186,9 +186,9 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
 // meaning (they sum to 1 over the strategies, the roulette only thins one of them). A connection
 // that q thins is worth at most e^−3 of a light's unshadowed value in expectation; a rare one that
 // gets through is worth up to 1/q of it in its sample. R comes from a point query
-// (RayScene::distance_to_surfaces) and is reused while the triangle inequality decides: |x − c| from the last query point c, the distance
-// at x lies within R(c) ± |x − c|, so a vertex within reach of a surface (q = 1) or far below it
-// (q = kNeeFloor) needs no query. Media whose density varies keep q = 1 (their ρ along a ray has
+// (RayScene::distance_to_surfaces) and is reused while the triangle inequality decides: |x − c|
+// from the last query point c, the distance at x lies within R(c) ± |x − c|, so a vertex within
+// reach of a surface (q = 1) or far below it (q = kNeeFloor) needs no query. Media whose density varies keep q = 1 (their ρ along a ray has
 // no lower bound).
 inline constexpr double kNeeFullDepth = 3.0;
 inline constexpr double kNeeFloor = 1.0 / 64.0;
@@ -414,14 +414,15 @@ std::optional<Vec3> through_medium(const SceneView<N>& v, int medium, const Vec3
 
 // A path's next step from a scattering event at x: a direction drawn from the phase function
 // (weight 1), Russian roulette (`events`: the path's surface and scattering events so far;
-// path_mean_ratio: mean_ratio of the path's ratios). The phase pdf, or nullopt when the path ends.
+// roulette_divisor: what survives_roulette divides the throughput by, the mean of the path's
+// ratios). The phase pdf, or nullopt when the path ends.
 template <std::size_t N>
 std::optional<double> continue_from_medium(const RenderScene& scene, const ScatteringMedium& sm, const Vec3& x,
-                                           int events, int medium, SampledSpectrum<N>& beta, float path_mean_ratio,
+                                           int events, int medium, SampledSpectrum<N>& beta, float roulette_divisor,
                                            Ray& ray, Rng& rng, TransportMode mode, int single = -1) {
   const double u1 = rng.next_double(), u2 = rng.next_double();
   const PhaseSample ps = sample_phase(sm.phase, ray.direction, u1, u2);
-  if (!survives_roulette(scene, events, medium, beta, rng, path_mean_ratio, roulette_scale(scene, medium, mode), single))
+  if (!survives_roulette(scene, events, medium, beta, rng, roulette_divisor, roulette_scale(scene, medium, mode), single))
     return std::nullopt;
   ray = {x, ps.out};
   return ps.pdf;

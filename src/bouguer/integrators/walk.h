@@ -145,7 +145,7 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
   const Vec3& p = state.start;
   // The ray's hit point is on the double-precision triangle within float rounding of the scene's
   // coordinates.
-  const double margin_m = 1e-5 * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), v.scene.rays.extent_m(), 1e-3});
+  const double margin_m = 1e-5 * v.scene.rays.rounding_scale_m(p);
   const double safe_m = state.near.radius_m - length(p - state.near.centre) - margin_m;
   if (!(safe_m > 0.0)) return std::nullopt;
   const auto single = static_cast<std::size_t>(w.single);
@@ -197,6 +197,10 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     ++events;
   };
   Surface scratch;  // a nested object's surface as this path sees it (kept: its name's storage is reused)
+  // What the roulette divides the throughput by (the mean of the path's ratios, and a split walk's
+  // bin weight: WalkState::split_weight), and the one wavelength carried (−1: several).
+  auto roulette_divisor = [&] { return mean_ratio(scene, state.mis.r_u) * state.split_weight; };
+  auto single_index = [&] { return w.secondary_terminated() ? w.single : -1; };
   // A vertex in the medium at x, reached along d (by the ray's segment, or by walk_deep without a
   // ray): record it, then the phase function's direction and the roulette. False ends the walk.
   auto medium_vertex = [&](const Vec3& x, const Vec3& d) -> bool {
@@ -209,9 +213,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
     if (!record(vx)) return false;
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
-    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta,
-                                                mean_ratio(scene, state.mis.r_u) * state.split_weight, state.ray, rng, mode,
-                                                w.secondary_terminated() ? w.single : -1);
+    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, roulette_divisor(),
+                                                state.ray, rng, mode, single_index());
     if (!phase_pdf) return false;
     if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
     state.pdf_dir = *phase_pdf;
@@ -298,7 +301,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
-                                        mean_ratio(scene, state.mis.r_u) * state.split_weight, w.secondary_terminated() ? w.single : -1);
+                                        roulette_divisor(), single_index());
     if (!bsdf_pdf) return;
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
