@@ -155,6 +155,21 @@ TEST(AnalyticSurface, DistancesInClosedForm) {
   EXPECT_DOUBLE_EQ(distance_local(cyl, {0, -4, 4}), 5.0);       // beyond the bottom rim
   EXPECT_DOUBLE_EQ(distance_local(DiskSurface{1.0}, {0.5, 0, -2}), 2.0);
   EXPECT_DOUBLE_EQ(distance_local(DiskSurface{1.0}, {4, 0, 4}), 5.0);
+  // The nearest points themselves: on the surface, at that distance.
+  auto nearest_is = [](const AnalyticSurface& s, const Vec3& p, const Vec3& expected) {
+    const Vec3 n = nearest_local(s, p);
+    EXPECT_NEAR(length(n - expected), 0.0, 1e-15) << p.x << " " << p.y << " " << p.z;
+    EXPECT_NEAR(length(p - n), distance_local(s, p), 1e-15);
+  };
+  nearest_is(SphereSurface{2.0}, {0, 3, 4}, {0, 1.2, 1.6});
+  nearest_is(cyl, {0.5, 2, 0}, {1, 2, 0});
+  nearest_is(cyl, {0.2, 0.1, 0}, {0.2, 0, 0});
+  nearest_is(cyl, {0.5, 4.5, 0}, {0.5, 4, 0});
+  nearest_is(cyl, {4, 2, 0}, {1, 2, 0});
+  nearest_is(cyl, {0, -4, 4}, {0, 0, 1});
+  nearest_is(DiskSurface{1.0}, {0.5, 0, -2}, {0.5, 0, 0});
+  nearest_is(DiskSurface{1.0}, {4, 0, 4}, {1, 0, 0});
+  EXPECT_NEAR(length(nearest_local(SphereSurface{2.0}, {0, 0, 0})), 2.0, 1e-15);
 }
 
 // Through RayScene, an analytic surface placed by an affine transform: a rotated, uniformly scaled
@@ -171,7 +186,10 @@ TEST(AnalyticSurface, DistanceThroughATransformIsALowerBound) {
   ellipsoid.commit();
   for (const Vec3 p : {Vec3{1, 0, 0}, Vec3{1.5, 0.5, 0.2}, Vec3{5, -3, 1}}) {
     const double exact = std::abs(length(p - Vec3{1, 0, 0}) - 2.0);
-    EXPECT_LE(round.distance_to_surfaces(p, 100.0), exact * (1 + 1e-12));
+    Vec3 nearest;
+    EXPECT_LE(round.distance_to_surfaces(p, 100.0, &nearest), exact * (1 + 1e-12));
+    EXPECT_NEAR(length(nearest - Vec3{1, 0, 0}), 2.0, 1e-12);  // on the sphere, at the distance
+    EXPECT_NEAR(length(p - nearest), exact, 1e-12);
     EXPECT_GE(round.distance_to_surfaces(p, 100.0), exact * (1 - 1e-8));
   }
   for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{1, 0.2, 0.1}, Vec3{4, 1, 0}, Vec3{0, 0, 2}}) {

@@ -184,7 +184,8 @@ TEST(TriangleDistance, EveryRegionInClosedForm) {
 
 // RayScene's point query: over a closed box and a sphere mesh, the distance it finds is the least
 // of triangle_distance over every triangle (brute force), at points inside, outside and on the
-// surfaces; a radius below that distance is returned as it is.
+// surfaces; a radius below that distance is returned as it is. The nearest point it reports lies
+// at that distance, and on one of the triangles (its own distance to the nearest one is 0).
 TEST(RayScene, DistanceToSurfacesIsTheNearestTriangle) {
   RayScene scene;
   const Mesh box = single(BoxShape{{0.02, 0.01, 0.03}});
@@ -201,8 +202,20 @@ TEST(RayScene, DistanceToSurfacesIsTheNearestTriangle) {
     for (const Mesh* m : {&box, static_cast<const Mesh*>(&ball)})
       for (const auto& t : m->triangles)
         brute = std::min(brute, triangle_distance(p, m->positions[t[0]], m->positions[t[1]], m->positions[t[2]]));
-    EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(p, 1.0), brute) << i;
-    EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(p, 0.5 * brute), 0.5 * brute) << i;
+    Vec3 nearest{7, 7, 7};
+    EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(p, 1.0, &nearest), brute) << i;
+    EXPECT_NEAR(length(p - nearest), brute, 1e-15) << i;
+    double on = 1e300;
+    for (const Mesh* m : {&box, static_cast<const Mesh*>(&ball)})
+      for (const auto& t : m->triangles)
+        on = std::min(on, triangle_distance(nearest, m->positions[t[0]], m->positions[t[1]], m->positions[t[2]]));
+    EXPECT_LT(on, 1e-15) << i;
+    const Vec3 untouched{7, 7, 7};
+    nearest = untouched;
+    EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(p, 0.5 * brute, &nearest), 0.5 * brute) << i;
+    if (brute > 0.0) {
+      EXPECT_TRUE(nearest == untouched) << i;
+    }
   }
   EXPECT_DOUBLE_EQ(scene.distance_to_surfaces(box.positions[0], 1.0), 0.0);
 }

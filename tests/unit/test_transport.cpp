@@ -11,6 +11,8 @@
 #include <random>
 
 #include "bouguer/core/frame.h"
+#include "bouguer/io/image_io.h"
+#include "bouguer/lights/light.h"
 #include "bouguer/materials/surface_bsdf.h"
 #include "bouguer/render/camera.h"
 #include "bouguer/render/compare.h"
@@ -113,6 +115,64 @@ TEST(NeeProbability, FollowsTheDistanceToTheSurfacesAndTheLights) {
   EXPECT_GT(queries_saved, 500);
 }
 
+// The exit guide (integrators/events.h: ExitGuide) under a map that is bright in one patch and
+// dim elsewhere, η = 1.33 across a plane: a direction drawn from it refracts at the plane into the
+// map's own sample (Snell), and its reported density is the one it is drawn with: over its draws,
+// the mean of 1/pdf is the solid angle of the directions that can leave through the plane, the
+// cone θ < asin(1/η), 2π(1 − cos θc) (a density off by a constant factor, a Jacobian or a
+// direction moves it). Directions into the medium and beyond the critical angle have density 0.
+TEST(ExitGuide, DrawsTheDensityItReports) {
+  const auto dir = test::scratch_dir("exit_guide");
+  Film map(32, 16);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) {
+      const float value = y < 4 && x > 9 && x < 15 ? 40.0f : (y < 8 ? 0.5f : 0.1f);
+      map.set_rgb(x, y, Vec3f{value, value, value});
+    }
+  write_pfm(dir / "patch.pfm", map);
+  const RenderScene scene = compile(parse_scene(fmt::format(R"({{
+      "camera": {{"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [4, 4]}},
+      "objects": [], "background": {{"environment": "{}"}}
+    }})", (dir / "patch.pfm").string()), "guide.json"));
+  ASSERT_GE(scene.environment_light, 0);
+  const double eta = 1.33;
+  const ExitGuide guide{normalize(Vec3{0.3, 0.8, -0.2}), eta};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int draws = 200000;
+  double sum = 0.0, sum2 = 0.0, worst_snell = 0.0;
+  int drawn = 0;
+  for (int i = 0; i < draws; ++i) {
+    const double u1 = u(rng), u2 = u(rng);
+    const auto wi = sample_exit_guide(scene, guide, u1, u2);
+    if (!wi) continue;
+    ++drawn;
+    const double pdf = exit_guide_pdf(scene, guide, *wi);
+    ASSERT_GT(pdf, 0.0);
+    sum += 1.0 / pdf;
+    sum2 += 1.0 / (pdf * pdf);
+    // Snell at the plane: the tangential part grows by η, the direction stays in the plane of incidence.
+    const auto li = sample_li(scene.lights[static_cast<std::size_t>(scene.environment_light)], Vec3{}, u1, u2);
+    ASSERT_TRUE(li);
+    const Vec3 t_in = *wi - guide.normal * dot(*wi, guide.normal), t_out = li->wi - guide.normal * dot(li->wi, guide.normal);
+    worst_snell = std::max(worst_snell, length(t_in * eta - t_out));
+  }
+  const double mean = sum / draws, se = std::sqrt((sum2 / draws - mean * mean) / draws);
+  const double cone = 2.0 * kPi * (1.0 - std::sqrt(1.0 - 1.0 / (eta * eta)));
+  std::printf("exit guide: %d of %d drawn, mean 1/pdf %.4f ± %.4f, the cone %.4f; Snell within %.1e\n", drawn, draws,
+              mean, se, cone, worst_snell);
+  EXPECT_NEAR(mean, cone, 4.0 * se);
+  EXPECT_LT(se, 0.01 * cone);
+  EXPECT_LT(worst_snell, 1e-9);
+  EXPECT_GT(drawn, draws / 10);
+  EXPECT_EQ(exit_guide_pdf(scene, guide, -guide.normal), 0.0);
+  const Frame frame(guide.normal);
+  const double beyond = std::asin(1.0 / eta) + 0.05;
+  EXPECT_EQ(exit_guide_pdf(scene, guide, frame.to_world({std::sin(beyond), 0.0, std::cos(beyond)})), 0.0);
+  EXPECT_GT(exit_guide_pdf(scene, guide, frame.to_world({0.0, std::sin(beyond - 0.1), std::cos(beyond - 0.1)})), 0.0);
+  EXPECT_EQ(exit_guide_pdf(scene, ExitGuide{}, guide.normal), 0.0);
+}
+
 // A ball_of_medium lit by a distant light, with full mode's tables and a view of it (which holds
 // references to the others: not to be copied).
 struct FullModeBall {
@@ -159,7 +219,8 @@ TEST(WalkDeep, TakesTheCollisionTheRayWouldHaveGiven) {
       state.medium = milky;
       state.beta = SampledSpectrum<kFullBins>{};
       state.beta[static_cast<std::size_t>(bin)] = 1.5f;
-      state.near = {p + Vec3{0.0003, 0, 0}, scene.rays.distance_to_surfaces(p + Vec3{0.0003, 0, 0}, 1.0)};
+      state.near.centre = p + Vec3{0.0003, 0, 0};
+      state.near.radius_m = state.near.surface_m = scene.rays.distance_to_surfaces(state.near.centre, 1.0);
       Rng rng(7, static_cast<std::uint64_t>(i));
       ++tried;
       WalkState<kFullBins> deep = state;

@@ -138,6 +138,39 @@ double distance_local(const AnalyticSurface& s, const Vec3& p) {
   return std::visit(Visitor{p}, s);
 }
 
+Vec3 nearest_local(const AnalyticSurface& s, const Vec3& p) {
+  // (x, z) pulled in to radius r at most, or out onto it with `onto`.
+  auto radial = [](double x, double z, double r, bool onto) {
+    const double rho = std::hypot(x, z);
+    if (!(rho > 0.0)) return std::array<double, 2>{onto ? r : 0.0, 0.0};
+    const double k = onto ? r / rho : std::min(1.0, r / rho);
+    return std::array<double, 2>{x * k, z * k};
+  };
+  struct Visitor {
+    const Vec3& p;
+    decltype(radial)& towards;
+    Vec3 operator()(const SphereSurface& x) const {
+      const double l = length(p);
+      return l > 0.0 ? p * (x.radius_m / l) : Vec3{x.radius_m, 0.0, 0.0};
+    }
+    Vec3 operator()(const CylinderSurface& x) const {
+      const auto side = towards(p.x, p.z, x.radius_m, true), cap = towards(p.x, p.z, x.radius_m, false);
+      const Vec3 candidates[3] = {{side[0], std::clamp(p.y, 0.0, x.height_m), side[1]},
+                                  {cap[0], 0.0, cap[1]},
+                                  {cap[0], x.height_m, cap[1]}};
+      const Vec3* nearest = &candidates[0];
+      for (const Vec3& c : candidates)
+        if (length(p - c) < length(p - *nearest)) nearest = &c;
+      return *nearest;
+    }
+    Vec3 operator()(const DiskSurface& x) const {
+      const auto in = towards(p.x, p.y, x.radius_m, false);
+      return {in[0], in[1], 0.0};
+    }
+  };
+  return std::visit(Visitor{p, radial}, s);
+}
+
 std::array<Vec3, 2> local_bounds(const AnalyticSurface& s) {
   struct Visitor {
     std::array<Vec3, 2> operator()(const SphereSurface& x) const {

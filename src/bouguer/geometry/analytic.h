@@ -46,6 +46,8 @@ std::optional<LocalHit> intersect_local(const AnalyticSurface& s, const Vec3& o,
 // The distance from the local point p to the nearest point of the surface (the cylinder's side
 // and both caps).
 double distance_local(const AnalyticSurface& s, const Vec3& p);
+// That nearest point (local); a point of the sphere or the cylinder's side where p is on its axis.
+Vec3 nearest_local(const AnalyticSurface& s, const Vec3& p);
 
 // The surface's local bounding box (lo, hi).
 std::array<Vec3, 2> local_bounds(const AnalyticSurface& s);

@@ -185,37 +185,46 @@ double max_extent(const Mesh& m) {
 }
 
 namespace {
-double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+Vec3 segment_offset(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double l2 = dot(ab, ab);
   const double t = l2 > 0.0 ? std::clamp(dot(p - a, ab) / l2, 0.0, 1.0) : 0.0;
-  return length(p - (a + ab * t));
+  return p - (a + ab * t);
 }
 }  // namespace
 
-double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+Vec3 triangle_offset(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const Vec3 n = cross(ab, ac);
   const double longest2 = std::max(dot(ab, ab), dot(ac, ac));
-  if (!(dot(n, n) > 1e-24 * longest2 * longest2))  // a segment or a point
-    return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
+  if (!(dot(n, n) > 1e-24 * longest2 * longest2)) {  // a segment or a point
+    const Vec3 e[3] = {segment_offset(p, a, b), segment_offset(p, b, c), segment_offset(p, c, a)};
+    const Vec3* nearest = &e[0];
+    for (const Vec3& x : e)
+      if (length(x) < length(*nearest)) nearest = &x;
+    return *nearest;
+  }
   const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return length(ap);  // corner a
+  if (d1 <= 0.0 && d2 <= 0.0) return ap;  // corner a
   const Vec3 bp = p - b;
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return length(bp);  // corner b
+  if (d3 >= 0.0 && d4 <= d3) return bp;  // corner b
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return length(ap - ab * (d1 / (d1 - d3)));  // edge ab
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return ap - ab * (d1 / (d1 - d3));  // edge ab
   const Vec3 cp = p - c;
   const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return length(cp);  // corner c
+  if (d6 >= 0.0 && d5 <= d6) return cp;  // corner c
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return length(ap - ac * (d2 / (d2 - d6)));  // edge ac
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return ap - ac * (d2 / (d2 - d6));  // edge ac
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0)  // edge bc
-    return length(bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    return bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
   const double denom = va + vb + vc;
-  return length(ap - ab * (vb / denom) - ac * (vc / denom));  // the face
+  return ap - ab * (vb / denom) - ac * (vc / denom);  // the face
+}
+
+double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return length(triangle_offset(p, a, b, c));
 }
 
 }  // namespace bouguer

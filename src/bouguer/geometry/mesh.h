@@ -50,8 +50,10 @@ double signed_volume(const Mesh& m);
 std::optional<std::string> closed_surface_problem(const Mesh& m);
 
 // The distance from p to the nearest point of triangle (a, b, c) (Ericson, "Real-Time Collision
-// Detection", 5.1.5: the Voronoi region of p among the corners, edges and face).
+// Detection", 5.1.5: the Voronoi region of p among the corners, edges and face), and p minus
+// that nearest point.
 double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+Vec3 triangle_offset(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 // Largest absolute coordinate (m), the scale for welding and ray offsets.
 double max_extent(const Mesh& m);

@@ -58,6 +58,7 @@ struct DistanceQuery {
   double pad;  // the float point's error
   const std::vector<Mesh>* meshes;
   const std::vector<std::unique_ptr<AnalyticRecord>>* analytic;
+  unsigned geometry = RTC_INVALID_GEOMETRY_ID, primitive = 0;  // the nearest found so far
 };
 
 bool distance_callback(RTCPointQueryFunctionArguments* args) {
@@ -72,6 +73,8 @@ bool distance_callback(RTCPointQueryFunctionArguments* args) {
   }
   if (!(d < q->best)) return false;
   q->best = d;
+  q->geometry = args->geomID;
+  q->primitive = args->primID;
   // Embree culls with its float point and radius: padded so that no nearer primitive is culled.
   args->query->radius = std::nextafter(static_cast<float>(d * (1.0 + 1e-6) + q->pad), INFINITY);
   return true;
@@ -243,7 +246,7 @@ double RayScene::rounding_scale_m(const Vec3& p) const {
   return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), impl_->extent_m, 1e-3});
 }
 
-double RayScene::distance_to_surfaces(const Vec3& p, double radius_m) const {
+double RayScene::distance_to_surfaces(const Vec3& p, double radius_m, Vec3* nearest) const {
   // Embree culls with its float point and the tree's float boxes: the pad covers their rounding.
   DistanceQuery q{p, radius_m, 1e-6 * rounding_scale_m(p), &impl_->meshes, &impl_->analytic};
   RTCPointQuery query;
@@ -254,6 +257,16 @@ double RayScene::distance_to_surfaces(const Vec3& p, double radius_m) const {
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(impl_->scene, &query, &context, distance_callback, &q);
+  if (nearest && q.geometry != RTC_INVALID_GEOMETRY_ID) {
+    if (const auto& r = impl_->analytic[q.geometry]) {
+      const Vec3 local = r->to_local * (p - r->shape.to_world.translation);
+      *nearest = r->shape.to_world.apply(nearest_local(r->shape.surface, local));
+    } else {
+      const Mesh& m = impl_->meshes[q.geometry];
+      const auto& tri = m.triangles[q.primitive];
+      *nearest = p - triangle_offset(p, m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]);
+    }
+  }
   return std::max(0.0, q.best);
 }
 

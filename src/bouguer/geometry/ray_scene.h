@@ -56,8 +56,10 @@ class RayScene {
   // The distance from p to the nearest surface (triangle or analytic), or radius_m where none is
   // nearer (Embree's point query over the same tree). Never more than the true distance, up to
   // rounding: an affinely placed analytic surface gives its local distance times the transform's
-  // smallest stretch.
-  double distance_to_surfaces(const Vec3& p, double radius_m) const;
+  // smallest stretch. With `nearest`, also the nearest surface's nearest point where one is
+  // nearer than radius_m (left as it is otherwise): exact on a triangle; on an affinely placed
+  // analytic surface, the local nearest point carried to the world (the nearest for a rigid one).
+  double distance_to_surfaces(const Vec3& p, double radius_m, Vec3* nearest = nullptr) const;
   // The scale of float rounding about p (m): its largest absolute coordinate or the committed
   // scene's box's, whichever is larger (at least 1 mm). Embree's float boxes and hits are off by
   // about 1e-7 of it.

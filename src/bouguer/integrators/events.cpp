@@ -205,12 +205,15 @@ double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Sa
   return weight;
 }
 
+namespace {
+
+// σ_s·ρ of a homogeneous scattering medium at the least-scattering carried wavelength (the walk's
+// own after a split); 0 for any other medium.
 template <std::size_t N>
-double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
-                                 SurfaceDistance& last) {
+double homogeneous_sigma_min_per_m(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w) {
   const ScatteringMedium* sm = scattering_medium(v.scene, medium);
   const auto* constant = sm ? std::get_if<ConstantField>(&sm->density) : nullptr;
-  if (!constant) return 1.0;
+  if (!constant) return 0.0;
   float lo;
   if (w.secondary_terminated()) {
     lo = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
@@ -220,6 +223,30 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
     for (std::size_t k = 1; k < N; ++k) lo = std::min(lo, sigma_s[k]);
   }
   const double sigma_per_m = static_cast<double>(lo) * constant->value;
+  return sigma_per_m > 0.0 ? sigma_per_m : 0.0;
+}
+
+// A fresh point query at x, as far as the thinning of next-event estimation needs to look.
+template <std::size_t N>
+void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last) {
+  const double cap_m = 2.0 * (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m;
+  last.centre = x;
+  last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest);
+  last.has_nearest = last.surface_m < cap_m;
+  last.radius_m = last.surface_m;
+  for (const int index : v.scene.delta_lights) {
+    const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
+    if (const auto* p = std::get_if<PointLight>(&light)) last.radius_m = std::min(last.radius_m, length(x - p->position_m));
+    if (const auto* s = std::get_if<SpotLight>(&light)) last.radius_m = std::min(last.radius_m, length(x - s->position_m));
+  }
+}
+
+}  // namespace
+
+template <std::size_t N>
+double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                                 SurfaceDistance& last) {
+  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
   if (!(sigma_per_m > 0.0)) return 1.0;
   const double full_m = kNeeFullDepth / sigma_per_m;
   const double floor_m = (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m;
@@ -228,14 +255,116 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
     if (last.radius_m + moved <= full_m) return 1.0;  // (a capped radius is larger than full_m)
     if (last.radius_m - moved >= floor_m) return kNeeFloor;
   }
-  double r_m = v.scene.rays.distance_to_surfaces(x, 2.0 * floor_m);
-  for (const int index : v.scene.delta_lights) {
-    const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
-    if (const auto* p = std::get_if<PointLight>(&light)) r_m = std::min(r_m, length(x - p->position_m));
-    if (const auto* s = std::get_if<SpotLight>(&light)) r_m = std::min(r_m, length(x - s->position_m));
+  query_surface_distance(v, x, sigma_per_m, last);
+  return std::clamp(std::exp(kNeeFullDepth - sigma_per_m * last.radius_m), kNeeFloor, 1.0);
+}
+
+template <std::size_t N>
+ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                        SurfaceDistance& last) {
+  const RenderScene& s = v.scene;
+  if (!v.exit_guide || !s.environment || s.environment_light < 0 || !w.secondary_terminated()) return {};
+  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
+  if (!(sigma_per_m > 0.0)) return {};
+  const double reach_m = kExitGuideDepth / sigma_per_m;
+  const bool here = last.surface_m >= 0.0 && last.centre == x;
+  if (last.surface_m >= 0.0 && last.surface_m - length(x - last.centre) > reach_m) return {};
+  if (!here) query_surface_distance(v, x, sigma_per_m, last);
+  if (!last.has_nearest || last.surface_m > reach_m) return {};
+  const Vec3 towards = last.nearest - x;
+  const double l = length(towards);
+  if (!(l > 0.0)) return {};
+  const double n = s.media[static_cast<std::size_t>(medium)].ior_reference;
+  const double n_world = s.media[static_cast<std::size_t>(s.world_medium)].ior_reference;
+  return {towards / l, n / n_world};
+}
+
+double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi) {
+  const double cos_in = dot(wi, guide.normal);
+  if (!guide.active() || !(cos_in > 0.0)) return 0.0;
+  const double eta = guide.eta;
+  const double sin2_out = eta * eta * std::max(0.0, 1.0 - cos_in * cos_in);
+  if (!(sin2_out < 1.0)) return 0.0;
+  const double cos_out = std::sqrt(1.0 - sin2_out);
+  const Vec3 out = normalize((wi - guide.normal * cos_in) * eta + guide.normal * cos_out);
+  return environment_pdf(scene, out) * eta * eta * cos_in / cos_out;
+}
+
+std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide& guide, double u1, double u2) {
+  if (!guide.active() || scene.environment_light < 0) return std::nullopt;
+  const auto li = sample_li(scene.lights[static_cast<std::size_t>(scene.environment_light)], Vec3{}, u1, u2);
+  if (!li) return std::nullopt;
+  const double cos_out = dot(li->wi, guide.normal);
+  if (!(cos_out > 0.0)) return std::nullopt;
+  const double sin2_in = std::max(0.0, 1.0 - cos_out * cos_out) / (guide.eta * guide.eta);
+  if (!(sin2_in < 1.0)) return std::nullopt;
+  const double cos_in = std::sqrt(1.0 - sin2_in);
+  return normalize((li->wi - guide.normal * cos_out) / guide.eta + guide.normal * cos_in);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                                  const PhaseFunction& phase, int medium, const ExitGuide& guide,
+                                                  const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
+                                                  InsideSet inside) {
+  const RenderScene& s = v.scene;
+  const double u1 = rng.next_double(), u2 = rng.next_double();
+  const auto wi = sample_exit_guide(s, guide, u1, u2);
+  if (!wi) return {};
+  const double guide_pdf = exit_guide_pdf(s, guide, *wi);
+  // As in direct_light_in_medium: light arriving along −wi goes on along `direction`.
+  const double phase_pdf = phase_value(phase, -*wi, -direction);
+  if (!(guide_pdf > 0.0) || !(phase_pdf > 0.0)) return {};
+  SampledSpectrum<N> tr = SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
+  Vec3 d = *wi, start = x, origin = x;
+  int interfaces = 0, crossings = 0;
+  Surface scratch;
+  for (;;) {
+    ++rays;
+    const auto hit = s.rays.intersect({origin, d});
+    if (!hit) {  // the map, if at least one interface was crossed (none: next-event estimation's)
+      if (interfaces == 0 || scattering_medium(s, medium)) return {};
+      const double weight = power_heuristic(guide_pdf, phase_pdf) / guide_pdf;
+      return tr * escaped(v, medium, d, w) * static_cast<float>(weight);
+    }
+    const double length_m = length(hit->point - start);
+    if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
+      // A homogeneous one in closed form (ratio tracking against its own majorant would be 0 or 1).
+      if (const auto* constant = std::get_if<ConstantField>(&sm->density)) {
+        const double sigma_per_m =
+            static_cast<double>(v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single))) * constant->value;
+        tr *= static_cast<float>(std::exp(-sigma_per_m * length_m));
+        tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
+      } else {
+        SpectralMis<N> ratios;
+        ratio_track(*sm, v.tables, Ray{start, d}, length_m, w, rng, tr, ratios);
+      }
+    } else {
+      tr *= travel(v, medium, Ray{start, d}, length_m, w);
+    }
+    if (tr.is_zero()) return {};
+    const Surface& surface = surface_seen(s, *hit, inside, scratch);
+    if (surface.index_matched) {
+      inside = inside_towards(s, *hit, inside, d);
+      Ray ray{origin, d};
+      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) return {};
+      origin = ray.origin;
+      continue;
+    }
+    if (surface.kind != SurfaceKind::interface || surface.roughness != 0.0 || interfaces == kMaxExitInterfaces)
+      return {};
+    const SurfaceEvent<N> e = surface_event(v, *hit, surface, -d, medium, w);
+    const double reflectance = split(std::get<SmoothDielectric>(e.bsdf), e.frame.to_local(-d)).reflectance;
+    const auto through = e.sample(-d, 1.0, 0.0, 0.0, TransportMode::radiance);
+    if (!through || !through->transmitted) return {};
+    tr *= through->weight * static_cast<float>(1.0 - reflectance);
+    medium = e.medium_towards(through->wi);
+    inside = inside_towards(s, *hit, inside, through->wi);
+    d = through->wi;
+    start = hit->point;
+    origin = offset_ray_origin(*hit, d);
+    ++interfaces;
   }
-  last = {x, r_m};
-  return std::clamp(std::exp(kNeeFullDepth - sigma_per_m * r_m), kNeeFloor, 1.0);
 }
 
 namespace {
@@ -302,6 +431,12 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&);                            \
   template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,      \
                                             SurfaceDistance&);                                                        \
+  template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,               \
+                                   SurfaceDistance&);                                                                 \
+  template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&,           \
+                                                             const PhaseFunction&, int, const ExitGuide&,             \
+                                                             const SampledWavelengths<N>&, Rng&, std::uint64_t&,      \
+                                                             InsideSet);                                              \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
                                    double);                                                                           \
   template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&,            \

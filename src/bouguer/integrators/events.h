@@ -32,6 +32,7 @@ struct SceneView {
   const SpectralTables<N>& tables;
   const Camera& camera;
   int max_depth = 32;
+  bool exit_guide = true;  // the path tracer's ExitGuide (below)
 };
 
 double power_heuristic(double pdf_a, double pdf_b);
@@ -196,12 +197,57 @@ inline constexpr double kNeeFloor = 1.0 / 64.0;
 // (capped). The walk reuses it too (walk.h: a walk of one wavelength deep in a homogeneous medium
 // needs no ray where the next collision falls within the bound).
 struct SurfaceDistance {
-  Vec3 centre;             // where the last query was made
-  double radius_m = -1.0;  // the distance found there (capped); < 0: none yet
+  Vec3 centre;              // where the last query was made
+  double radius_m = -1.0;   // the distance found there (capped); < 0: none yet
+  double surface_m = -1.0;  // the same without the point lights
+  Vec3 nearest;             // the nearest surface point, where surface_m is below the cap
+  bool has_nearest = false;
 };
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
                                  SurfaceDistance& last);
+
+// Next-event estimation through the interfaces (the path tracer, #20). A connection stops at any
+// surface but an index-matched one, so a dense medium inside glass or below a water surface gets
+// no direct light: its light comes from walks that leave by chance in a direction that meets the
+// bright part of the environment map. Under a studio map that was most of a glass of milk's noise
+// (seed against seed, mean ΔE00 9.5 at 64 spp against 3.2 under a uniform sky of the same
+// brightness). So a medium vertex of a walk of one wavelength in a homogeneous medium, within
+// kExitGuideDepth mean free paths of a surface, also draws a direction from the map carried into
+// the medium through a refraction at a guessed plane: its normal points from the vertex to the
+// nearest surface point (RayScene::distance_to_surfaces), its relative index is the medium's over
+// the world's (a thin parallel wall of glass between them bends a ray as one refraction does).
+// It follows that direction to the surface and through the smooth interfaces it meets, each
+// transmitting (1 − F), to the map (environment_through_interfaces). The guess only shapes a
+// density: where it is wrong the connection is noisier, never biased. The walk's own paths that
+// leave the same way (a phase-function direction, no event before the surface, refractions only)
+// are weighted against it by the power heuristic (the walk keeps the guide of its last medium
+// vertex: walk.h, WalkState::guide).
+inline constexpr double kExitGuideDepth = 3.0;
+inline constexpr int kMaxExitInterfaces = 8;
+inline constexpr std::uint64_t kExitGuideStream = 0x65786974;  // "exit"
+struct ExitGuide {
+  Vec3 normal;       // the guessed plane's, out of the medium
+  double eta = 0.0;  // the medium's index over the world's; 0: no guide here
+  bool active() const { return eta > 0.0; }
+};
+template <std::size_t N>
+ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                        SurfaceDistance& last);
+// The guide's solid-angle density of the direction wi out of the vertex: the map's density of the
+// direction wi refracts into at the plane, times |dω_out/dω_in| = η²·cos θin / cos θout; 0 for
+// a direction into the medium or one the plane reflects totally.
+double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi);
+// A direction drawn from it (the map's sample carried back through the plane), or none.
+std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide& guide, double u1, double u2);
+// The connection itself at medium vertex x (as direct_light_in_medium's arguments): what reaches
+// the map along a direction drawn from the guide, through at least one smooth interface,
+// MIS-weighted against the phase function's direction; zero where it meets any other surface.
+template <std::size_t N>
+SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                                  const PhaseFunction& phase, int medium, const ExitGuide& guide,
+                                                  const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
+                                                  InsideSet inside = 0);
 
 // The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
 // where the ratios are not read); with `connection`, of the path's ratios times a connection's.

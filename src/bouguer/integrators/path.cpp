@@ -12,7 +12,8 @@
 // each wavelength's expected contribution is unchanged.
 // Scattering media: delta tracking of the scattering with spectral MIS (media/scattering.h), the
 // absorption in closed form; next-event estimation at every medium vertex through the phase
-// function; Russian roulette by throughput there too. Scattering events do not count against
+// function, and near the boundary of a dense medium next-event estimation through its smooth
+// interfaces to the environment map (events.h: ExitGuide); Russian roulette by throughput there too. Scattering events do not count against
 // max_depth; a path stops after kMaxScatterings of them (integrators/events.h). Index-matched
 // interfaces are crossed without a vertex.
 // The walk is the one random walk of integrators/walk.h; this file is its visitor.
@@ -43,9 +44,12 @@ struct Radiance {
     const double arrived = state.pdf_dir;
     const Vec3 d = -x.wo;
     if (x.infinite) {  // an environment map is also reached by next-event estimation: weighted against it
+      // (through smooth interfaces from a guided medium vertex: against the guide, events.h)
       const double weight =
           arrived == 0.0 || !scene.environment
-              ? 1.0
+              ? (arrived == 0.0 && state.guide.active()
+                     ? power_heuristic(state.guide_phase_pdf, exit_guide_pdf(scene, state.guide, state.guide_dir))
+                     : 1.0)
               : spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
       l += x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u));
       return;
@@ -78,6 +82,15 @@ struct Radiance {
       if (q >= 1.0 || rng.next_double() < q)
         l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, state.mis.r_u, rng, rays, x.inside) *
              static_cast<float>(1.0 / q);
+      // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
+      // own, so the walk's moves on by one however many the connection takes.
+      state.guide = exit_guide_at(v, x.medium, x.point, w, state.near);
+      if (state.guide.active()) {
+        Rng side(rng.next_u32(), kExitGuideStream);
+        l += x.beta *
+             environment_through_interfaces(v, x.point, -x.wo, phase, x.medium, state.guide, w, side, rays, x.inside) *
+             static_cast<float>(1.0 / mean_ratio(scene, state.mis.r_u));
+      }
     } else {
       if (++surfaces > v.max_depth) return false;
       if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true);

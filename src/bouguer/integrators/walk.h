@@ -106,6 +106,13 @@ struct WalkState {
   // without it, as it judged the path before the split (without this, full mode's split walks,
   // at about 24 times their path's throughput, never played it; events.h: kSplitCount).
   float split_weight = 1.0f;
+  // The exit guide the visitor set at the last medium vertex (the path tracer's next-event
+  // estimation through the interfaces, events.h: ExitGuide), the direction drawn there and its
+  // phase density: a walk that leaves from there through smooth interfaces only, to the map, is
+  // weighted against the guide. Cleared at any other vertex but a smooth interface's refraction.
+  ExitGuide guide;
+  Vec3 guide_dir;
+  double guide_phase_pdf = 0.0;
 };
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
@@ -211,6 +218,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     Vertex<N> vx = make(VertexKind::medium, x);
     vx.medium = state.medium;
     vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
+    state.guide = {};
     if (!record(vx)) return false;
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
     const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, roulette_divisor(),
@@ -218,6 +226,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!phase_pdf) return false;
     if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
     state.pdf_dir = *phase_pdf;
+    state.guide_dir = state.ray.direction;
+    state.guide_phase_pdf = *phase_pdf;
     moved_on(x);
     return true;
   };
@@ -303,6 +313,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
                                         roulette_divisor(), single_index());
     if (!bsdf_pdf) return;
+    if (!vx.delta || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) state.guide = {};
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
       visit.reverse(vx.delta ? 0.0 : e.pdf(state.ray.direction, wo));

@@ -47,6 +47,9 @@ struct RenderSettings {
   int max_depth = 32;
   std::uint64_t seed = 0;
   double merge_radius_m = 0.0;  // vcm: the first iteration's merging radius (0: two pixel footprints)
+  // path: next-event estimation through smooth interfaces near a dense medium's boundary
+  // (integrators/events.h: ExitGuide); off only to compare estimators.
+  bool exit_guide = true;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).
