@@ -105,6 +105,7 @@ TEST(HostileScene, NumbersThatWouldPoisonTheImageAreRefusedWithTheirPlace) {
       {R"({"objects": [], "render": {"spp": 18446744073709551615}})",
        "s.json: render.spp: 18446744073709551615 is beyond the largest whole number, 9223372036854775807"},
       {R"({"objects": [], "render": {"spp": 2000000}})", "s.json: render.spp: must be between 1 and 1048576 (got 2000000)"},
+      {R"({"objects": [], "render": {"exit_guide": 0}})", "s.json: render.exit_guide: expected true or false, found"},
   };
   for (const auto& c : cases) {
     const std::string e = scene_error(c.json);

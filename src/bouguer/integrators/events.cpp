@@ -306,7 +306,7 @@ template <std::size_t N>
 SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                                   const PhaseFunction& phase, int medium, const ExitGuide& guide,
                                                   const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                                                  InsideSet inside) {
+                                                  InsideSet inside, int surfaces_left, int crossings) {
   const RenderScene& s = v.scene;
   const double u1 = rng.next_double(), u2 = rng.next_double();
   const auto wi = sample_exit_guide(s, guide, u1, u2);
@@ -317,7 +317,7 @@ SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const V
   if (!(guide_pdf > 0.0) || !(phase_pdf > 0.0)) return {};
   SampledSpectrum<N> tr = SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
   Vec3 d = *wi, start = x, origin = x;
-  int interfaces = 0, crossings = 0;
+  int interfaces = 0;
   Surface scratch;
   for (;;) {
     ++rays;
@@ -351,8 +351,7 @@ SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const V
       origin = ray.origin;
       continue;
     }
-    if (surface.kind != SurfaceKind::interface || surface.roughness != 0.0 || interfaces == kMaxExitInterfaces)
-      return {};
+    if (surface.kind != SurfaceKind::interface || surface.roughness != 0.0 || interfaces == surfaces_left) return {};
     const SurfaceEvent<N> e = surface_event(v, *hit, surface, -d, medium, w);
     const double reflectance = split(std::get<SmoothDielectric>(e.bsdf), e.frame.to_local(-d)).reflectance;
     const auto through = e.sample(-d, 1.0, 0.0, 0.0, TransportMode::radiance);
@@ -436,7 +435,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
   template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&,           \
                                                              const PhaseFunction&, int, const ExitGuide&,             \
                                                              const SampledWavelengths<N>&, Rng&, std::uint64_t&,      \
-                                                             InsideSet);                                              \
+                                                             InsideSet, int, int);                                    \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&,  \
                                    double);                                                                           \
   template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&,            \

@@ -212,11 +212,12 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 // no direct light: its light comes from walks that leave by chance in a direction that meets the
 // bright part of the environment map. Under a studio map that was most of a glass of milk's noise
 // (seed against seed, mean ΔE00 9.5 at 64 spp against 3.2 under a uniform sky of the same
-// brightness). So a medium vertex of a walk of one wavelength in a homogeneous medium, within
-// kExitGuideDepth mean free paths of a surface, also draws a direction from the map carried into
-// the medium through a refraction at a guessed plane: its normal points from the vertex to the
-// nearest surface point (RayScene::distance_to_surfaces), its relative index is the medium's over
-// the world's (a thin parallel wall of glass between them bends a ray as one refraction does).
+// brightness). So a medium vertex of a walk of one wavelength (after a split or a dispersive
+// interface) in a homogeneous medium, within kExitGuideDepth mean free paths of a surface, also
+// draws a direction from the map carried into the medium through a refraction at a guessed plane:
+// its normal points from the vertex to the nearest surface point (RayScene::distance_to_surfaces),
+// its relative index is the medium's over the world's (a thin parallel wall of glass between them
+// bends a ray as one refraction does).
 // It follows that direction to the surface and through the smooth interfaces it meets, each
 // transmitting (1 − F), to the map (environment_through_interfaces). The guess only shapes a
 // density: where it is wrong the connection is noisier, never biased. The walk's own paths that
@@ -224,7 +225,6 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 // are weighted against it by the power heuristic (the walk keeps the guide of its last medium
 // vertex: walk.h, WalkState::guide).
 inline constexpr double kExitGuideDepth = 3.0;
-inline constexpr int kMaxExitInterfaces = 8;
 inline constexpr std::uint64_t kExitGuideStream = 0x65786974;  // "exit"
 struct ExitGuide {
   Vec3 normal;       // the guessed plane's, out of the medium
@@ -243,11 +243,13 @@ std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide&
 // The connection itself at medium vertex x (as direct_light_in_medium's arguments): what reaches
 // the map along a direction drawn from the guide, through at least one smooth interface,
 // MIS-weighted against the phase function's direction; zero where it meets any other surface.
+// It stops where the walk would: after `surfaces_left` surfaces (the walk's max_depth less the
+// surfaces it has met) or once `crossings` (the walk's count so far) passes kMaxCrossings.
 template <std::size_t N>
 SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                                   const PhaseFunction& phase, int medium, const ExitGuide& guide,
                                                   const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                                                  InsideSet inside = 0);
+                                                  InsideSet inside, int surfaces_left, int crossings);
 
 // The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
 // where the ratios are not read); with `connection`, of the path's ratios times a connection's.

@@ -69,35 +69,47 @@ struct Radiance {
   void join(const Radiance& child) { l += child.l; }
 
   bool vertex(const Vertex<N>& x) {
-    const RenderScene& scene = v.scene;
     if (x.kind == VertexKind::light) {
       arrived_at_light(x);
       return false;
     }
-    if (x.kind == VertexKind::medium) {
-      if (++scatterings > kMaxScatterings) return false;
-      const PhaseFunction& phase = scattering_medium(scene, x.medium)->phase;
-      // Thinned deep in a dense medium, where it finds nothing (events.h: nee_probability_in_medium).
-      const double q = nee_probability_in_medium(v, x.medium, x.point, w, state.near);
-      if (q >= 1.0 || rng.next_double() < q)
-        l += x.beta * direct_light_in_medium(v, x.point, -x.wo, phase, x.medium, w, state.mis.r_u, rng, rays, x.inside) *
-             static_cast<float>(1.0 / q);
-      // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
-      // own, so the walk's moves on by one however many the connection takes.
-      state.guide = exit_guide_at(v, x.medium, x.point, w, state.near);
-      if (state.guide.active()) {
-        Rng side(rng.next_u32(), kExitGuideStream);
-        l += x.beta *
-             environment_through_interfaces(v, x.point, -x.wo, phase, x.medium, state.guide, w, side, rays, x.inside) *
-             static_cast<float>(1.0 / mean_ratio(scene, state.mis.r_u));
-      }
-    } else {
-      if (++surfaces > v.max_depth) return false;
-      if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true);
-    }
-    if (scene.scatters) state.mis.r_l = state.mis.r_u;  // (all ones otherwise)
-    previous = x.point;
+    if (x.kind == VertexKind::medium) return medium_vertex(x.point);  // (the walk calls it itself)
+    if (++surfaces > v.max_depth) return false;
+    if (!x.delta) l += x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true);
+    moved_to(x.point);
     return true;
+  }
+
+  // A scattering event at `point`; its throughput, medium and nested set are the walk's state's.
+  bool medium_vertex(const Vec3& point) {
+    const RenderScene& scene = v.scene;
+    if (++scatterings > kMaxScatterings) return false;
+    const int medium = state.medium;
+    const Vec3 direction = state.ray.direction;  // the one it arrived along
+    const PhaseFunction& phase = scattering_medium(scene, medium)->phase;
+    // Thinned deep in a dense medium, where it finds nothing (events.h: nee_probability_in_medium).
+    const double q = nee_probability_in_medium(v, medium, point, w, state.near);
+    if (q >= 1.0 || rng.next_double() < q)
+      l += state.beta *
+           direct_light_in_medium(v, point, direction, phase, medium, w, state.mis.r_u, rng, rays, state.inside) *
+           static_cast<float>(1.0 / q);
+    // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
+    // own, so the walk's moves on by one however many the connection takes.
+    state.guide = exit_guide_at(v, medium, point, w, state.near);
+    if (state.guide.active()) {
+      Rng side(rng.next_u32(), kExitGuideStream);
+      l += state.beta *
+           environment_through_interfaces(v, point, direction, phase, medium, state.guide, w, side, rays,
+                                          state.inside, v.max_depth - surfaces, state.crossings) *
+           static_cast<float>(1.0 / mean_ratio(scene, state.mis.r_u));
+    }
+    moved_to(point);
+    return true;
+  }
+
+  void moved_to(const Vec3& point) {
+    if (v.scene.scatters) state.mis.r_l = state.mis.r_u;  // (all ones otherwise)
+    previous = point;
   }
 };
 

@@ -106,6 +106,7 @@ struct WalkState {
   // without it, as it judged the path before the split (without this, full mode's split walks,
   // at about 24 times their path's throughput, never played it; events.h: kSplitCount).
   float split_weight = 1.0f;
+  float single_mean_ratio = 0.0f;  // the mean of the ratios once one wavelength is left (0: not yet)
   // The exit guide the visitor set at the last medium vertex (the path tracer's next-event
   // estimation through the interfaces, events.h: ExitGuide), the direction drawn there and its
   // phase density: a walk that leaves from there through smooth interfaces only, to the map, is
@@ -170,6 +171,9 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
 //   visit.reverse(pdf_dir): once the walk has sampled on from the last vertex, the solid-angle
 //       density with which that vertex samples the direction back towards the one before it
 //       (asked only of a visitor whose kReverse is true).
+//   visit.medium_vertex(point) -> bool, optional: a medium vertex at `point`, the rest of it
+//       (the throughput, the medium, the nested set, the direction it arrived along) in `state`;
+//       called instead of vertex() for medium vertices (a visitor without reverse densities).
 // The visitor may read and edit `state` in vertex() (the path tracer's MIS reads the density of
 // the direction that arrived, state.pdf_dir, and restarts the light-connection ratios).
 // At the first dispersive interface it keeps one wavelength (state.dispersion_u). Russian
@@ -206,7 +210,13 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   Surface scratch;  // a nested object's surface as this path sees it (kept: its name's storage is reused)
   // What the roulette divides the throughput by (the mean of the path's ratios, and a split walk's
   // bin weight: WalkState::split_weight), and the one wavelength carried (−1: several).
-  auto roulette_divisor = [&] { return mean_ratio(scene, state.mis.r_u) * state.split_weight; };
+  // A walk of one wavelength no longer changes its ratios (media/scattering.h: sample_scattering),
+  // so their mean, 96 additions in full mode, is taken once.
+  auto roulette_divisor = [&] {
+    if (!w.secondary_terminated()) return mean_ratio(scene, state.mis.r_u) * state.split_weight;
+    if (!(state.single_mean_ratio > 0.0f)) state.single_mean_ratio = mean_ratio(scene, state.mis.r_u);
+    return state.single_mean_ratio * state.split_weight;
+  };
   auto single_index = [&] { return w.secondary_terminated() ? w.single : -1; };
   // A vertex in the medium at x, reached along d (by the ray's segment, or by walk_deep without a
   // ray): record it, then the phase function's direction and the roulette. False ends the walk.
@@ -215,11 +225,17 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     tau += scattering_depth(v, media, state.medium, state.start, d, length(x - state.start));
     if (state.beta.is_zero()) return false;
     const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
-    Vertex<N> vx = make(VertexKind::medium, x);
-    vx.medium = state.medium;
-    vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
     state.guide = {};
-    if (!record(vx)) return false;
+    // A visitor that reads a medium vertex from the state alone (the path tracer's) is handed its
+    // point: no record of 2 KB to fill and copy at each of a dense walk's thousands of collisions.
+    if constexpr (requires(Visitor& c, const Vec3& p) { c.medium_vertex(p); }) {
+      if (!visit.medium_vertex(x)) return false;
+    } else {
+      Vertex<N> vx = make(VertexKind::medium, x);
+      vx.medium = state.medium;
+      vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
+      if (!record(vx)) return false;
+    }
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
     const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, roulette_divisor(),
                                                 state.ray, rng, mode, single_index());

@@ -99,6 +99,11 @@ SceneBuilder& SceneBuilder::merge_radius(double radius_m, const Source& where) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::exit_guide(bool on) {
+  desc_.render.exit_guide = on;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::seed(std::int64_t v, const Source& where) {
   desc_.render.seed = static_cast<std::uint64_t>(count_between(v, 0, kMaxSeed, where));
   return *this;

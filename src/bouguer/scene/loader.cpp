@@ -673,13 +673,14 @@ void read_camera(const json& j, const Where& w, SceneBuilder& b) {
 }
 
 void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
-  expect_keys(j, w, {"integrator", "spectral", "spp", "max_depth", "seed", "merge_radius"});
+  expect_keys(j, w, {"integrator", "spectral", "spp", "max_depth", "seed", "merge_radius", "exit_guide"});
   if (j.contains("integrator")) b.integrator(text(j["integrator"], w / "integrator"), w / "integrator");
   if (j.contains("spectral")) b.spectral_mode(text(j["spectral"], w / "spectral"), w / "spectral");
   if (j.contains("spp")) b.spp(whole_number(j["spp"], w / "spp"), w / "spp");
   if (j.contains("max_depth")) b.max_depth(whole_number(j["max_depth"], w / "max_depth"), w / "max_depth");
   if (j.contains("seed")) b.seed(whole_number(j["seed"], w / "seed"), w / "seed");
   if (j.contains("merge_radius")) b.merge_radius(positive_length_m(j["merge_radius"], w / "merge_radius"), w / "merge_radius");
+  if (j.contains("exit_guide")) b.exit_guide(boolean(j["exit_guide"], w / "exit_guide"));
 }
 
 DeltaLightDesc delta_light(const json& j, const Where& w) {
