@@ -95,7 +95,8 @@ struct Radiance {
            static_cast<float>(1.0 / q);
     // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
     // own, so the walk's moves on by one however many the connection takes.
-    state.guide = exit_guide_at(v, medium, point, w, state.near);
+    // (None where the walk could not cross one more surface.)
+    state.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, state.near) : ExitGuide{};
     if (state.guide.active()) {
       Rng side(rng.next_u32(), kExitGuideStream);
       l += state.beta *
