@@ -232,7 +232,6 @@ void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_p
   const double cap_m = 2.0 * (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m;
   last.centre = x;
   last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest);
-  last.has_nearest = last.surface_m < cap_m;
   last.radius_m = last.surface_m;
   for (const int index : v.scene.delta_lights) {
     const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
@@ -270,7 +269,8 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
   const bool here = last.surface_m >= 0.0 && last.centre == x;
   if (last.surface_m >= 0.0 && last.surface_m - length(x - last.centre) > reach_m) return {};
   if (!here) query_surface_distance(v, x, sigma_per_m, last);
-  if (!last.has_nearest || last.surface_m > reach_m) return {};
+  // (Within reach, below the query's cap: the nearest point was found.)
+  if (last.surface_m > reach_m) return {};
   const Vec3 towards = last.nearest - x;
   const double l = length(towards);
   if (!(l > 0.0)) return {};
@@ -282,12 +282,10 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
 double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi) {
   const double cos_in = dot(wi, guide.normal);
   if (!guide.active() || !(cos_in > 0.0)) return 0.0;
-  const double eta = guide.eta;
-  const double sin2_out = eta * eta * std::max(0.0, 1.0 - cos_in * cos_in);
-  if (!(sin2_out < 1.0)) return 0.0;
-  const double cos_out = std::sqrt(1.0 - sin2_out);
-  const Vec3 out = normalize((wi - guide.normal * cos_in) * eta + guide.normal * cos_out);
-  return environment_pdf(scene, out) * eta * eta * cos_in / cos_out;
+  const double cos_out = cos_theta_transmitted(cos_in, guide.eta, 1.0);
+  if (!(cos_out > 0.0)) return 0.0;  // (total internal reflection at the plane)
+  const Vec3 out = refract(-wi, -guide.normal, cos_in, cos_out, guide.eta);
+  return environment_pdf(scene, out) * guide.eta * guide.eta * cos_in / cos_out;
 }
 
 std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide& guide, double u1, double u2) {
@@ -296,10 +294,10 @@ std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide&
   if (!li) return std::nullopt;
   const double cos_out = dot(li->wi, guide.normal);
   if (!(cos_out > 0.0)) return std::nullopt;
-  const double sin2_in = std::max(0.0, 1.0 - cos_out * cos_out) / (guide.eta * guide.eta);
-  if (!(sin2_in < 1.0)) return std::nullopt;
-  const double cos_in = std::sqrt(1.0 - sin2_in);
-  return normalize((li->wi - guide.normal * cos_out) / guide.eta + guide.normal * cos_in);
+  const double cos_in = cos_theta_transmitted(cos_out, 1.0, guide.eta);
+  if (!(cos_in > 0.0)) return std::nullopt;
+  // Light from the map's direction refracts into the medium along −wi.
+  return -refract(li->wi, guide.normal, cos_out, cos_in, 1.0 / guide.eta);
 }
 
 template <std::size_t N>
@@ -329,16 +327,12 @@ SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const V
     }
     const double length_m = length(hit->point - start);
     if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
-      // A homogeneous one in closed form (ratio tracking against its own majorant would be 0 or 1).
-      if (const auto* constant = std::get_if<ConstantField>(&sm->density)) {
-        const double sigma_per_m =
-            static_cast<double>(v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single))) * constant->value;
-        tr *= static_cast<float>(std::exp(-sigma_per_m * length_m));
-        tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
-      } else {
-        SpectralMis<N> ratios;
-        ratio_track(*sm, v.tables, Ray{start, d}, length_m, w, rng, tr, ratios);
-      }
+      // The walk carries one wavelength and the column density is exact for every field, so the
+      // transmittance is in closed form (ratio tracking against a homogeneous medium's own
+      // majorant would give 0 or 1).
+      const double sigma_per_m = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
+      tr *= static_cast<float>(std::exp(-sigma_per_m * scattering_column_density(*sm, Ray{start, d}, 0.0, length_m)));
+      tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
     } else {
       tr *= travel(v, medium, Ray{start, d}, length_m, w);
     }

@@ -189,8 +189,8 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
 // gets through is worth up to 1/q of it in its sample. R comes from a point query
 // (RayScene::distance_to_surfaces) and is reused while the triangle inequality decides: |x − c|
 // from the last query point c, the distance at x lies within R(c) ± |x − c|, so a vertex within
-// reach of a surface (q = 1) or far below it (q = kNeeFloor) needs no query. Media whose density varies keep q = 1 (their ρ along a ray has
-// no lower bound).
+// reach of a surface (q = 1) or far below it (q = kNeeFloor) needs no query. Media whose density
+// varies keep q = 1 (their ρ along a ray has no lower bound).
 inline constexpr double kNeeFullDepth = 3.0;
 inline constexpr double kNeeFloor = 1.0 / 64.0;
 // The last such query of a walk: a point and its distance to the nearest surface or point light
@@ -201,7 +201,6 @@ struct SurfaceDistance {
   double radius_m = -1.0;   // the distance found there (capped); < 0: none yet
   double surface_m = -1.0;  // the same without the point lights
   Vec3 nearest;             // the nearest surface point, where surface_m is below the cap
-  bool has_nearest = false;
 };
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
@@ -217,13 +216,13 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 // draws a direction from the map carried into the medium through a refraction at a guessed plane:
 // its normal points from the vertex to the nearest surface point (RayScene::distance_to_surfaces),
 // its relative index is the medium's over the world's (a thin parallel wall of glass between them
-// bends a ray as one refraction does).
-// It follows that direction to the surface and through the smooth interfaces it meets, each
-// transmitting (1 − F), to the map (environment_through_interfaces). The guess only shapes a
-// density: where it is wrong the connection is noisier, never biased. The walk's own paths that
-// leave the same way (a phase-function direction, no event before the surface, refractions only)
-// are weighted against it by the power heuristic (the walk keeps the guide of its last medium
-// vertex: walk.h, WalkState::guide).
+// bends a ray as one refraction does). It follows that direction to the surface and through the
+// smooth interfaces it meets, each transmitting (1 − F), to the map
+// (environment_through_interfaces). The guess only shapes a density: where it is wrong the
+// connection is noisier, never biased. The walk's own paths that leave the same way (a
+// phase-function direction, no event before the surface, refractions only) are weighted against
+// it by the power heuristic (the walk keeps the guide of its last medium vertex: walk.h,
+// WalkState::guide).
 inline constexpr double kExitGuideDepth = 3.0;
 inline constexpr std::uint64_t kExitGuideStream = 0x65786974;  // "exit"
 struct ExitGuide {

@@ -13,9 +13,9 @@
 // Scattering media: delta tracking of the scattering with spectral MIS (media/scattering.h), the
 // absorption in closed form; next-event estimation at every medium vertex through the phase
 // function, and near the boundary of a dense medium next-event estimation through its smooth
-// interfaces to the environment map (events.h: ExitGuide); Russian roulette by throughput there too. Scattering events do not count against
-// max_depth; a path stops after kMaxScatterings of them (integrators/events.h). Index-matched
-// interfaces are crossed without a vertex.
+// interfaces to the environment map (events.h: ExitGuide); Russian roulette by throughput there
+// too. Scattering events do not count against max_depth; a path stops after kMaxScatterings of
+// them (integrators/events.h). Index-matched interfaces are crossed without a vertex.
 // The walk is the one random walk of integrators/walk.h; this file is its visitor.
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/integrators/walk.h"
