@@ -19,6 +19,17 @@ TEST(Cli, VersionAndHelp) {
   EXPECT_NE(h.out.find("--observer"), std::string::npos);
 }
 
+// OpenImageIO (and the 260 libraries it needs), OpenVDB and Open MPI are modules loaded on first use
+// (io/texture_module.h, io/vdb_module.h, distributed/mpi_module.h): the program itself starts
+// without them. ld.so lists what it would load and exits (LD_TRACE_LOADED_OBJECTS, as ldd does).
+TEST(Cli, StartsWithoutTheLibrariesItLoadsOnFirstUse) {
+  const auto r = test::run_program("/usr/bin/env", {"LD_TRACE_LOADED_OBJECTS=1", BOUGUER_EXE});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("libc.so"), std::string::npos) << r.out;
+  for (const char* library : {"libOpenImageIO", "libopenvdb", "libmpi"})
+    EXPECT_EQ(r.out.find(library), std::string::npos) << library << " is linked into the program";
+}
+
 TEST(Cli, ColorJsonForD65) {
   const auto r = run_bouguer({"color", "D65", "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;

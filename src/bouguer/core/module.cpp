@@ -20,12 +20,10 @@ void* load_module_entry(const std::string& built_path, const char* symbol, bool 
                              .string());
   for (const std::string& path : candidates) {
     void* handle = dlopen(path.c_str(), RTLD_NOW | (global ? RTLD_GLOBAL : RTLD_LOCAL));
-    if (!handle) {
-      problem = dlerror();
-      continue;
-    }
-    if (void* entry = dlsym(handle, symbol)) return entry;
-    problem = path + ": not Bouguer's module (no " + symbol + ")";
+    const std::string why = handle ? path + ": not Bouguer's module (no " + symbol + ")" : dlerror();
+    if (handle)
+      if (void* entry = dlsym(handle, symbol)) return entry;
+    problem += (problem.empty() ? "" : "; ") + why;  // (each place tried: the first is the build's)
   }
   return nullptr;
 }

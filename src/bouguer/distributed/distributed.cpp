@@ -15,7 +15,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <mutex>
 #include <string>
 #include <thread>
 
@@ -34,19 +33,11 @@ enum Tag : int { kRequest = 1, kPiece = 2, kRays = 3, kFilm = 4 };
 
 // The module, loaded once (an Error before MPI starts when this build has none).
 const mpi_module::Api& mpi() {
-  static const mpi_module::Api* api = nullptr;
-  static std::string problem = "this build has no MPI module";
-  static std::once_flag once;
-  std::call_once(once, [] {
+  std::string problem = "this build has no MPI module";
+  const mpi_module::Api* api = nullptr;
 #ifdef BOUGUER_MPI_MODULE
-    using Entry = const mpi_module::Api* (*)();
-    if (const auto entry =
-            reinterpret_cast<Entry>(load_module_entry(BOUGUER_MPI_MODULE, "bouguer_mpi_module_api", true, problem))) {
-      api = entry();
-      if (api->version != 1) problem = "not Bouguer's MPI module", api = nullptr;
-    }
+  api = module_api_once<mpi_module::Api>(BOUGUER_MPI_MODULE, "bouguer_mpi_module_api", true, problem);
 #endif
-  });
   if (!api)
     fail(
         "started by mpirun, but this bouguer cannot use MPI ({}): build it with Open MPI installed (libopenmpi-dev, "

@@ -37,7 +37,7 @@ Film read_image(const std::filesystem::path& path);  // by extension: .exr or .p
 
 // The checks read_exr makes of an EXR file's header before OpenEXR sees it (every size OpenEXR
 // would allocate from, against the limits and the bytes the file holds), for other readers of EXR
-// files (io/texture_image.cpp, whose OpenImageIO reads them with OpenEXR).
+// files (io/texture_image.cpp, before the OpenImageIO module reads them with OpenEXR).
 void check_exr_before_opening(std::string_view bytes, const std::string& name);
 
 // Channel name of one wavelength in the spectral layout, e.g. 550 -> "S0.550,000000nm".

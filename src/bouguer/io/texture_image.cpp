@@ -1,66 +1,37 @@
-// The only file that includes OpenImageIO.
+// Texture images through the OpenImageIO module (io/texture_module.h), loaded on first use.
 #include "bouguer/io/texture_image.h"
-
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <memory>
 #include <string_view>
 
-#include "bouguer/core/error.h"
 #include "bouguer/core/csv.h"
-#include "bouguer/io/image_io.h"
+#include "bouguer/core/error.h"
 #include "bouguer/core/limits.h"
+#include "bouguer/core/module.h"
+#include "bouguer/io/image_io.h"
+#include "bouguer/io/texture_module.h"
 
 namespace bouguer {
 namespace {
 
-// OpenImageIO's own message, first line only (it may hold several).
-std::string first_line(std::string message) {
-  const auto end = message.find('\n');
-  if (end != std::string::npos) message.resize(end);
-  return message.empty() ? "not an image OpenImageIO can read" : message;
+// The module, loaded once: from where the build put it, else beside the program.
+const texture_module::Api& module_api() {
+  std::string problem;
+  const auto* api = module_api_once<texture_module::Api>(BOUGUER_TEXTURE_MODULE, "bouguer_texture_module_api", false,
+                                                         problem);
+  if (!api) fail("texture images cannot be read: {}", problem);
+  return *api;
 }
 
-bool declared_srgb(const OIIO::ImageSpec& spec) {
-  const std::string space = spec.get_string_attribute("oiio:ColorSpace");
-  if (!space.empty()) return OIIO::Strutil::iequals(space, "sRGB");
-  return spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
+TextureImage image_from(const texture_module::Result& r, texture_module::Image&& image) {
+  if (!r.ok) fail("{}", r.message);
+  return {image.width, image.height, std::move(image.rgb), image.srgb};
 }
 
-void check_declared_size(const OIIO::ImageSpec& spec, const std::string& name) {
-  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.depth > 1)
-    fail("{}: not a two-dimensional image ({} × {} × {}, {} channels)", name, spec.width, spec.height, spec.depth,
-         spec.nchannels);
-  if (spec.width > kMaxTextureDimension || spec.height > kMaxTextureDimension ||
-      static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) > kMaxTexturePixels)
-    fail("{}: a texture of {} × {} pixels is larger than the limit of {} pixels (docs/limits.md)", name, spec.width,
-         spec.height, kMaxTexturePixels);
-}
-
-TextureImage read_open(OIIO::ImageInput& in, const std::string& name) {
-  const OIIO::ImageSpec& spec = in.spec();
-  check_declared_size(spec, name);
-  const int channels = std::min(spec.nchannels, spec.nchannels >= 3 ? 3 : 1);
-  const auto pixels = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
-  std::vector<float> values(pixels * static_cast<std::size_t>(channels));
-  if (!in.read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, values.data()))
-    fail("{}: {}", name, first_line(in.geterror()));
-  TextureImage image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.srgb = declared_srgb(spec);
-  image.rgb.resize(pixels * 3);
-  for (std::size_t p = 0; p < pixels; ++p)
-    for (std::size_t c = 0; c < 3; ++c) {
-      const float v = values[p * static_cast<std::size_t>(channels) + (channels == 3 ? c : 0)];
-      if (!std::isfinite(v)) fail("{}: pixel {} is not a finite number", name, p);
-      image.rgb[p * 3 + c] = v;
-    }
-  return image;
+texture_module::Limits limits() {
+  return {static_cast<std::int64_t>(kMaxTextureDimension), static_cast<std::int64_t>(kMaxTexturePixels)};
 }
 
 }  // namespace
@@ -78,18 +49,17 @@ TextureImage read_texture_image(const std::filesystem::path& file) {
     in.read(magic, 4);
     if (std::string_view(magic, 4) == kExrMagic) check_exr_before_opening(read_file_bytes(file, kMaxImageFileBytes), name);
   }
-  auto in = OIIO::ImageInput::open(name);
-  if (!in) fail("{}: {}", name, first_line(OIIO::geterror()));
-  return read_open(*in, name);
+  texture_module::Image image;
+  const texture_module::Result r = module_api().read_file(name, limits(), image);
+  return image_from(r, std::move(image));
 }
 
 TextureImage read_texture_image(std::span<const unsigned char> bytes, const std::string& name) {
   const std::string_view view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (view.starts_with(kExrMagic)) check_exr_before_opening(view, name);
-  OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
-  auto in = OIIO::ImageInput::open(name, nullptr, &reader);
-  if (!in) fail("{}: {}", name, first_line(OIIO::geterror()));
-  return read_open(*in, name);
+  texture_module::Image image;
+  const texture_module::Result r = module_api().read_memory(bytes.data(), bytes.size(), name, limits(), image);
+  return image_from(r, std::move(image));
 }
 
 float srgb_to_linear(float encoded) {

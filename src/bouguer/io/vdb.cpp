@@ -4,7 +4,6 @@
 
 #include <array>
 #include <fstream>
-#include <mutex>
 
 #include "bouguer/core/memory.h"
 #include "bouguer/core/module.h"
@@ -36,16 +35,8 @@ void check_file(const fs::path& path) {
 
 // The module (io/vdb_module.h), loaded once: from where the build put it, else beside the program.
 const vdb_module::Api& module_api() {
-  static const vdb_module::Api* api = nullptr;
-  static std::string problem;
-  static std::once_flag once;
-  std::call_once(once, [] {
-    using Entry = const vdb_module::Api* (*)();
-    if (const auto entry = reinterpret_cast<Entry>(load_module_entry(BOUGUER_VDB_MODULE, "bouguer_vdb_module_api", false, problem))) {
-      api = entry();
-      if (api->version != 1) problem = "not Bouguer's OpenVDB module", api = nullptr;
-    }
-  });
+  std::string problem;
+  const auto* api = module_api_once<vdb_module::Api>(BOUGUER_VDB_MODULE, "bouguer_vdb_module_api", false, problem);
   if (!api) throw VdbError(fmt::format("OpenVDB grids cannot be read: {}", problem), false);
   return *api;
 }
