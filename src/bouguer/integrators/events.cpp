@@ -226,10 +226,13 @@ double homogeneous_sigma_min_per_m(const SceneView<N>& v, int medium, const Samp
   return sigma_per_m > 0.0 ? sigma_per_m : 0.0;
 }
 
+// The distance beyond which the thinning of next-event estimation is at its floor.
+double nee_floor_m(double sigma_per_m) { return (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m; }
+
 // A fresh point query at x, as far as the thinning of next-event estimation needs to look.
 template <std::size_t N>
 void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last) {
-  const double cap_m = 2.0 * (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m;
+  const double cap_m = 2.0 * nee_floor_m(sigma_per_m);
   last.centre = x;
   last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest);
   last.radius_m = last.surface_m;
@@ -248,7 +251,7 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
   const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
   if (!(sigma_per_m > 0.0)) return 1.0;
   const double full_m = kNeeFullDepth / sigma_per_m;
-  const double floor_m = (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m;
+  const double floor_m = nee_floor_m(sigma_per_m);
   if (last.radius_m >= 0.0) {
     const double moved = length(x - last.centre);
     if (last.radius_m + moved <= full_m) return 1.0;  // (a capped radius is larger than full_m)
