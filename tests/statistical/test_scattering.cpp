@@ -28,6 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::channel_estimate;
 using test::Estimate;
+using test::ball_furnace;
 using test::kChromaticSigmaS;
 
 
@@ -62,21 +63,6 @@ TEST(Scattering, WhiteFurnaceWithADensityField) {
       test::furnace_scene(R"(, "density": {"field": "exponential", "axis": [0, 1, 0], "value": 1, "scale_length": "10 mm"})",
                           "path"),
       "exponential density");
-}
-
-// A furnace ball (albedo 1, index 1.33) seen through its middle from camera_z metres away: σ_s
-// from 400 to 700 nm (per metre), HG g, radius.
-std::string ball_furnace(double camera_z, const char* sigma_s_per_m, double g, const char* radius) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, 0, {}], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [8, 8]}},
-    "render": {{"integrator": "path", "max_depth": 1000}},
-    "world_medium": "vacuum",
-    "media": {{"milky": {{"ior": 1.33, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
-              "value": {}, "phase": {{"type": "henyey_greenstein", "g": {}}}}}}}}},
-    "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "{}", "segments": 64}}, "inside": "milky"}}],
-    "background": {{"spectrum": "D65", "scale": 1}}
-  }})",
-                     camera_z, sigma_s_per_m, g, radius);
 }
 
 // A furnace scene made index-matched (n = 1, so next-event estimation reaches the lights through

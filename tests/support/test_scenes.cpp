@@ -108,6 +108,21 @@ std::string furnace_scene(const std::string& density, const char* integrator) {
                      integrator, kChromaticSigmaS, density);
 }
 
+// A furnace ball (albedo 1, index `ior`) seen through its middle from camera_z metres away: σ_s
+// from 400 to 700 nm (per metre), HG g, radius.
+std::string ball_furnace(double camera_z, const char* sigma_s_per_m, double g, const char* radius, double ior) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 0, {}], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [8, 8]}},
+    "render": {{"integrator": "path", "max_depth": 1000}},
+    "world_medium": "vacuum",
+    "media": {{"milky": {{"ior": {}, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
+              "value": {}, "phase": {{"type": "henyey_greenstein", "g": {}}}}}}}}},
+    "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "{}", "segments": 64}}, "inside": "milky"}}],
+    "background": {{"spectrum": "D65", "scale": 1}}
+  }})",
+                     camera_z, ior, sigma_s_per_m, g, radius);
+}
+
 // Mean and standard error of one channel over pixels (the pixels are independent estimates).
 // The tests require the tolerance to be at least 3 standard errors, so each can fail.
 Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, int y1) {

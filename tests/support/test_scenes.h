@@ -30,6 +30,10 @@ extern const char* const kChromaticSigmaS;  // a strongly chromatic σ_s: blue s
 // to fit in the 0.5 % tolerance.
 std::string furnace_scene(const std::string& density, const char* integrator);
 
+// A furnace ball (albedo 1, index `ior`, the path tracer, max_depth 1000) seen through its middle
+// from camera_z metres away: σ_s from 400 to 700 nm (per metre, a JSON pair), HG g, radius.
+std::string ball_furnace(double camera_z, const char* sigma_s_per_m, double g, const char* radius, double ior = 1.33);
+
 struct Estimate {
   double mean = 0.0, standard_error = 0.0;
 };

@@ -15,7 +15,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
             SampleRange range, const RenderControl& control, RenderStats& stats) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth};
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, settings.exit_guide};
   for_each_pixel_sample<N>(
       scene, tables, settings, film.width(), region, range, control, stats, 2,
       [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u, std::uint64_t& rays) {
@@ -26,9 +26,10 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
         const WalkMedia media{sigma_mean};
         Bdpt<N> bdpt(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
         const auto [u, v] = subpixel(s, settings.spp, rng);
-        bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
+        bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, &keep);
         bdpt.light_subpath(light_path);
-        add_camera_sample(film, tables, w, x, y, bdpt.connect_all(light_path, camera_path, film, keep));
+        add_camera_sample(film, tables, w, x, y,
+                          bdpt.connect_all(light_path, camera_path, film, keep) + bdpt.camera_tail());
       });
 }
 

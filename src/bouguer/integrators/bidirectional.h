@@ -22,14 +22,20 @@
 // only (weight N), whichever subpath crossed it. Bouguer–Lambert along every segment and connection is the medium's
 // exact transmittance.
 //
-// Depth: s + t − 2 ≤ max_depth, where medium vertices count like surface vertices (unlike the
-// path tracer, whose scattering events are free): a dense medium needs a larger max_depth here.
+// Depth: the connections and merges make the paths of s + t − 2 ≤ max_depth, where medium vertices
+// count like surface vertices. A camera subpath that reaches that many vertices walks on as the
+// path tracer does (radiance.h: its next-event estimation, MIS, splits into walks of one wavelength
+// and thinning), and what that tail finds is the light of every longer path, which no connection
+// makes: the strategies of a path are chosen by its length, so the weights of each still sum to 1,
+// and a dense medium (a glass of milk, thousands of vertices a path) comes out as bright as the
+// path tracer's image instead of losing what scattered more than max_depth times.
 #include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
 
 #include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/radiance.h"
 #include "bouguer/integrators/walk.h"
 
 namespace bouguer::bidir {
@@ -56,7 +62,11 @@ class Bdpt {
        Rng& rng, std::uint64_t& rays)
       : v_(v), s_(v.scene), media_(media), w_(w), kept_(kept), rng_(rng), rays_(rays) {}
 
-  void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path);
+  // The camera subpath's first max_depth + 2 vertices into `path`, and what its tail beyond them
+  // finds into camera_tail(); `keep` (begin_sample's) weighs the tail's light of paths that have
+  // crossed a dispersive interface.
+  void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep = nullptr);
+  const SampledSpectrum<N>& camera_tail() const { return tail_; }
   void light_subpath(std::vector<Vertex<N>>& path) { light_subpath(path, rng_); }
   // The same from its own random stream (vcm.cpp traces each light subpath twice: for the photons,
   // then for the connections of its pixel).
@@ -114,10 +124,51 @@ class Bdpt {
   Rng& rng_;
   std::uint64_t& rays_;
   Merging merging_;
+  SampledSpectrum<N> tail_;
+};
+
+// A camera subpath's visitor: it keeps the first `max_vertices` vertices for the connections and,
+// from the last of them on, walks as the path tracer (radiance.h), into `tail`. The last kept
+// vertex is the tail's first: its next-event estimation makes paths one vertex longer than any
+// connection does (a lamp met there is the connections' s = 0).
+template <std::size_t N>
+struct KeepThenTrace {
+  static constexpr bool kReverse = true;
+  std::vector<Vertex<N>>& path;
+  std::size_t max_vertices;
+  Radiance<N> tail;
+  bool tracing = false;   // past the kept vertices
+  bool reversed = false;  // the last kept vertex's predecessor has its pdf_rev
+
+  bool keeps_records() const { return !tracing; }
+  bool vertex(const Vertex<N>& x) {
+    if (tracing) return tail.vertex(x);
+    path.push_back(x);
+    if (path.size() < max_vertices) return true;
+    if (x.kind == VertexKind::light) return false;
+    tracing = true;
+    for (std::size_t i = 1; i + 1 < path.size(); ++i)
+      ++(path[i].kind == VertexKind::medium ? tail.scatterings : tail.surfaces);
+    return tail.vertex(x);
+  }
+  bool medium_vertex(const Vec3& point) { return tail.medium_vertex(point); }
+  void reverse(double pdf_dir) {
+    if (tracing && std::exchange(reversed, true)) return;
+    const Vertex<N>& at = path.back();
+    Vertex<N>& prev = path[path.size() - 2];
+    prev.pdf_rev = to_area_density(pdf_dir, at.point, prev, at.tau_in);
+  }
+  // Walks of one wavelength (only in the tail): one that has not crossed a dispersive interface
+  // follows its own wavelength's indices from here, as the path tracer's do.
+  Radiance<N> split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r) {
+    if (!s.dispersed) s.kept = nullptr;
+    return tail.split(s, wk, r);
+  }
+  void join(const Radiance<N>& child) { tail.join(child); }
 };
 
 template <std::size_t N>
-void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path) {
+void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep_spectrum) {
   path.clear();
   Vertex<N> c;
   c.kind = VertexKind::camera;
@@ -134,8 +185,10 @@ void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path) {
   state.pdf_dir = state.parallel ? pdf[0] : pdf[1];
   state.from = ray.origin;
   state.kept = kept_;
-  KeepVertices<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 2};
+  KeepThenTrace<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 2,
+                        Radiance<N>{v_, w_, state, rng_, rays_, ray.origin, {}, 0, 0, keep_spectrum}};
   random_walk(v_, media_, TransportMode::radiance, state, w_, rng_, rays_, keep);
+  tail_ = keep.tail.l;
 }
 
 template <std::size_t N>

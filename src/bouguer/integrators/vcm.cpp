@@ -234,7 +234,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
             SampleRange range, const RenderControl& control, RenderStats& stats) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth};
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, settings.exit_guide};
   const int width = film.width(), height = film.height();
   const double light_paths = static_cast<double>(width) * height;
   const double r1 = initial_radius(scene, settings);
@@ -322,13 +322,20 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
         for (int x = tile.x0; x < tile.x1; ++x) {
           const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) + static_cast<std::uint64_t>(x);
           Rng rng = sample_rng(settings.seed, pixel, it, kCameraSalt);
+          // The bins of the camera tail's splits (bidirectional.h), the pixel's own: no photon
+          // meets a tail, so they need not be the iteration's.
+          if (scene.scatters) {
+            WavelengthStrata splits;
+            splits.reset(settings.seed, pixel, settings.spp, kSplitStrataSalt);
+            wc.split_u = splits.u(it);
+          }
           Rng lrng = sample_rng(settings.seed, pixel, it, kLightSalt);
           Bdpt<N> b(view, media, wc, kept_ptr, rng, rays);
           b.set_merging(merging);
           const auto [u, v] = subpixel(it, settings.spp, rng);
-          b.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
+          b.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, &keep);
           b.light_subpath(light_path, lrng);
-          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep);
+          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep) + b.camera_tail();
           const int nc = static_cast<int>(camera_path.size());
           for (int t = 2; t <= nc; ++t) {
             const Vertex<N>& pt = camera_path[static_cast<std::size_t>(t - 1)];

@@ -163,6 +163,17 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
   return p + state.ray.direction * e.t;
 }
 
+// Whether a visitor wants every vertex as a record (handed to vertex()) just now: one that keeps
+// its subpath's vertices (the bidirectional estimators' camera subpaths until their tail,
+// bidirectional.h), which a split into walks of one wavelength would also break.
+template <typename Visitor>
+bool keeps_records(const Visitor& visit) {
+  if constexpr (requires(const Visitor& c) { c.keeps_records(); })
+    return visit.keeps_records();
+  else
+    return false;
+}
+
 // Walks on from `state` in the transport mode of the subpath (radiance: from the camera, which
 // then also meets lamps and escapes to a light at infinity; importance: from a light), and hands
 // each vertex to the visitor (Tungsten's TraceBase, pbrt-v4's RandomWalk):
@@ -173,7 +184,10 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
 //       (asked only of a visitor whose kReverse is true).
 //   visit.medium_vertex(point) -> bool, optional: a medium vertex at `point`, the rest of it
 //       (the throughput, the medium, the nested set, the direction it arrived along) in `state`;
-//       called instead of vertex() for medium vertices (a visitor without reverse densities).
+//       called instead of vertex() for medium vertices (a visitor without reverse densities),
+//       except while visit.keeps_records() (optional) says true;
+//   visit.split(state, wavelengths, rng) -> child and visit.join(child), optional: a walk of one
+//       wavelength from here (events.h: kSplitCount), not while visit.keeps_records().
 // The visitor may read and edit `state` in vertex() (the path tracer's MIS reads the density of
 // the direction that arrived, state.pdf_dir, and restarts the light-connection ratios).
 // At the first dispersive interface it keeps one wavelength (state.dispersion_u). Russian
@@ -228,9 +242,12 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     state.guide = {};
     // A visitor that reads a medium vertex from the state alone (the path tracer's) is handed its
     // point: no record of 2 KB to fill and copy at each of a dense walk's thousands of collisions.
+    bool by_point = false;
     if constexpr (requires(Visitor& c, const Vec3& p) { c.medium_vertex(p); }) {
-      if (!visit.medium_vertex(x)) return false;
-    } else {
+      by_point = !keeps_records(visit);
+      if (by_point && !visit.medium_vertex(x)) return false;
+    }
+    if (!by_point) {
       Vertex<N> vx = make(VertexKind::medium, x);
       vx.medium = state.medium;
       vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
@@ -276,7 +293,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if constexpr (requires(Visitor& c, WalkState<N>& s, SampledWavelengths<N>& wk, Rng& r) {
                     c.join(c.split(s, wk, r));
                   }) {
-      if (splits_wavelengths(v, state.medium, w, state.start, d, length(hit->point - state.start))) {
+      if (!keeps_records(visit) &&
+          splits_wavelengths(v, state.medium, w, state.start, d, length(hit->point - state.start))) {
         const double u_nm = rng.next_double();
         const Rng common = rng;
         for (std::size_t i = 0; i < kSplitCount<N>; ++i) {

@@ -1,0 +1,107 @@
+#pragma once
+// The path tracer's visitor of a camera walk (integrators/walk.h): what the path sees directly and
+// next-event estimation at every vertex, weighted by MIS (path.cpp says how). Also the tail of the
+// bidirectional estimators' camera subpaths beyond the vertices they keep (bidirectional.h).
+#include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/walk.h"
+
+namespace bouguer {
+
+// The path tracer's visitor: at each vertex of a camera walk, what it sees directly (an emitter or
+// the environment, weighted against next-event estimation) and next-event estimation; at most
+// max_depth surface vertices and kMaxScatterings medium vertices.
+template <std::size_t N>
+struct Radiance {
+  static constexpr bool kReverse = false;
+  const SceneView<N>& v;
+  const SampledWavelengths<N>& w;
+  WalkState<N>& state;  // its mis: r_u over the path, r_l since its last vertex (media/scattering.h)
+  Rng& rng;
+  std::uint64_t& rays;
+  Vec3 previous;  // the last vertex: where next-event estimation would have started
+  SampledSpectrum<N> l;
+  int surfaces = 0, scatterings = 0;
+  // The bidirectional estimators' deferred dispersion (walk.h: WalkState::kept): what a
+  // contribution of a path that has crossed a dispersive interface is multiplied by (N at the
+  // kept wavelength, 0 elsewhere). None in the path tracer, which keeps one wavelength instead.
+  const SampledSpectrum<N>* dispersed_keep = nullptr;
+
+  void add(const SampledSpectrum<N>& c) { l += dispersed_keep && state.dispersed ? c * *dispersed_keep : c; }
+
+  // A light met along a direction drawn with density state.pdf_dir (0: specular, or the camera).
+  void arrived_at_light(const Vertex<N>& x) {
+    const RenderScene& scene = v.scene;
+    const double arrived = state.pdf_dir;
+    const Vec3 d = -x.wo;
+    if (x.infinite) {  // an environment map is also reached by next-event estimation: weighted against it
+      // (through smooth interfaces from a guided medium vertex: against the guide, events.h)
+      const double weight =
+          arrived == 0.0 || !scene.environment
+              ? (arrived == 0.0 && state.guide.active()
+                     ? power_heuristic(state.guide_phase_pdf, exit_guide_pdf(scene, state.guide, state.guide_dir))
+                     : 1.0)
+              : spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
+      add(x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
+      return;
+    }
+    const double weight =
+        arrived == 0.0 ? 1.0
+                       : spectral_power_heuristic(scene, arrived, state.mis.r_u, area_light_pdf(scene, x.hit, previous, d),
+                                                  state.mis.r_l);
+    add(x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
+  }
+
+  // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
+  // to nothing yet; join() takes what it found.
+  Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r) const {
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep};
+  }
+  void join(const Radiance& child) { l += child.l; }
+
+  bool vertex(const Vertex<N>& x) {
+    if (x.kind == VertexKind::light) {
+      arrived_at_light(x);
+      return false;
+    }
+    if (x.kind == VertexKind::medium) return medium_vertex(x.point);  // (the walk calls it itself)
+    if (++surfaces > v.max_depth) return false;
+    if (!x.delta) add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true));
+    moved_to(x.point);
+    return true;
+  }
+
+  // A scattering event at `point`; its throughput, medium and nested set are the walk's state's.
+  bool medium_vertex(const Vec3& point) {
+    const RenderScene& scene = v.scene;
+    if (++scatterings > kMaxScatterings) return false;
+    const int medium = state.medium;
+    const Vec3 direction = state.ray.direction;  // the one it arrived along
+    const PhaseFunction& phase = scattering_medium(scene, medium)->phase;
+    // Thinned deep in a dense medium, where it finds nothing (events.h: nee_probability_in_medium).
+    const double q = nee_probability_in_medium(v, medium, point, w, state.near);
+    if (q >= 1.0 || rng.next_double() < q)
+      add(state.beta *
+          direct_light_in_medium(v, point, direction, phase, medium, w, state.mis.r_u, rng, rays, state.inside) *
+          static_cast<float>(1.0 / q));
+    // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
+    // own, so the walk's moves on by one however many the connection takes.
+    // (None where the walk could not cross one more surface.)
+    state.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, state.near) : ExitGuide{};
+    if (state.guide.active()) {
+      Rng side(rng.next_u32(), kExitGuideStream);
+      add(state.beta *
+          environment_through_interfaces(v, point, direction, phase, medium, state.guide, w, side, rays,
+                                         state.inside, v.max_depth - surfaces, state.crossings) *
+          static_cast<float>(1.0 / mean_ratio(scene, state.mis.r_u)));
+    }
+    moved_to(point);
+    return true;
+  }
+
+  void moved_to(const Vec3& point) {
+    if (v.scene.scatters) state.mis.r_l = state.mis.r_u;  // (all ones otherwise)
+    previous = point;
+  }
+};
+
+}  // namespace bouguer
