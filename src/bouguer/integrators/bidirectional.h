@@ -395,7 +395,8 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
                                 mean_ratio(s_, pt.r_u * qs.r_u, tr->ratios.r_l));
 }
 
-// The σ̄_s of every medium over the sample's wavelengths (walk.h). In a dispersive scene, `kept`
+// The σ̄_s of every medium over the sample's wavelengths (walk.h); their hero is the caller's
+// (stratified: integrators.h, start_sample_wavelengths; vcm.cpp over its iterations). In a dispersive scene, `kept`
 // becomes the sample's wavelengths with all but one terminated (the one both subpaths follow past
 // a dispersive interface) and the result is N at that one, 0 elsewhere: what a contribution of a
 // path that crossed such an interface is multiplied by. Otherwise all ones.
@@ -403,7 +404,6 @@ template <std::size_t N>
 SampledSpectrum<N> begin_sample(const SceneView<N>& view, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                                 std::vector<double>& sigma_mean, SampledWavelengths<N>& kept) {
   const RenderScene& scene = view.scene;
-  draw_hero(scene, w, rng);
   sigma_mean.assign(scene.media.size(), 0.0);
   if (scene.scatters)
     for (std::size_t m = 0; m < scene.media.size(); ++m)
@@ -508,6 +508,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
   tables.restart(w, 0.0);
   std::vector<double> sigma_mean;
   SampledWavelengths<N> kept = w;
+  draw_hero(scene, w, rng);
   begin_sample(view, w, rng.next_double(), rng, sigma_mean, kept);
   const WalkMedia media{sigma_mean};
   std::uint64_t rays = 0;

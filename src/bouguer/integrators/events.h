@@ -573,9 +573,8 @@ void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, double u) {
   w.hero = scene.scatters ? std::min(static_cast<int>(u * static_cast<double>(N)), static_cast<int>(N) - 1) : 0;
 }
 // The same from the path's own stream, drawn only in scenes that scatter (so other scenes' streams
-// are unchanged): the light tracer and the bidirectional estimators, whose test tolerances were
-// sized on these streams (their weights do not depend on the hero, so a stratified one would be
-// the same change there).
+// are unchanged): bdpt_mis_check's samples. The estimators draw theirs from strata
+// (integrators.h: start_sample_wavelengths; vcm.cpp over its iterations).
 template <std::size_t N>
 void draw_hero(const RenderScene& scene, SampledWavelengths<N>& w, Rng& rng) {
   draw_hero(scene, w, scene.scatters ? rng.next_double() : 0.0);

@@ -47,13 +47,11 @@ struct SplatToCamera {
 template <std::size_t N>
 void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                       FilmBuffer& film, std::uint64_t& rays) {
-  const RenderScene& scene = v.scene;
-  draw_hero(scene, w, rng);
   Vertex<N> y;
   WalkState<N> state;
   if (!start_light_subpath(v, w, rng, y, state)) return;
   state.dispersion_u = dispersion_u;
-  if (const auto* area = std::get_if<AreaLight>(&scene.lights[static_cast<std::size_t>(y.light)]))
+  if (const auto* area = std::get_if<AreaLight>(&v.scene.lights[static_cast<std::size_t>(y.light)]))
     splat_light_to_camera(v, y.hit, *area, state.medium, y.beta, w, rng, film, rays);
   SplatToCamera<N> splat{v, w, rng, film, rays};
   random_walk(v, WalkMedia{}, TransportMode::importance, state, w, rng, rays, splat);

@@ -240,8 +240,9 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
   const double r1 = initial_radius(scene, settings);
   const bool hero = settings.spectral == SpectralMode::hero;
   const bool stratify = hero || scene.dispersive;
-  WavelengthStrata strata;
+  WavelengthStrata strata, heroes;
   strata.reset(settings.seed, ~std::uint64_t{0}, settings.spp);
+  heroes.reset(settings.seed, ~std::uint64_t{0}, settings.spp, kHeroStrataSalt);
   const int iterations = range.end - range.begin;
   PhotonGrid<N> surface_grid, medium_grid;
   for (int it = range.begin; it < range.end; ++it) {
@@ -250,6 +251,10 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
     Rng irng = sample_rng(settings.seed, 0, it, kIterationSalt);
     SampledWavelengths<N> w = tables.wavelengths(0.0);
     tables.restart(w, hero ? strata.u(it) / static_cast<double>(N) : 0.0);
+    // Every pixel of an iteration shares its hero, so a hero drawn at random tinted the whole
+    // image (a chromatic medium's light went to the wavelengths near the heroes drawn); strata
+    // over the iterations give each index its share.
+    draw_hero(scene, w, heroes.u(it));
     const double dispersion_u = hero ? irng.next_double() : stratify ? strata.u(it) : 0.0;
     std::vector<double> sigma_mean;
     SampledWavelengths<N> kept = w;
