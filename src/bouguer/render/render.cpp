@@ -62,7 +62,7 @@ void check_settings(const RenderScene& scene, const RenderSettings& settings, bo
       for (const int m : {surface.medium_front, surface.medium_behind})
         if (m >= 0 && scattering(scene.media[static_cast<std::size_t>(m)].medium))
           fail("{}: object '{}': medium '{}' scatters; the {} integrator renders absorption only (use --integrator "
-               "path or light)",
+               "path, bdpt, vcm or light)",
                scene.file.string(), surface.object, scene.media[static_cast<std::size_t>(m)].name, integrator.name);
 }
 
