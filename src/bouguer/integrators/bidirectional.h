@@ -64,8 +64,8 @@ class Bdpt {
 
   // The camera subpath's first max_depth + 2 vertices into `path`, and what its tail beyond them
   // finds into camera_tail(); `keep` (begin_sample's) weighs the tail's light of paths that have
-  // crossed a dispersive interface.
-  void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep = nullptr);
+  // crossed a dispersive interface (null: no tail, the walk stops there: bdpt_mis_check).
+  void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep);
   const SampledSpectrum<N>& camera_tail() const { return tail_; }
   void light_subpath(std::vector<Vertex<N>>& path) { light_subpath(path, rng_); }
   // The same from its own random stream (vcm.cpp traces each light subpath twice: for the photons,
@@ -137,6 +137,7 @@ struct KeepThenTrace {
   std::vector<Vertex<N>>& path;
   std::size_t max_vertices;
   Radiance<N> tail;
+  bool with_tail = true;  // false: stop at the last kept vertex (bdpt_mis_check)
   bool tracing = false;   // past the kept vertices
   bool reversed = false;  // the last kept vertex's predecessor has its pdf_rev
 
@@ -145,15 +146,16 @@ struct KeepThenTrace {
     if (tracing) return tail.vertex(x);
     path.push_back(x);
     if (path.size() < max_vertices) return true;
-    if (x.kind == VertexKind::light) return false;
+    if (x.kind == VertexKind::light || !with_tail) return false;
     tracing = true;
     for (std::size_t i = 1; i + 1 < path.size(); ++i)
       ++(path[i].kind == VertexKind::medium ? tail.scatterings : tail.surfaces);
     return tail.vertex(x);
   }
   bool medium_vertex(const Vec3& point) { return tail.medium_vertex(point); }
+  bool wants_reverse() const { return !(tracing && reversed); }
   void reverse(double pdf_dir) {
-    if (tracing && std::exchange(reversed, true)) return;
+    if (tracing) reversed = true;
     const Vertex<N>& at = path.back();
     Vertex<N>& prev = path[path.size() - 2];
     prev.pdf_rev = to_area_density(pdf_dir, at.point, prev, at.tau_in);
@@ -186,7 +188,8 @@ void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const
   state.from = ray.origin;
   state.kept = kept_;
   KeepThenTrace<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 2,
-                        Radiance<N>{v_, w_, state, rng_, rays_, ray.origin, {}, 0, 0, keep_spectrum}};
+                        Radiance<N>{v_, w_, state, rng_, rays_, ray.origin, {}, 0, 0, keep_spectrum},
+                        keep_spectrum != nullptr};
   random_walk(v_, media_, TransportMode::radiance, state, w_, rng_, rays_, keep);
   tail_ = keep.tail.l;
 }
@@ -500,7 +503,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
                const Merging& merging, MergeWeight&& merge_weight, BdptMisCheck& out) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth};
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, settings.exit_guide};
   const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(scene.camera.width_px) +
                      static_cast<std::uint64_t>(x);
   Rng rng = sample_rng(settings.seed, pixel, sample, 2);
@@ -516,7 +519,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
   bdpt.set_merging(merging);
   std::vector<Vertex<N>> camera_path, light_path;
   const auto [u, v] = subpixel(sample, settings.spp, rng);
-  bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path);
+  bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, nullptr);
   bdpt.light_subpath(light_path);
   const int nc = static_cast<int>(camera_path.size()), nl = static_cast<int>(light_path.size());
   for (int t = 1; t <= nc; ++t)

@@ -16,7 +16,8 @@
 // Spectral. Every path of an iteration carries the same wavelengths (the hero of hero mode, the
 // wavelength kept at a dispersive interface, the hero that draws distances in media), so a photon
 // from any pixel's light subpath meets a camera subpath at its own wavelengths. The wavelengths
-// are stratified over the iterations instead of over a pixel's samples.
+// are stratified over the iterations instead of over a pixel's samples. (A camera subpath's tail,
+// which no photon meets, splits into walks of one wavelength by its pixel's own strata.)
 //
 // MIS. The weights are those of the connections (bidirectional.h's mis_weight, with the merging
 // terms on) and, for a merge, the same sum written from the photon's side: what it needs of the

@@ -174,6 +174,17 @@ bool keeps_records(const Visitor& visit) {
     return false;
 }
 
+// Whether a visitor with reverse densities still reads them (a camera subpath's tail does not).
+template <typename Visitor>
+bool wants_reverse(const Visitor& visit) {
+  if constexpr (!Visitor::kReverse)
+    return false;
+  else if constexpr (requires(const Visitor& c) { c.wants_reverse(); })
+    return visit.wants_reverse();
+  else
+    return true;
+}
+
 // Walks on from `state` in the transport mode of the subpath (radiance: from the camera, which
 // then also meets lamps and escapes to a light at infinity; importance: from a light), and hands
 // each vertex to the visitor (Tungsten's TraceBase, pbrt-v4's RandomWalk):
@@ -181,7 +192,8 @@ bool keeps_records(const Visitor& visit) {
 //       holds the limits: the depth, the scattering events);
 //   visit.reverse(pdf_dir): once the walk has sampled on from the last vertex, the solid-angle
 //       density with which that vertex samples the direction back towards the one before it
-//       (asked only of a visitor whose kReverse is true).
+//       (asked only of a visitor whose kReverse is true, and whose wants_reverse(), if it has one,
+//       says true);
 //   visit.medium_vertex(point) -> bool, optional: a medium vertex at `point`, the rest of it
 //       (the throughput, the medium, the nested set, the direction it arrived along) in `state`;
 //       called instead of vertex() for medium vertices (a visitor without reverse densities),
@@ -257,7 +269,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, roulette_divisor(),
                                                 state.ray, rng, mode, single_index());
     if (!phase_pdf) return false;
-    if constexpr (Visitor::kReverse) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
+    if constexpr (Visitor::kReverse)
+      if (wants_reverse(visit)) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
     state.pdf_dir = *phase_pdf;
     state.guide_dir = state.ray.direction;
     state.guide_phase_pdf = *phase_pdf;
@@ -293,7 +306,9 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if constexpr (requires(Visitor& c, WalkState<N>& s, SampledWavelengths<N>& wk, Rng& r) {
                     c.join(c.split(s, wk, r));
                   }) {
-      if (!keeps_records(visit) &&
+      // (Not once a bidirectional tail has crossed a dispersive interface: only the kept wavelength
+      // counts there, and it is rarely among the split's.)
+      if (!keeps_records(visit) && !(state.kept && state.dispersed) &&
           splits_wavelengths(v, state.medium, w, state.start, d, length(hit->point - state.start))) {
         const double u_nm = rng.next_double();
         const Rng common = rng;
@@ -350,7 +365,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!vx.delta || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) state.guide = {};
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
-      visit.reverse(vx.delta ? 0.0 : e.pdf(state.ray.direction, wo));
+      if (wants_reverse(visit)) visit.reverse(vx.delta ? 0.0 : e.pdf(state.ray.direction, wo));
     state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;
     moved_on(hit->point);
   }
