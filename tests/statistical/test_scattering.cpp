@@ -388,6 +388,7 @@ struct TestTables {
   SampledSpectrum<4> transmittance(std::span<const OpticalDepthTerm>, const SampledWavelengths<4>&) const {
     return SampledSpectrum<4>::constant(1.0f);
   }
+  float kept_transmittance(std::span<const OpticalDepthTerm>, const SampledWavelengths<4>&) const { return 1.0f; }
 };
 struct TestRay {
   Vec3 origin, direction;

@@ -81,6 +81,17 @@ SampledSpectrum<N> absorbers_transmittance(const std::vector<FieldAbsorber>& abs
     terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
   return tables.transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
 }
+// The same at the one wavelength a walk still carries (w.secondary_terminated()).
+template <typename Tables, typename Ray, std::size_t N>
+float absorbers_kept_transmittance(const std::vector<FieldAbsorber>& absorbers, const Tables& tables, const Ray& ray,
+                                   double t0, double t1, const SampledWavelengths<N>& w) {
+  if (absorbers.empty()) return 1.0f;
+  std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
+  std::size_t n = 0;
+  for (const FieldAbsorber& a : absorbers)
+    terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
+  return tables.kept_transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
+}
 
 // The fraction of light kept along ray.origin + t·ray.direction for t in [t0, t1] (t1 may be
 // infinite: then zero in an absorber, one in a clear medium). Exact for every carried

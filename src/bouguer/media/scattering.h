@@ -168,7 +168,7 @@ MediumEvent sample_scattering(const ScatteringMedium& m, const Tables& tables, c
     detail::walk_majorant(m, tables.at_index(m.sigma_s, w, hero), ray, t_max, rng, on_collision);
     if (null_ratio != 1.0) mis.r_l *= static_cast<float>(null_ratio);
     if (!m.absorbers.empty())
-      beta[hero] *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, event.scattered ? event.t : t_max, w)[hero];
+      beta[hero] *= absorbers_kept_transmittance(m.absorbers, tables, ray, 0.0, event.scattered ? event.t : t_max, w);
     return event;
   }
   const SampledSpectrum<N> sigma_s = tables.at(m.sigma_s, w);

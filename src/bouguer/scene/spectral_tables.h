@@ -68,12 +68,11 @@ class SpectralTables {
   // point before the mean, as for one absorber.
   SampledSpectrum<N> transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<N>& w) const {
     if (mode_ == SpectralMode::full) {
-      if (w.secondary_terminated())
-        return kept_bin_transmittance(w.single, [&](int k, std::size_t j) {
-          float depth = 0.0f;  // the same sums, in the same order, as add_scaled's
-          for (const OpticalDepthTerm& t : terms) depth += sub_[static_cast<std::size_t>(t.id)][k][j] * static_cast<float>(t.length);
-          return depth;
-        });
+      if (w.secondary_terminated()) {
+        SampledSpectrum<N> t{};
+        t[static_cast<std::size_t>(w.single)] = kept_transmittance(terms, w);
+        return t;
+      }
       SubBinValues<N> sum{};
       for (const OpticalDepthTerm& t : terms) {
         const auto l = static_cast<float>(t.length);
@@ -85,6 +84,23 @@ class SpectralTables {
     SampledSpectrum<N> sum{};
     for (const OpticalDepthTerm& t : terms) sum += at(t.id, w) * static_cast<float>(t.length);
     return beer_lambert_transmittance(sum, 1.0f);
+  }
+
+  // The same at the one wavelength a walk still carries (w.secondary_terminated()), bit for bit
+  // that bin of transmittance(terms, w): a dense walk takes it at every collision, without the
+  // spectrum of zeros around it.
+  float kept_transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<N>& w) const {
+    const auto j = static_cast<std::size_t>(w.single);
+    if (mode_ == SpectralMode::full) {
+      float sum = 0.0f;  // kept_bin_transmittance's arithmetic
+      for (int k = 0; k < kSubBins; ++k) {
+        float depth = 0.0f;  // the same sums, in the same order, as add_scaled's
+        for (const OpticalDepthTerm& t : terms) depth += sub_[static_cast<std::size_t>(t.id)][k][j] * static_cast<float>(t.length);
+        sum += exp_nonpositive(-depth);
+      }
+      return sum * (1.0f / kSubBins);
+    }
+    return transmittance(terms, w)[j];
   }
 
   // A new path's wavelengths: the mode's fixed set, or kHeroCount drawn from the stratified u.
