@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 
 #include "bouguer/integrators/integrators.h"
@@ -131,18 +132,14 @@ TEST(VertexMerging, ScatteringWhiteFurnaceHomogeneous) {
     EXPECT_LT(3.0 * e.standard_error, 0.01) << "full ch " << c << ": too few samples for the tolerance";
   }
   constexpr int kSeeds = 8;
-  double sum[3] = {}, sum2[3] = {};
+  std::array<std::array<double, kSeeds>, 3> means{};
   for (int seed = 1; seed <= kSeeds; ++seed) {
     const Film f = render(desc, IntegratorType::vcm, SpectralMode::hero, 1024, static_cast<std::uint64_t>(seed));
-    for (int c = 0; c < 3; ++c) {
-      const double m = test::channel_estimate(f, c, 0, 0, f.width, f.height).mean;
-      sum[c] += m;
-      sum2[c] += m * m;
-    }
+    for (int c = 0; c < 3; ++c)
+      means[c][seed - 1] = test::channel_estimate(f, c, 0, 0, f.width, f.height).mean;
   }
   for (int c = 0; c < 3; ++c) {
-    const double mean = sum[c] / kSeeds;
-    const double se = std::sqrt(std::max(0.0, sum2[c] / kSeeds - mean * mean) / (kSeeds - 1));
+    const auto [mean, se] = test::mean_estimate(means[c]);
     std::printf("vcm white furnace (homogeneous, hero, %d seeds) ch %d: %.5f ± %.5f\n", kSeeds, c, mean, se);
     EXPECT_NEAR(mean, 1.0, 0.02) << "hero ch " << c;
     EXPECT_LT(3.0 * se, 0.02) << "hero ch " << c << ": too few samples for the tolerance";
@@ -212,17 +209,8 @@ TEST(Bidirectional, WholeMilkBallMatchesThePathTracersReference) {
   ASSERT_EQ(f.width, reference.width);
   ASSERT_EQ(f.height, reference.height);
   for (int c = 0; c < 3; ++c) {
-    double sum = 0.0, sum2 = 0.0, ref = 0.0;
-    const int n = f.width * f.height;
-    for (int y = 0; y < f.height; ++y)
-      for (int x = 0; x < f.width; ++x) {
-        const double d = f.rgb_at(x, y)[c] - reference.rgb_at(x, y)[c];
-        sum += d;
-        sum2 += d * d;
-        ref += reference.rgb_at(x, y)[c];
-      }
-    const double mean = sum / n, se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
-    ref /= n;
+    const auto [mean, se] = test::difference_estimate(reference, f, c);
+    const double ref = test::channel_estimate(reference, c, 0, 0, reference.width, reference.height).mean;
     std::printf("bdpt whole-milk ball (128 spp) ch %d: mean %.5f, reference %.5f, difference %+.5f ± %.5f\n", c,
                 ref + mean, ref, mean, se);
     EXPECT_NEAR(mean, 0.0, 0.03 * ref) << "ch " << c;

@@ -163,21 +163,6 @@ TEST(ShadingNormals, RevolvedShapesCarryTheirExactNormals) {
   EXPECT_THROW(make_shape(LatheShape{dome, 32, -1.0}, "dome"), Error);
 }
 
-// The mean over the image of the pixel differences b − a, and its standard error: where both
-// estimate the same image, every pixel's difference has mean 0 and the pixels are independent.
-test::Estimate difference(const Film& a, const Film& b, int channel) {
-  double sum = 0.0, sum2 = 0.0;
-  const int n = a.width * a.height;
-  for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x) {
-      const double d = double(b.rgb_at(x, y)[channel]) - double(a.rgb_at(x, y)[channel]);
-      sum += d;
-      sum2 += d * d;
-    }
-  const double mean = sum / n;
-  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1))};
-}
-
 // A diffuse quad whose OBJ normals lean 30° away from its face, lit by a point light: the path
 // tracer (next-event estimation, radiance mode), the light tracer (importance mode, every path
 // connected to the camera), bdpt and vcm must render the same image. Without the adjoint correction the light
@@ -206,7 +191,7 @@ TEST(ShadingNormals, PathAndLightTracersAgreeOnATiltedShadingNormal) {
   const double mean = test::channel_estimate(path, 1, 0, 0, path.width, path.height).mean;
   ASSERT_GT(mean, 0.0);
   for (const auto& [integrator, spp] : {std::pair{"light", 65536}, std::pair{"bdpt", 1024}, std::pair{"vcm", 1024}}) {
-    const test::Estimate d = difference(path, test::render_text(scene(integrator, spp)), 1);
+    const test::Estimate d = test::difference_estimate(path, test::render_text(scene(integrator, spp)), 1);
     std::printf("tilted normals: path %.5f, %s − path %+.5f ± %.5f\n", mean, integrator, d.mean, d.standard_error);
     EXPECT_LT(4.0 * d.standard_error, 0.02 * mean) << integrator;  // the test can tell a 2 % difference
     EXPECT_NEAR(d.mean, 0.0, 4.0 * d.standard_error) << integrator;

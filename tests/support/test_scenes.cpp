@@ -123,6 +123,14 @@ std::string ball_furnace(double camera_z, const char* sigma_s_per_m, double g, c
                      camera_z, ior, sigma_s_per_m, g, radius);
 }
 
+namespace {
+// From the sum and the sum of squares of n independent values.
+Estimate from_sums(double sum, double sum2, int n) {
+  const double mean = sum / n;
+  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1))};
+}
+}  // namespace
+
 // Mean and standard error of one channel over pixels (the pixels are independent estimates).
 // The tests require the tolerance to be at least 3 standard errors, so each can fail.
 Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, int y1) {
@@ -135,8 +143,27 @@ Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, in
       sum2 += v * v;
       ++n;
     }
-  const double mean = sum / n;
-  return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1))};
+  return from_sums(sum, sum2, n);
+}
+
+Estimate difference_estimate(const Film& a, const Film& b, int channel) {
+  double sum = 0.0, sum2 = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const double d = double(b.rgb_at(x, y)[channel]) - double(a.rgb_at(x, y)[channel]);
+      sum += d;
+      sum2 += d * d;
+    }
+  return from_sums(sum, sum2, a.width * a.height);
+}
+
+Estimate mean_estimate(std::span<const double> values) {
+  double sum = 0.0, sum2 = 0.0;
+  for (const double v : values) {
+    sum += v;
+    sum2 += v * v;
+  }
+  return from_sums(sum, sum2, static_cast<int>(values.size()));
 }
 
 }  // namespace bouguer::test

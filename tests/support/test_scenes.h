@@ -1,6 +1,7 @@
 #pragma once
 // Scenes shared by several tests (as scene-file text), and estimates over pixels.
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "bouguer/render/film.h"
@@ -40,5 +41,11 @@ struct Estimate {
 // Mean and standard error of one channel over pixels (the pixels are independent estimates).
 // The tests require the tolerance to be at least 3 standard errors, so each can fail.
 Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, int y1);
+// The mean over the image of the pixel differences b − a in one channel, and its standard error:
+// where both estimate the same image, every pixel's difference has mean 0 and the pixels are
+// independent.
+Estimate difference_estimate(const Film& a, const Film& b, int channel);
+// Mean and standard error of independent values (the image means of several seeds).
+Estimate mean_estimate(std::span<const double> values);
 
 }  // namespace bouguer::test

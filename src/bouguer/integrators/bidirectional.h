@@ -399,10 +399,10 @@ SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<V
 }
 
 // The σ̄_s of every medium over the sample's wavelengths (walk.h); their hero is the caller's
-// (stratified: integrators.h, start_sample_wavelengths; vcm.cpp over its iterations). In a dispersive scene, `kept`
-// becomes the sample's wavelengths with all but one terminated (the one both subpaths follow past
-// a dispersive interface) and the result is N at that one, 0 elsewhere: what a contribution of a
-// path that crossed such an interface is multiplied by. Otherwise all ones.
+// (stratified: integrators.h, start_sample_wavelengths; vcm.cpp over its iterations). In a
+// dispersive scene, `kept` becomes the sample's wavelengths with all but one terminated (the one
+// both subpaths follow past a dispersive interface) and the result is N at that one, 0 elsewhere:
+// what a contribution of a path that crossed such an interface is multiplied by. Otherwise all ones.
 template <std::size_t N>
 SampledSpectrum<N> begin_sample(const SceneView<N>& view, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
                                 std::vector<double>& sigma_mean, SampledWavelengths<N>& kept) {

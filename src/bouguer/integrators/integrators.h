@@ -74,8 +74,8 @@ void start_sample_wavelengths(const RenderScene& scene, const SpectralTables<N>&
 // stratify the wavelength kept at a dispersive interface instead; the hero of scattering media is
 // stratified in every mode, for every estimator that draws its samples here: events.h), handed to
 // sample(x, y, s, rng, wavelengths, dispersion_u, rays). An estimator that never keeps one
-// wavelength (kDispersion false: Whitted) gets dispersion_u 0 in the fixed
-// modes, and the strata are not drawn for it.
+// wavelength (kDispersion false: Whitted) gets dispersion_u 0 in the fixed modes, and the strata
+// are not drawn for it.
 template <std::size_t N, bool kDispersion = true, typename Sample>
 void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& tables, const RenderSettings& settings, int film_width,
                            PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,

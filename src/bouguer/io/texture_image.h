@@ -1,7 +1,8 @@
 #pragma once
 // Texture images (PNG, JPEG, OpenEXR, TIFF, Radiance HDR, ...) read through OpenImageIO, in a module
-// loaded on first use (io/texture_module.h) that no other file includes. The declared size is checked against core/limits.h (kMaxTextureDimension,
-// kMaxTexturePixels) before anything is allocated; every failure is one Error naming the file.
+// loaded on first use (io/texture_module.h) that no other file includes. The declared size is
+// checked against core/limits.h (kMaxTextureDimension, kMaxTexturePixels) before anything is
+// allocated; every failure is one Error naming the file.
 #include <filesystem>
 #include <span>
 #include <string>

@@ -70,27 +70,32 @@ inline const ScatteringMedium* scattering(const Medium& m) { return std::get_if<
 // medium plays it by throughput: a path may scatter thousands of times there.
 inline bool allows_roulette(const Medium& m) { return !absorbs(m) || scattering(m) != nullptr; }
 
+// The optical-depth terms of a medium's absorbers over [t0, t1] (finite) along a ray: each ε_k
+// with its column density ∫c_k dt.
+struct AbsorberTerms {
+  std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
+  std::size_t n = 0;
+  template <typename Ray>
+  AbsorberTerms(const std::vector<FieldAbsorber>& absorbers, const Ray& ray, double t0, double t1) {
+    for (const FieldAbsorber& a : absorbers)
+      terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
+  }
+  std::span<const OpticalDepthTerm> span() const { return {terms.data(), n}; }
+};
+
 // exp(−Σ_k ε_k·∫c_k dt) over [t0, t1] (finite) for a medium's absorbers (one if there are none).
 template <typename Tables, typename Ray, std::size_t N>
 SampledSpectrum<N> absorbers_transmittance(const std::vector<FieldAbsorber>& absorbers, const Tables& tables,
                                            const Ray& ray, double t0, double t1, const SampledWavelengths<N>& w) {
   if (absorbers.empty()) return SampledSpectrum<N>::constant(1.0f);
-  std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
-  std::size_t n = 0;
-  for (const FieldAbsorber& a : absorbers)
-    terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
-  return tables.transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
+  return tables.transmittance(AbsorberTerms(absorbers, ray, t0, t1).span(), w);
 }
 // The same at the one wavelength a walk still carries (w.secondary_terminated()).
 template <typename Tables, typename Ray, std::size_t N>
 float absorbers_kept_transmittance(const std::vector<FieldAbsorber>& absorbers, const Tables& tables, const Ray& ray,
                                    double t0, double t1, const SampledWavelengths<N>& w) {
   if (absorbers.empty()) return 1.0f;
-  std::array<OpticalDepthTerm, kMaxAbsorbersPerMedium> terms;
-  std::size_t n = 0;
-  for (const FieldAbsorber& a : absorbers)
-    terms[n++] = {a.epsilon, column_density(a.field, ray.origin, ray.direction, t0, t1)};
-  return tables.kept_transmittance(std::span<const OpticalDepthTerm>(terms.data(), n), w);
+  return tables.kept_transmittance(AbsorberTerms(absorbers, ray, t0, t1).span(), w);
 }
 
 // The fraction of light kept along ray.origin + t·ray.direction for t in [t0, t1] (t1 may be

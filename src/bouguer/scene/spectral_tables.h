@@ -58,7 +58,8 @@ class SpectralTables {
     const auto l = static_cast<float>(length_m);
     if (mode_ == SpectralMode::full) {
       const SubBinValues<N>& sigma = sub_[static_cast<std::size_t>(id)];
-      if (w.secondary_terminated()) return kept_bin_transmittance(w.single, [&](int k, std::size_t j) { return sigma[k][j] * l; });
+      if (w.secondary_terminated())
+        return only_bin(w.single, kept_bin_mean(w.single, [&](int k, std::size_t j) { return sigma[k][j] * l; }));
       return sub_bin_transmittance(sigma, l);
     }
     return beer_lambert_transmittance(at(id, w), l);
@@ -68,11 +69,7 @@ class SpectralTables {
   // point before the mean, as for one absorber.
   SampledSpectrum<N> transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<N>& w) const {
     if (mode_ == SpectralMode::full) {
-      if (w.secondary_terminated()) {
-        SampledSpectrum<N> t{};
-        t[static_cast<std::size_t>(w.single)] = kept_transmittance(terms, w);
-        return t;
-      }
+      if (w.secondary_terminated()) return only_bin(w.single, kept_transmittance(terms, w));
       SubBinValues<N> sum{};
       for (const OpticalDepthTerm& t : terms) {
         const auto l = static_cast<float>(t.length);
@@ -90,17 +87,13 @@ class SpectralTables {
   // that bin of transmittance(terms, w): a dense walk takes it at every collision, without the
   // spectrum of zeros around it.
   float kept_transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<N>& w) const {
-    const auto j = static_cast<std::size_t>(w.single);
-    if (mode_ == SpectralMode::full) {
-      float sum = 0.0f;  // kept_bin_transmittance's arithmetic
-      for (int k = 0; k < kSubBins; ++k) {
+    if (mode_ == SpectralMode::full)
+      return kept_bin_mean(w.single, [&](int k, std::size_t j) {
         float depth = 0.0f;  // the same sums, in the same order, as add_scaled's
         for (const OpticalDepthTerm& t : terms) depth += sub_[static_cast<std::size_t>(t.id)][k][j] * static_cast<float>(t.length);
-        sum += exp_nonpositive(-depth);
-      }
-      return sum * (1.0f / kSubBins);
-    }
-    return transmittance(terms, w)[j];
+        return depth;
+      });
+    return transmittance(terms, w)[static_cast<std::size_t>(w.single)];
   }
 
   // A new path's wavelengths: the mode's fixed set, or kHeroCount drawn from the stratified u.
@@ -131,16 +124,19 @@ class SpectralTables {
 
  private:
   Vec3 spectral_to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const;
-  // Full mode, after a path has kept one wavelength (bin j): only that bin's mean of
-  // exp(−depth(k, j)) over the sub-bin points, the others 0 (they carry nothing). The arithmetic of
-  // mean_transmittance, so the kept bin's value is the same bit for bit.
+  // Full mode, after a path has kept one wavelength (bin j): that bin's mean of exp(−depth(k, j))
+  // over the sub-bin points; the arithmetic of mean_transmittance, so it is the same bit for bit.
   template <typename Depth>
-  static SampledSpectrum<N> kept_bin_transmittance(int single, Depth depth) {
+  static float kept_bin_mean(int single, Depth depth) {
     const auto j = static_cast<std::size_t>(single);
     float sum = 0.0f;
     for (int k = 0; k < kSubBins; ++k) sum += exp_nonpositive(-depth(k, j));
+    return sum * (1.0f / kSubBins);
+  }
+  // A spectrum of zeros but for bin j (the others carry nothing).
+  static SampledSpectrum<N> only_bin(int j, float value) {
     SampledSpectrum<N> t{};
-    t[j] = sum * (1.0f / kSubBins);
+    t[static_cast<std::size_t>(j)] = value;
     return t;
   }
 
