@@ -187,6 +187,11 @@ void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const
   state.pdf_dir = state.parallel ? pdf[0] : pdf[1];
   state.from = ray.origin;
   state.kept = kept_;
+  // The pixel's ray cone, as the path tracer's (walk.h): textures seen from the camera side are
+  // read at the level the pixel covers. Light subpaths start none and read the finest level.
+  const Camera::Cone cone = v_.camera.pixel_cone();
+  state.cone_width_m = cone.width_m;
+  state.cone_spread_rad = cone.spread_rad;
   KeepThenTrace<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 2,
                         Radiance<N>{v_, w_, state, rng_, rays_, ray.origin, {}, 0, 0, keep_spectrum},
                         keep_spectrum != nullptr};
