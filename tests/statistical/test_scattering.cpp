@@ -41,9 +41,7 @@ Film render(SceneDesc desc, SpectralMode mode, int spp, std::uint64_t seed = 1) 
 
 
 
-void expect_white_furnace(const std::string& json, const std::string& what, int spp = 8192,
-                          double tolerance = 0.005) {
-  const SceneDesc desc = parse_scene(json, "furnace.json");
+void expect_white_furnace(const SceneDesc& desc, const std::string& what, int spp = 8192, double tolerance = 0.005) {
   for (const SpectralMode mode : {SpectralMode::full, SpectralMode::hero}) {
     const Film f = render(desc, mode, spp);
     for (int c = 0; c < 3; ++c) {
@@ -54,6 +52,10 @@ void expect_white_furnace(const std::string& json, const std::string& what, int 
       EXPECT_LT(3.0 * e.standard_error, tolerance) << what << " ch " << c << ": too few samples for the tolerance";
     }
   }
+}
+void expect_white_furnace(const std::string& json, const std::string& what, int spp = 8192,
+                          double tolerance = 0.005) {
+  expect_white_furnace(parse_scene(json, "furnace.json"), what, spp, tolerance);
 }
 
 TEST(Scattering, WhiteFurnaceHomogeneous) { expect_white_furnace(test::furnace_scene("", "path"), "homogeneous"); }
@@ -138,24 +140,32 @@ TEST(Scattering, ChromaticDenseFurnaceSplitsIntoExactWalks) {
   expect_white_furnace(furnace, "chromatic dense", 64, 0.01);
 }
 
-// The strongly chromatic dense furnace under a white environment map, its index kept at 1.33: the
-// walks of one wavelength near the boundary also connect to the map through it (integrators/
-// events.h: ExitGuide), weighted against the walks that leave the same way. The two strategies'
-// weights sum to 1 and the guide's density is the one it draws with, so the furnace stays white
-// in both modes; the render differs from one with `"exit_guide": false` (so the guide ran).
-// Noisier than the walks alone, which under a uniform map each bring back exactly 1: 512 spp,
-// about 2 s a mode.
+// The strongly chromatic dense furnace under a white environment map, its index kept at 1.33: with
+// `"exit_guide": true` the walks of one wavelength near the boundary also connect to the map
+// through it (integrators/events.h: ExitGuide), weighted against the walks that leave the same way.
+// The two strategies' weights sum to 1 and the guide's density is the one it draws with, so the
+// furnace stays white in both modes; the render differs from one with `"exit_guide": false` (so the
+// guide ran). Noisier than the walks alone, which under a uniform map each bring back exactly 1:
+// 512 spp, about 2 s a mode. Left unset, the guide stays off under this map (its contrast is 1,
+// below kExitGuideContrast): the image is the unguided one, bit for bit.
 TEST(Scattering, ChromaticDenseFurnaceUnderAMapConnectsThroughTheBoundary) {
   const std::string json = under_a_white_map(ball_furnace(0.16, "[900, 30]", 0.7, "20 mm"),
                                              test::scratch_dir("scattering_exit_guide_furnace"), true);
-  expect_white_furnace(json, "chromatic dense under a map, guided", 512, 0.015);
-  const Film guided = render(parse_scene(json, "furnace.json"), SpectralMode::full, 4);
-  std::string off = json;
-  off.replace(off.find("\"max_depth\": 1000"), 17, "\"max_depth\": 1000, \"exit_guide\": false");
-  const SceneDesc unguided = parse_scene(off, "furnace.json");
-  ASSERT_FALSE(unguided.render.exit_guide);
-  const Film alone = render(unguided, SpectralMode::full, 4);
-  EXPECT_NE(std::memcmp(guided.rgb.data(), alone.rgb.data(), guided.rgb.size() * sizeof(float)), 0);
+  auto guide = [&](const std::string& setting) {
+    std::string j = json;
+    j.replace(j.find("\"max_depth\": 1000"), 17, "\"max_depth\": 1000, \"exit_guide\": " + setting);
+    return parse_scene(j, "furnace.json");
+  };
+  const SceneDesc guided = guide("true"), unguided = guide("false"), automatic = parse_scene(json, "furnace.json");
+  ASSERT_EQ(guided.render.exit_guide, std::optional<bool>(true));
+  ASSERT_EQ(unguided.render.exit_guide, std::optional<bool>(false));
+  ASSERT_FALSE(automatic.render.exit_guide.has_value());
+  expect_white_furnace(guided, "chromatic dense under a map, guided", 512, 0.015);
+  const Film on = render(guided, SpectralMode::full, 4), off = render(unguided, SpectralMode::full, 4),
+             unset = render(automatic, SpectralMode::full, 4);
+  const std::size_t bytes = on.rgb.size() * sizeof(float);
+  EXPECT_NE(std::memcmp(on.rgb.data(), off.rgb.data(), bytes), 0);
+  EXPECT_EQ(std::memcmp(unset.rgb.data(), off.rgb.data(), bytes), 0);
 }
 
 // The same dense ball inside a thin chromatic haze (σ_s 60 → 6 per m, index 1, a 45 mm sphere of

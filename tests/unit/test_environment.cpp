@@ -46,6 +46,28 @@ Vec3 mean_rgb(const Film& f) {
   return sum / static_cast<double>(f.width * f.height);
 }
 
+// The map's contrast E[Y²]/E[Y]² over the sphere in closed form: a uniform map has 1 (any
+// brightness, any colour of equal luminance); a cap of the n top rows at Y1 over the rest at Y0
+// has, with f = (1 − cos θ1)/2 the cap's share of the sphere (θ1 = π·n/H), (f·Y1² + (1 − f)·Y0²) /
+// (f·Y1 + (1 − f)·Y0)². The texels' solid angles are taken ∝ sin θ at their middles, as the
+// sampler does: within 1e-4 of the exact shares at 512 rows. A black map reads 1 (nothing to draw).
+TEST(Environment, ContrastInClosedForm) {
+  const int w = 8, h = 512;
+  EXPECT_NEAR(make_environment(w, h, std::vector<float>(3 * w * h, 2.5f), 1.0, 0.0).contrast, 1.0, 1e-12);
+  EXPECT_EQ(make_environment(w, h, std::vector<float>(3 * w * h, 0.0f), 1.0, 0.0).contrast, 1.0);
+  for (const int rows : {16, 64, 256}) {
+    const double y1 = 40.0, y0 = 0.5;
+    std::vector<float> rgb(3 * w * h);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w * 3; ++i) rgb[static_cast<std::size_t>(j * w * 3 + i)] = static_cast<float>(j < rows ? y1 : y0);
+    const double f = (1.0 - std::cos(kPi * rows / h)) / 2.0;
+    const double expected = (f * y1 * y1 + (1.0 - f) * y0 * y0) / std::pow(f * y1 + (1.0 - f) * y0, 2.0);
+    const double contrast = make_environment(w, h, rgb, 3.0, 0.0).contrast;
+    std::printf("a cap of %d rows (%.4f of the sphere): contrast %.4f, closed form %.4f\n", rows, f, contrast, expected);
+    EXPECT_NEAR(contrast / expected, 1.0, 1e-4) << rows;
+  }
+}
+
 // The sampler's density integrates to 1 and matches the histogram of its samples per texel.
 TEST(Environment, SamplingDensityMatchesTexelProbabilities) {
   std::mt19937_64 rng(3);

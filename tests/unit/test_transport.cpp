@@ -135,6 +135,12 @@ TEST(ExitGuide, DrawsTheDensityItReports) {
       "objects": [], "background": {{"environment": "{}"}}
     }})", (dir / "patch.pfm").string()), "guide.json"));
   ASSERT_GE(scene.environment_light, 0);
+  // A map this contrasted turns the guide on unless the scene says otherwise (kExitGuideContrast).
+  std::printf("the patch map's contrast: %.2f\n", scene.environment->contrast);
+  RenderSettings settings;
+  EXPECT_TRUE(exit_guide_enabled(settings, scene));
+  settings.exit_guide = false;
+  EXPECT_FALSE(exit_guide_enabled(settings, scene));
   const double eta = 1.33;
   const ExitGuide guide{normalize(Vec3{0.3, 0.8, -0.2}), eta};
   std::mt19937_64 rng(7);
@@ -173,6 +179,14 @@ TEST(ExitGuide, DrawsTheDensityItReports) {
   EXPECT_EQ(exit_guide_pdf(scene, ExitGuide{}, guide.normal), 0.0);
 }
 
+// The scene's last scattering medium (−1: none).
+int last_scattering_medium(const RenderScene& scene) {
+  int found = -1;
+  for (std::size_t m = 0; m < scene.media.size(); ++m)
+    if (scattering_medium(scene, static_cast<int>(m))) found = static_cast<int>(m);
+  return found;
+}
+
 // The connection through the interfaces stops where the walk would. From milk 0.8 mm inside a
 // tumbler's side wall (milk | glass | air: two interfaces to the map), a connection allowed one
 // more surface finds nothing in 2000 draws, and one allowed two finds the map through the wall.
@@ -192,9 +206,7 @@ TEST(ExitGuide, StopsWhereTheWalkWould) {
                    "inside": "glass", "contents": "milky"}}],
       "background": {{"environment": "{}"}}
     }})", (dir / "white.pfm").string()), "tumbler.json"));
-  int milky = -1;
-  for (std::size_t m = 0; m < scene.media.size(); ++m)
-    if (scattering_medium(scene, static_cast<int>(m))) milky = static_cast<int>(m);
+  const int milky = last_scattering_medium(scene);
   ASSERT_GE(milky, 0);
   const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
   const Camera camera(scene.camera);
@@ -203,7 +215,7 @@ TEST(ExitGuide, StopsWhereTheWalkWould) {
   w.terminate_secondary(1, w.nm[1]);
   const Vec3 x{0.0275, 0.04, 0.0};
   SurfaceDistance near;
-  const ExitGuide guide = exit_guide_at(v, milky, x, w, near);
+  const ExitGuide guide = exit_guide_at(v, milky, x, w, near, 0);
   ASSERT_TRUE(guide.active());
   EXPECT_GT(guide.normal.x, 0.99);
   EXPECT_NEAR(guide.eta, 1.35 / scene.media[static_cast<std::size_t>(scene.world_medium)].ior_reference, 1e-12);
@@ -220,6 +232,45 @@ TEST(ExitGuide, StopsWhereTheWalkWould) {
               found_two);
   EXPECT_EQ(found_one, 0);
   EXPECT_GT(found_two, 200);
+}
+
+// Where the nearest surface is an index-matched boundary, next-event estimation reaches the map
+// from the vertex already: no guide there. A dense ball in vacuum under a contrasted map, a vertex
+// 0.1 mm inside its surface: index 1.35, a guide out along the radius; index 1, none.
+TEST(ExitGuide, NoneAtAnIndexMatchedBoundary) {
+  const auto dir = test::scratch_dir("exit_guide_matched");
+  Film map(32, 16);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x) map.set_rgb(x, y, Vec3f{y < 2 ? 50.0f : 0.2f, y < 2 ? 50.0f : 0.2f, y < 2 ? 50.0f : 0.2f});
+  write_pfm(dir / "top.pfm", map);
+  for (const double ior : {1.35, 1.0}) {
+    const RenderScene scene = compile(parse_scene(fmt::format(R"({{
+        "camera": {{"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [4, 4]}},
+        "world_medium": "vacuum",
+        "media": {{"milky": {{"ior": {}, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
+                            "value": [20000, 20000], "phase": {{"type": "henyey_greenstein", "g": 0.8}}}}}}}},
+        "objects": [{{"name": "ball", "shape": {{"type": "sphere", "radius": "10 mm"}}, "inside": "milky"}}],
+        "background": {{"environment": "{}"}}
+      }})", ior, (dir / "top.pfm").string()), "ball.json"));
+    const int milky = last_scattering_medium(scene);
+    ASSERT_GE(milky, 0);
+    RenderSettings settings;
+    ASSERT_TRUE(exit_guide_enabled(settings, scene));
+    const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
+    const Camera camera(scene.camera);
+    const SceneView<kHeroCount> v{scene, tables, camera, 8};
+    SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
+    w.terminate_secondary(1, w.nm[1]);
+    SurfaceDistance near;
+    const ExitGuide guide = exit_guide_at(v, milky, Vec3{0.0, 0.0099, 0.0}, w, near, 0);
+    if (ior > 1.0) {
+      ASSERT_TRUE(guide.active());
+      EXPECT_GT(guide.normal.y, 0.999);
+      EXPECT_NEAR(guide.eta, ior, 1e-12);
+    } else {
+      EXPECT_FALSE(guide.active());
+    }
+  }
 }
 
 // A ball_of_medium lit by a distant light, with full mode's tables and a view of it (which holds

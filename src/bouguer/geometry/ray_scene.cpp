@@ -246,7 +246,7 @@ double RayScene::rounding_scale_m(const Vec3& p) const {
   return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z), impl_->extent_m, 1e-3});
 }
 
-double RayScene::distance_to_surfaces(const Vec3& p, double radius_m, Vec3* nearest) const {
+double RayScene::distance_to_surfaces(const Vec3& p, double radius_m, Vec3* nearest, std::uint32_t* geometry) const {
   // Embree culls with its float point and the tree's float boxes: the pad covers their rounding.
   DistanceQuery q{p, radius_m, 1e-6 * rounding_scale_m(p), &impl_->meshes, &impl_->analytic};
   RTCPointQuery query;
@@ -257,6 +257,7 @@ double RayScene::distance_to_surfaces(const Vec3& p, double radius_m, Vec3* near
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(impl_->scene, &query, &context, distance_callback, &q);
+  if (geometry && q.geometry != RTC_INVALID_GEOMETRY_ID) *geometry = q.geometry;
   if (nearest && q.geometry != RTC_INVALID_GEOMETRY_ID) {
     if (const auto& r = impl_->analytic[q.geometry]) {
       const Vec3 local = r->to_local * (p - r->shape.to_world.translation);

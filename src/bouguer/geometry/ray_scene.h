@@ -59,7 +59,9 @@ class RayScene {
   // smallest stretch. With `nearest`, also the nearest surface's nearest point where one is
   // nearer than radius_m (left as it is otherwise): exact on a triangle; on an affinely placed
   // analytic surface, the local nearest point carried to the world (the nearest for a rigid one).
-  double distance_to_surfaces(const Vec3& p, double radius_m, Vec3* nearest = nullptr) const;
+  // With `geometry`, the nearest surface's geometry id (Hit::geometry) there too.
+  double distance_to_surfaces(const Vec3& p, double radius_m, Vec3* nearest = nullptr,
+                              std::uint32_t* geometry = nullptr) const;
   // The scale of float rounding about p (m): its largest absolute coordinate or the committed
   // scene's box's, whichever is larger (at least 1 mm). Embree's float boxes and hits are off by
   // about 1e-7 of it.

@@ -508,7 +508,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
                const Merging& merging, MergeWeight&& merge_weight, BdptMisCheck& out) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth, settings.exit_guide};
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene)};
   const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(scene.camera.width_px) +
                      static_cast<std::uint64_t>(x);
   Rng rng = sample_rng(settings.seed, pixel, sample, 2);

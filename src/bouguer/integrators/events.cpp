@@ -234,7 +234,7 @@ template <std::size_t N>
 void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last) {
   const double cap_m = 2.0 * nee_floor_m(sigma_per_m);
   last.centre = x;
-  last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest);
+  last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest, &last.nearest_geometry);
   last.radius_m = last.surface_m;
   for (const int index : v.scene.delta_lights) {
     const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
@@ -263,7 +263,7 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 
 template <std::size_t N>
 ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
-                        SurfaceDistance& last) {
+                        SurfaceDistance& last, InsideSet inside) {
   const RenderScene& s = v.scene;
   if (!v.exit_guide || !s.environment || s.environment_light < 0 || !w.secondary_terminated()) return {};
   const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
@@ -274,6 +274,13 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
   if (!here) query_surface_distance(v, x, sigma_per_m, last);
   // (Within reach, below the query's cap: the nearest point was found.)
   if (last.surface_m > reach_m) return {};
+  // An index-matched boundary lets next-event estimation through: from here it draws from the
+  // map already, and a second strategy with the same density only costs time (a whole-milk ball
+  // of index 1 under the studio map, 16×16, 128 spp: the same variance in 1.45 s against 1.75 s).
+  Hit nearest;
+  nearest.geometry = last.nearest_geometry;
+  Surface scratch;
+  if (surface_seen(s, nearest, inside, scratch).index_matched) return {};
   const Vec3 towards = last.nearest - x;
   const double l = length(towards);
   if (!(l > 0.0)) return {};
@@ -428,7 +435,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
   template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,      \
                                             SurfaceDistance&);                                                        \
   template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,               \
-                                   SurfaceDistance&);                                                                 \
+                                   SurfaceDistance&, InsideSet);                                                                 \
   template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&,           \
                                                              const PhaseFunction&, int, const ExitGuide&,             \
                                                              const SampledWavelengths<N>&, Rng&, std::uint64_t&,      \

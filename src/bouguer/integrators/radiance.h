@@ -86,7 +86,7 @@ struct Radiance {
     // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
     // own, so the walk's moves on by one however many the connection takes.
     // (None where the walk could not cross one more surface.)
-    state.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, state.near) : ExitGuide{};
+    state.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, state.near, state.inside) : ExitGuide{};
     if (state.guide.active()) {
       Rng side(rng.next_u32(), kExitGuideStream);
       add(state.beta *

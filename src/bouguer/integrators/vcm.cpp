@@ -235,7 +235,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
             SampleRange range, const RenderControl& control, RenderStats& stats) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth, settings.exit_guide};
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene)};
   const int width = film.width(), height = film.height();
   const double light_paths = static_cast<double>(width) * height;
   const double r1 = initial_radius(scene, settings);

@@ -35,6 +35,11 @@ struct EnvironmentMap {
   std::vector<double> column_cdf;  // height × (width + 1), each row 0 .. 1
   std::vector<double> texel_probability;
   double total_weight = 0.0;  // Σ luminance × sin θ; 0: nothing to sample
+  // The luminance's second moment over the sphere over its mean squared, E[Y²]/E[Y]² by solid
+  // angle: 1 for a uniform map, about 12 for a studio's strips and softboxes. It is the variance
+  // ratio of a direction drawn uniformly to one drawn by the map, for the map's light alone: how
+  // much the map's own sampling has to win (integrators/events.h: the exit guide). 1 where dark.
+  double contrast = 1.0;
 
   int texel(const Vec3& world_direction) const;
   Vec3 direction(double column, double row) const;  // continuous texel coordinates

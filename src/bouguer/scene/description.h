@@ -48,8 +48,9 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   double merge_radius_m = 0.0;  // vcm: the first iteration's merging radius (0: two pixel footprints)
   // path: next-event estimation through smooth interfaces near a dense medium's boundary
-  // (integrators/events.h: ExitGuide); off only to compare estimators.
-  bool exit_guide = true;
+  // (integrators/events.h: ExitGuide). Unset: on where the environment map's contrast reaches
+  // kExitGuideContrast (exit_guide_enabled); set: on or off as said.
+  std::optional<bool> exit_guide;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).
