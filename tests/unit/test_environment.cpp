@@ -50,7 +50,7 @@ Vec3 mean_rgb(const Film& f) {
 // brightness, any colour of equal luminance); a cap of the n top rows at Y1 over the rest at Y0
 // has, with f = (1 − cos θ1)/2 the cap's share of the sphere (θ1 = π·n/H), (f·Y1² + (1 − f)·Y0²) /
 // (f·Y1 + (1 − f)·Y0)². The texels' solid angles are taken ∝ sin θ at their middles, as the
-// sampler does: within 1e-4 of the exact shares at 512 rows. A black map reads 1 (nothing to draw).
+// sampler does: within 1e-4 of the exact shares at 512 rows, at any scale. A black map reads 1.
 TEST(Environment, ContrastInClosedForm) {
   const int w = 8, h = 512;
   EXPECT_NEAR(make_environment(w, h, std::vector<float>(3 * w * h, 2.5f), 1.0, 0.0).contrast, 1.0, 1e-12);
@@ -65,6 +65,8 @@ TEST(Environment, ContrastInClosedForm) {
     const double contrast = make_environment(w, h, rgb, 3.0, 0.0).contrast;
     std::printf("a cap of %d rows (%.4f of the sphere): contrast %.4f, closed form %.4f\n", rows, f, contrast, expected);
     EXPECT_NEAR(contrast / expected, 1.0, 1e-4) << rows;
+    // The scale does not enter, however small (its squares would underflow).
+    EXPECT_EQ(make_environment(w, h, rgb, 1e-300, 0.0).contrast, contrast) << rows;
   }
 }
 

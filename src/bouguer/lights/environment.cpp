@@ -33,7 +33,10 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
   m.row_cdf.assign(height + 1, 0.0);
   m.column_cdf.assign(static_cast<std::size_t>(height) * (width + 1), 0.0);
   std::vector<double> row_weight(height, 0.0);
-  double solid_angle = 0.0, second_moment = 0.0;  // Σ sin θ and Σ Y² sin θ (the texels' solid angles ∝ sin θ)
+  // For the contrast, Σ sin θ, Σ Y·sin θ and Σ Y²·sin θ (the texels' solid angles ∝ sin θ), of the
+  // texels as stored: the ratio does not depend on the scale, and floats squared stay finite and
+  // nonzero in double wherever the scale would push them.
+  double solid_angle = 0.0, first_moment = 0.0, second_moment = 0.0;
   for (int j = 0; j < height; ++j) {
     const double sin_theta = std::sin(kPi * (j + 0.5) / height);
     double* cdf = &m.column_cdf[static_cast<std::size_t>(j) * (width + 1)];
@@ -45,8 +48,11 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
       // Luminance of linear Rec.709; negative (out-of-gamut) components do not count.
       const double y = 0.2126 * std::max(0.0, c.x) + 0.7152 * std::max(0.0, c.y) + 0.0722 * std::max(0.0, c.z);
       const double w = y * sin_theta;
+      const double stored = 0.2126 * std::max(0.0f, rgb[3 * t]) + 0.7152 * std::max(0.0f, rgb[3 * t + 1]) +
+                            0.0722 * std::max(0.0f, rgb[3 * t + 2]);
       solid_angle += sin_theta;
-      second_moment += y * w;
+      first_moment += stored * sin_theta;
+      second_moment += stored * stored * sin_theta;
       m.texel_probability[t] = w;
       cdf[i + 1] = cdf[i] + w;
     }
@@ -56,7 +62,8 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
     m.row_cdf[j + 1] = m.row_cdf[j] + row_weight[j];
   }
   m.total_weight = m.row_cdf[height];
-  if (m.total_weight > 0.0) m.contrast = second_moment * solid_angle / (m.total_weight * m.total_weight);
+  if (m.total_weight > 0.0 && first_moment > 0.0)
+    m.contrast = (second_moment / first_moment) * (solid_angle / first_moment);
   if (m.total_weight > 0.0) {
     for (double& c : m.row_cdf) c /= m.total_weight;
     for (double& p : m.texel_probability) p /= m.total_weight;
