@@ -435,7 +435,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
   template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,      \
                                             SurfaceDistance&);                                                        \
   template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&,               \
-                                   SurfaceDistance&, InsideSet);                                                                 \
+                                   SurfaceDistance&, InsideSet);                                                      \
   template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&,           \
                                                              const PhaseFunction&, int, const ExitGuide&,             \
                                                              const SampledWavelengths<N>&, Rng&, std::uint64_t&,      \

@@ -33,6 +33,10 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
   m.row_cdf.assign(height + 1, 0.0);
   m.column_cdf.assign(static_cast<std::size_t>(height) * (width + 1), 0.0);
   std::vector<double> row_weight(height, 0.0);
+  // Luminance of linear Rec.709; negative (out-of-gamut) components do not count.
+  auto luminance = [](double r, double g, double b) {
+    return 0.2126 * std::max(0.0, r) + 0.7152 * std::max(0.0, g) + 0.0722 * std::max(0.0, b);
+  };
   // For the contrast, Σ sin θ, Σ Y·sin θ and Σ Y²·sin θ (the texels' solid angles ∝ sin θ), of the
   // texels as stored: the ratio does not depend on the scale, and floats squared stay finite and
   // nonzero in double wherever the scale would push them.
@@ -45,11 +49,8 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
       const Vec3 c{rgb[3 * t] * scale, rgb[3 * t + 1] * scale, rgb[3 * t + 2] * scale};
       m.rgb[t] = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
       m.spectra[t] = rgb_to_illuminant(c);
-      // Luminance of linear Rec.709; negative (out-of-gamut) components do not count.
-      const double y = 0.2126 * std::max(0.0, c.x) + 0.7152 * std::max(0.0, c.y) + 0.0722 * std::max(0.0, c.z);
-      const double w = y * sin_theta;
-      const double stored = 0.2126 * std::max(0.0f, rgb[3 * t]) + 0.7152 * std::max(0.0f, rgb[3 * t + 1]) +
-                            0.0722 * std::max(0.0f, rgb[3 * t + 2]);
+      const double y = luminance(c.x, c.y, c.z), w = y * sin_theta;
+      const double stored = luminance(rgb[3 * t], rgb[3 * t + 1], rgb[3 * t + 2]);
       solid_angle += sin_theta;
       first_moment += stored * sin_theta;
       second_moment += stored * stored * sin_theta;
