@@ -26,7 +26,8 @@ double environment_pdf(const RenderScene& scene, const Vec3& d) {
 template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
-                                            std::uint64_t& rays, std::span<const double> sigma_mean) {
+                                            std::uint64_t& rays, std::span<const double> sigma_mean,
+                                            bool* by_smooth_interface) {
   const RenderScene& s = v.scene;
   Transmission<N> out;
   Vec3 start = from.point, origin = from.origin_towards(wi);
@@ -48,7 +49,11 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
     if (out.tr.is_zero()) return std::nullopt;
     if (!hit) return out;
     const Surface& surface = surface_seen(s, *hit, inside, scratch);
-    if (!surface.index_matched || crossing == kMaxCrossings) return std::nullopt;  // then it counts as blocked
+    if (!surface.index_matched || crossing == kMaxCrossings) {  // then it counts as blocked
+      if (by_smooth_interface)
+        *by_smooth_interface = !surface.index_matched && surface.kind == SurfaceKind::interface && surface.roughness == 0.0;
+      return std::nullopt;
+    }
     medium = dot(wi, hit->normal) > 0.0 ? surface.medium_front : surface.medium_behind;
     inside = inside_towards(s, *hit, inside, wi);
     remaining = std::max(0.0, remaining - length_m);
@@ -59,6 +64,64 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
 
 namespace {
 
+// A ray from `start` (leaving from `origin`) along d in `medium`, carried through the smooth
+// interfaces it meets, refracting and transmitting (1 − F) at each, to the map: tr times what
+// arrives there once at least one interface is crossed. Zero where it meets any other surface,
+// escapes without crossing one (next-event estimation's own), would cross more than
+// `surfaces_left` interfaces or kMaxCrossings index-matched boundaries (where the walk would
+// stop), would keep one wavelength at a dispersive interface, or, without `through_scattering`,
+// enters a scattering medium. With it the walk carries one wavelength and a scattering medium's
+// transmittance is in closed form (ratio tracking against a homogeneous medium's own majorant
+// would give 0 or 1).
+template <std::size_t N>
+SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, Vec3 start, Vec3 origin, Vec3 d, int medium,
+                                        InsideSet inside, SampledSpectrum<N> tr, const SampledWavelengths<N>& w,
+                                        std::uint64_t& rays, int surfaces_left, int crossings, bool through_scattering) {
+  const RenderScene& s = v.scene;
+  int interfaces = 0;
+  Surface scratch;
+  for (;;) {
+    const ScatteringMedium* sm = scattering_medium(s, medium);
+    if (sm && !through_scattering) return {};
+    ++rays;
+    const auto hit = s.rays.intersect({origin, d});
+    if (!hit) {  // the map, if at least one interface was crossed
+      if (interfaces == 0 || sm) return {};
+      return tr * escaped(v, medium, d, w);
+    }
+    const double length_m = length(hit->point - start);
+    if (sm) {
+      const double sigma_per_m = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
+      tr *= static_cast<float>(std::exp(-sigma_per_m * scattering_column_density(*sm, Ray{start, d}, 0.0, length_m)));
+      tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
+    } else {
+      tr *= travel(v, medium, Ray{start, d}, length_m, w);
+    }
+    if (tr.is_zero()) return {};
+    const Surface& surface = surface_seen(s, *hit, inside, scratch);
+    if (surface.index_matched) {
+      inside = inside_towards(s, *hit, inside, d);
+      Ray ray{origin, d};
+      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) return {};
+      origin = ray.origin;
+      continue;
+    }
+    if (surface.kind != SurfaceKind::interface || surface.roughness != 0.0 || interfaces == surfaces_left) return {};
+    if (!w.secondary_terminated() && is_dispersive(s, surface)) return {};
+    const SurfaceEvent<N> e = surface_event(v, *hit, surface, -d, medium, w);
+    const double reflectance = split(std::get<SmoothDielectric>(e.bsdf), e.frame.to_local(-d)).reflectance;
+    const auto through = e.sample(-d, 1.0, 0.0, 0.0, TransportMode::radiance);
+    if (!through || !through->transmitted) return {};
+    tr *= through->weight * static_cast<float>(1.0 - reflectance);
+    medium = e.medium_towards(through->wi);
+    inside = inside_towards(s, *hit, inside, through->wi);
+    d = through->wi;
+    start = hit->point;
+    origin = offset_ray_origin(*hit, d);
+    ++interfaces;
+  }
+}
+
 // Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
 // vertex's f·|cos θ| (or phase value) towards wi and the density with which the vertex itself
 // would sample wi; medium_towards(wi) the medium wi leaves into.
@@ -66,7 +129,7 @@ template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, Towards towards,
                                    MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                    const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, bool mis,
-                                   bool environment) {
+                                   bool environment, const ThroughInterfaces* through = nullptr) {
   const RenderScene& s = v.scene;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
@@ -109,12 +172,24 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
     if (li && !(absorbs(s, m) && !scattering_medium(s, m))) {
       double vertex_pdf = 0.0;
       const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
-      if (!f.is_zero())
-        if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
+      bool glass = false;
+      if (!f.is_zero()) {
+        if (const auto t = transmission(v, at, li->wi, li->distance_m, m, w, rng, rays, {}, through ? &glass : nullptr)) {
           const double weight =
               (mis ? mis_weight(li->pdf, vertex_pdf, *t) : 1.0) / (li->pdf * light_ratio(*t));
           sum += f * v.tables.environment(*s.environment, li->texel, w) * t->tr * static_cast<float>(weight);
+        } else if (glass) {  // on through the smooth interfaces (events.h: surface_exit_guide)
+          const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, li->wi) : at.inside;
+          const SampledSpectrum<N> l =
+              carry_to_environment(v, at.point, at.origin_towards(li->wi), li->wi, m, inside,
+                                   SampledSpectrum<N>::constant(1.0f), w, rays, through->surfaces_left,
+                                   through->crossings, false);
+          const Transmission<N> clear;  // (no scattering medium on the way: ratios of 1)
+          if (!l.is_zero())
+            sum += f * l * static_cast<float>((mis ? mis_weight(li->pdf, vertex_pdf, clear) : 1.0) /
+                                              (li->pdf * light_ratio(clear)));
         }
+      }
     }
   }
   return sum;
@@ -125,14 +200,14 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
-                                std::uint64_t& rays, bool mis, bool environment) {
+                                std::uint64_t& rays, bool mis, bool environment, const ThroughInterfaces* through) {
   auto bsdf_towards = [&](const Vec3& wi, double& bsdf_pdf) {
     bsdf_pdf = e.pdf(wo, wi);
     return e.eval(wo, wi, TransportMode::radiance);
   };
   return direct_light_at(
       v, PathVertex{hit.point, &hit, e.inside}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
-      path_r_u, rng, rays, mis, environment);
+      path_r_u, rng, rays, mis, environment, through);
 }
 
 template <std::size_t N>
@@ -290,6 +365,7 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
 }
 
 double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi) {
+  if (guide.from_surface) return environment_pdf(scene, wi);
   const double cos_in = dot(wi, guide.normal);
   if (!guide.active() || !(cos_in > 0.0)) return 0.0;
   const double cos_out = cos_theta_transmitted(cos_in, guide.eta, 1.0);
@@ -323,51 +399,11 @@ SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const V
   // As in direct_light_in_medium: light arriving along −wi goes on along `direction`.
   const double phase_pdf = phase_value(phase, -*wi, -direction);
   if (!(guide_pdf > 0.0) || !(phase_pdf > 0.0)) return {};
-  SampledSpectrum<N> tr = SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
-  Vec3 d = *wi, start = x, origin = x;
-  int interfaces = 0;
-  Surface scratch;
-  for (;;) {
-    ++rays;
-    const auto hit = s.rays.intersect({origin, d});
-    if (!hit) {  // the map, if at least one interface was crossed (none: next-event estimation's)
-      if (interfaces == 0 || scattering_medium(s, medium)) return {};
-      const double weight = power_heuristic(guide_pdf, phase_pdf) / guide_pdf;
-      return tr * escaped(v, medium, d, w) * static_cast<float>(weight);
-    }
-    const double length_m = length(hit->point - start);
-    if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
-      // The walk carries one wavelength and the column density is exact for every field, so the
-      // transmittance is in closed form (ratio tracking against a homogeneous medium's own
-      // majorant would give 0 or 1).
-      const double sigma_per_m = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
-      tr *= static_cast<float>(std::exp(-sigma_per_m * scattering_column_density(*sm, Ray{start, d}, 0.0, length_m)));
-      tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
-    } else {
-      tr *= travel(v, medium, Ray{start, d}, length_m, w);
-    }
-    if (tr.is_zero()) return {};
-    const Surface& surface = surface_seen(s, *hit, inside, scratch);
-    if (surface.index_matched) {
-      inside = inside_towards(s, *hit, inside, d);
-      Ray ray{origin, d};
-      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) return {};
-      origin = ray.origin;
-      continue;
-    }
-    if (surface.kind != SurfaceKind::interface || surface.roughness != 0.0 || interfaces == surfaces_left) return {};
-    const SurfaceEvent<N> e = surface_event(v, *hit, surface, -d, medium, w);
-    const double reflectance = split(std::get<SmoothDielectric>(e.bsdf), e.frame.to_local(-d)).reflectance;
-    const auto through = e.sample(-d, 1.0, 0.0, 0.0, TransportMode::radiance);
-    if (!through || !through->transmitted) return {};
-    tr *= through->weight * static_cast<float>(1.0 - reflectance);
-    medium = e.medium_towards(through->wi);
-    inside = inside_towards(s, *hit, inside, through->wi);
-    d = through->wi;
-    start = hit->point;
-    origin = offset_ray_origin(*hit, d);
-    ++interfaces;
-  }
+  // (A walk of one wavelength: events.h, exit_guide_at.)
+  const SampledSpectrum<N> l =
+      carry_to_environment(v, x, x, *wi, medium, inside, SampledSpectrum<N>::constant(static_cast<float>(phase_pdf)), w,
+                           rays, surfaces_left, crossings, true);
+  return l * static_cast<float>(power_heuristic(guide_pdf, phase_pdf) / guide_pdf);
 }
 
 namespace {
@@ -424,10 +460,10 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
 #define BOUGUER_EVENTS_INSTANTIATE(N)                                                                                 \
   template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double,   \
                                                        int, const SampledWavelengths<N>&, Rng&, std::uint64_t&,       \
-                                                       std::span<const double>);                                      \
+                                                       std::span<const double>, bool*);                               \
   template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&,      \
                                            const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&,             \
-                                           std::uint64_t&, bool, bool);                                               \
+                                           std::uint64_t&, bool, bool, const ThroughInterfaces*);                     \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&,                   \
                                                      const PhaseFunction&, int, const SampledWavelengths<N>&,         \
                                                      const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);     \

@@ -153,20 +153,33 @@ struct Transmission {
 // nested objects are seen as the path would see them (surface_seen), from the set `from.inside`.
 // With `sigma_mean` (σ̄_s by medium), it also sums the segment's mean scattering optical depth for
 // the MIS weights of the bidirectional estimators (Tungsten's generalised shadow ray with pdfs).
+// With `by_smooth_interface`, it also says whether what blocked it was a smooth interface (glass,
+// a liquid's surface): what next-event estimation through the interfaces may go on through.
 template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
-                                            std::uint64_t& rays, std::span<const double> sigma_mean = {});
+                                            std::uint64_t& rays, std::span<const double> sigma_mean = {},
+                                            bool* by_smooth_interface = nullptr);
+
+// Where next-event estimation at a surface may carry the environment map's direction on through
+// smooth interfaces (the path tracer's surface exit guide, below): as many as the walk could still
+// cross, and its count of index-matched crossings so far.
+struct ThroughInterfaces {
+  int surfaces_left = 0;
+  int crossings = 0;
+};
 
 // Direct light at a non-specular surface event, towards wo: one area light drawn by power, every
 // delta light and (with `environment`) one direction of the environment map; MIS-weighted
 // against BSDF sampling by the power heuristic when `mis` is set. Shadow rays go as
-// transmission() says. path_r_u: the path's unidirectional ratios so far (all 1 outside
-// scattering media).
+// transmission() says; with `through`, the environment's goes on through the smooth interfaces
+// that block it (below: ExitGuide at a surface). path_r_u: the path's unidirectional ratios so far
+// (all 1 outside scattering media).
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
-                                std::uint64_t& rays, bool mis, bool environment);
+                                std::uint64_t& rays, bool mis, bool environment,
+                                const ThroughInterfaces* through = nullptr);
 
 // The same at a scattering event at `x` inside scattering medium `medium`, for light travelling
 // along `direction`: the phase function in place of the BSDF, always MIS-weighted against phase
@@ -241,11 +254,29 @@ inline bool exit_guide_enabled(const RenderSettings& settings, const RenderScene
 struct ExitGuide {
   Vec3 normal;       // the guessed plane's, out of the medium
   double eta = 0.0;  // the medium's index over the world's; 0: no guide here
+  bool from_surface = false;  // set at a surface vertex (below): the map's own density, no plane
   bool active() const { return eta > 0.0; }
 };
 template <std::size_t N>
 ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
                         SurfaceDistance& last, InsideSet inside);
+// The same at a surface (#20). Next-event estimation at a non-specular surface draws a direction
+// from the map, and a smooth interface in the way (glass, a liquid's surface) stopped its shadow
+// ray: the light that reaches a sweep through an empty glass's walls, or a clear liquid's coloured
+// shadow, came only from BSDF directions that happened to meet the map's bright parts through
+// them (speckle on the sweep around the glasses of `milk-and-juice`). With the guide on, that
+// shadow ray goes on through the smooth interfaces it meets, refracting and transmitting (1 − F)
+// at each, through media that only absorb, to the map (direct_light's `through`). No plane is
+// guessed: the map's density of the first direction is the strategy's (a thin wall, or a vessel
+// seen from outside, bends a ray little; where it bends more the connection is noisier, never
+// biased). The walk's own paths that leave the same way (a BSDF direction, refractions only, no
+// scattering medium, no wavelength kept at a dispersive interface on the way) are weighted against
+// it as unblocked ones are against next-event estimation (radiance.h, walk.h).
+inline ExitGuide surface_exit_guide() { return {Vec3{}, 1.0, true}; }
+template <std::size_t N>
+bool guides_at_surfaces(const SceneView<N>& v) {
+  return v.exit_guide && v.scene.environment && v.scene.environment_light >= 0;
+}
 // The guide's solid-angle density of the direction wi out of the vertex: the map's density of the
 // direction wi refracts into at the plane, times |dω_out/dω_in| = η²·cos θin / cos θout; 0 for
 // a direction into the medium or one the plane reflects totally.

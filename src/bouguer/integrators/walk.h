@@ -107,10 +107,12 @@ struct WalkState {
   // at about 24 times their path's throughput, never played it; events.h: kSplitCount).
   float split_weight = 1.0f;
   float single_mean_ratio = 0.0f;  // the mean of the ratios once one wavelength is left (0: not yet)
-  // The exit guide the visitor set at the last medium vertex (the path tracer's next-event
-  // estimation through the interfaces, events.h: ExitGuide), the direction drawn there and its
-  // phase density: a walk that leaves from there through smooth interfaces only, to the map, is
-  // weighted against the guide. Cleared at any other vertex but a smooth interface's refraction.
+  // The exit guide the visitor set at the last medium or non-specular surface vertex (the path
+  // tracer's next-event estimation through the interfaces, events.h: ExitGuide and
+  // surface_exit_guide), the direction drawn there and its phase or BSDF density: a walk that
+  // leaves from there through smooth interfaces only, to the map, is weighted against the guide.
+  // Cleared at any other vertex but a smooth interface's refraction; a surface's also in a
+  // scattering medium and where the walk keeps one wavelength at a dispersive interface.
   ExitGuide guide;
   Vec3 guide_dir;
   double guide_phase_pdf = 0.0;
@@ -299,6 +301,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     }
     const Surface& surface = surface_seen(scene, *hit, state.inside, scratch);
     state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
+    // A surface's guide goes through no scattering medium (events.h: surface_exit_guide).
+    if (state.guide.from_surface && scattering_medium(scene, state.medium)) state.guide = {};
     const Vec3 d = state.ray.direction;
     // A visitor that can split (the path tracer's) does so at a dense chromatic medium (events.h:
     // kSplitCount): each walk takes this segment again from the same state and a copy of the same
@@ -346,9 +350,11 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
       continue;
     }
-    if (!state.kept)
-      keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);
-    else if (!state.dispersed && is_dispersive(scene, surface))
+    if (!state.kept) {
+      // (A surface's guide carries every wavelength: a path that keeps one is not its.)
+      if (keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng) && state.guide.from_surface)
+        state.guide = {};
+    } else if (!state.dispersed && is_dispersive(scene, surface))
       state.dispersed = true;
     const Vec3 wo = -d;
     Vertex<N> vx = make(VertexKind::surface, hit->point);
@@ -357,12 +363,18 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     vx.event = surface_event(v, *hit, surface, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
+    if (!vx.delta) state.guide = {};  // (the visitor may set a surface's: radiance.h)
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
                                         roulette_divisor(), single_index());
     if (!bsdf_pdf) return;
-    if (!vx.delta || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) state.guide = {};
+    if (!vx.delta) {
+      state.guide_dir = state.ray.direction;  // (kept only where the visitor set a guide)
+      state.guide_phase_pdf = *bsdf_pdf;
+    } else if (dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) {
+      state.guide = {};
+    }
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
       if (wants_reverse(visit)) visit.reverse(vx.delta ? 0.0 : e.pdf(state.ray.direction, wo));
