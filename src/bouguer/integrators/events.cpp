@@ -167,14 +167,17 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
     const auto li = sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
-    // Through a medium that only absorbs, an infinite path gets nothing: skip the shadow ray.
+    // Through a medium that only absorbs, an infinite path gets nothing: skip the shadow ray (unless
+    // it may go on through the glass around the medium).
     const int m = li ? medium_towards(li->wi) : -1;
-    if (li && !(absorbs(s, m) && !scattering_medium(s, m))) {
+    const bool open = !(absorbs(s, m) && !scattering_medium(s, m));
+    if (li && (open || through)) {
       double vertex_pdf = 0.0;
       const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
       bool glass = false;
       if (!f.is_zero()) {
-        if (const auto t = transmission(v, at, li->wi, li->distance_m, m, w, rng, rays, {}, through ? &glass : nullptr)) {
+        if (const auto t = transmission(v, at, li->wi, li->distance_m, m, w, rng, rays, {}, through ? &glass : nullptr);
+            t && open) {
           const double weight =
               (mis ? mis_weight(li->pdf, vertex_pdf, *t) : 1.0) / (li->pdf * light_ratio(*t));
           sum += f * v.tables.environment(*s.environment, li->texel, w) * t->tr * static_cast<float>(weight);

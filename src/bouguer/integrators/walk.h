@@ -350,11 +350,12 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
       continue;
     }
-    if (!state.kept) {
-      // (A surface's guide carries every wavelength: a path that keeps one is not its.)
-      if (keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng) && state.guide.from_surface)
-        state.guide = {};
-    } else if (!state.dispersed && is_dispersive(scene, surface))
+    // A surface's guide goes through no dispersive interface while several wavelengths ride on the
+    // path (events.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
+    if (state.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, surface)) state.guide = {};
+    if (!state.kept)
+      keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);
+    else if (!state.dispersed && is_dispersive(scene, surface))
       state.dispersed = true;
     const Vec3 wo = -d;
     Vertex<N> vx = make(VertexKind::surface, hit->point);
