@@ -88,7 +88,11 @@ TEST(CliRender, TimeBudgetEndsTheRenderWithTheSamplesDone) {
   const int spp = j["spp"].get<int>();
   std::printf("--time 1.5: %d spp in %.2f s (the whole command)\n", spp, timed.seconds);
   EXPECT_GE(spp, 1);
-  EXPECT_LT(j["seconds"].get<double>(), 1.5 * 1.25);  // the last pass is cut to what fits
+  // The last pass is cut to what fits at the rate measured so far. Under load on 2 cores it can
+  // still run slower than that rate (2.09 s once, in a clean clone's ctest -j2): the bound is
+  // that the render stops near its budget, where one that ignored it would run on for minutes
+  // (kTimedSpp samples).
+  EXPECT_LT(j["seconds"].get<double>(), 1.5 * 1.6);
   EXPECT_TRUE(fs::exists(dir / "t.pfm"));
   // The samples end first: exactly --spp, and the image that --spp alone gives.
   const auto a = test::run_bouguer({"render", kExample, "--resolution", "40x30", "--spp", "4", "--time", "100", "-o",
