@@ -348,7 +348,7 @@ template <std::size_t N>
 ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
                         SurfaceDistance& last, InsideSet inside) {
   const RenderScene& s = v.scene;
-  if (!v.exit_guide || !s.environment || s.environment_light < 0 || !w.secondary_terminated()) return {};
+  if (!exit_guide_runs(v) || !w.secondary_terminated()) return {};
   const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
   if (!(sigma_per_m > 0.0)) return {};
   const double reach_m = kExitGuideDepth / sigma_per_m;

@@ -251,6 +251,11 @@ inline bool exit_guide_enabled(const RenderSettings& settings, const RenderScene
   if (settings.exit_guide) return *settings.exit_guide;
   return scene.environment && scene.environment->contrast >= kExitGuideContrast;
 }
+// Whether either guide (medium or surface, below) runs in this render: it is on and there is a map.
+template <std::size_t N>
+bool exit_guide_runs(const SceneView<N>& v) {
+  return v.exit_guide && v.scene.environment && v.scene.environment_light >= 0;
+}
 struct ExitGuide {
   Vec3 normal;       // the guessed plane's, out of the medium
   double eta = 0.0;  // the medium's index over the world's; 0: no guide here
@@ -273,10 +278,6 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
 // scattering medium, no wavelength kept at a dispersive interface on the way) are weighted against
 // it as unblocked ones are against next-event estimation (radiance.h, walk.h).
 inline ExitGuide surface_exit_guide() { return {Vec3{}, 1.0, true}; }
-template <std::size_t N>
-bool guides_at_surfaces(const SceneView<N>& v) {
-  return v.exit_guide && v.scene.environment && v.scene.environment_light >= 0;
-}
 // The guide's solid-angle density of the direction wi out of the vertex: the map's density of the
 // direction wi refracts into at the plane, times |dω_out/dω_in| = η²·cos θin / cos θout; 0 for
 // a direction into the medium or one the plane reflects totally.

@@ -34,17 +34,21 @@ struct Radiance {
     const double arrived = state.pdf_dir;
     const Vec3 d = -x.wo;
     if (x.infinite) {  // an environment map is also reached by next-event estimation: weighted against it
-      // (through smooth interfaces from a guided vertex: against the guide, events.h; from a
-      // surface, the guide is next-event estimation's own sample carried on, weighted as it is)
-      const ExitGuide& g = state.guide;
-      const double weight =
-          arrived == 0.0 || !scene.environment
-              ? (arrived == 0.0 && g.active()
-                     ? (g.from_surface ? spectral_power_heuristic(scene, state.guide_phase_pdf, state.mis.r_u,
-                                                                  exit_guide_pdf(scene, g, state.guide_dir), state.mis.r_l)
-                                       : power_heuristic(state.guide_phase_pdf, exit_guide_pdf(scene, g, state.guide_dir)))
-                     : 1.0)
-              : spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
+      // Through smooth interfaces from a guided vertex: against the guide (events.h). A surface's
+      // guide is next-event estimation's own sample carried on, so it is weighted as that is.
+      auto against_the_guide = [&] {
+        const ExitGuide& g = state.guide;
+        const double guide_pdf = exit_guide_pdf(scene, g, state.guide_dir);
+        return g.from_surface
+                   ? spectral_power_heuristic(scene, state.guide_phase_pdf, state.mis.r_u, guide_pdf, state.mis.r_l)
+                   : power_heuristic(state.guide_phase_pdf, guide_pdf);
+      };
+      double weight = 1.0;
+      if (arrived == 0.0) {
+        if (state.guide.active()) weight = against_the_guide();
+      } else if (scene.environment) {
+        weight = spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
+      }
       add(x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
       return;
     }
@@ -72,7 +76,7 @@ struct Radiance {
     if (!x.delta) {
       // Through the smooth interfaces in the way, where the walk could still cross one (events.h:
       // surface_exit_guide; the walk keeps the guide for the direction it draws next).
-      const bool guided = surfaces < v.max_depth && guides_at_surfaces(v);
+      const bool guided = surfaces < v.max_depth && exit_guide_runs(v);
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
       add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true,
                                 guided ? &through : nullptr));
