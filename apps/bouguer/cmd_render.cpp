@@ -18,6 +18,7 @@
 #include "bouguer/io/output_set.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
+#include "bouguer/scene/display_white.h"
 #include "bouguer/scene/loader.h"
 #include "commands.h"
 
@@ -185,6 +186,8 @@ int run_render(const RenderCli& o) {
   if (buffer.saturated_splats() > 0)
     fmt::print(stderr, "bouguer: warning: {} light-path splats were not finite or beyond the film's range and were dropped\n",
                buffer.saturated_splats());
+  // Exposure, white balance and the display curve, from the finished film (the film stays linear).
+  const DisplayTransform display = display_transform(scene, desc.display, film);
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
   const std::string_view mode = spectral_mode_name(settings.spectral);
   std::string stats_text;
@@ -196,7 +199,8 @@ int run_render(const RenderCli& o) {
                               {"resolution", {film.width, film.height}},
                               {"spectral", mode},
                               {"integrator", integrator_info(settings.integrator).name},
-                              {"threads", o.threads}};
+                              {"threads", o.threads},
+                              {"exposure_scale", display.scale}};
     nlohmann::json jv = j;
     if (stats.iterations > 0)
       jv["vcm"] = {{"iterations", stats.iterations}, {"light_paths", stats.light_paths}, {"photons", stats.photons},
@@ -205,8 +209,8 @@ int run_render(const RenderCli& o) {
   }
   // All or nothing: no file is replaced unless every output was written.
   using Path = std::filesystem::path;
-  outputs.write_all({{"-o", [&](const Path& p) { write_image(p, film); }},
-                     {"--spectral-exr", [&](const Path& p) { write_spectral_exr(p, film); }},
+  outputs.write_all({{"-o", [&](const Path& p) { write_image(p, film, display); }},
+                     {"--spectral-exr", [&](const Path& p) { write_spectral_exr(p, exposed(film, display)); }},
                      {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }}});
   if (interrupted) {
     fmt::print(stderr, "bouguer: interrupted: wrote the image after {} of {} samples per pixel{} -> {}\n",
@@ -236,6 +240,22 @@ Resolution parse_resolution(const std::string& text) {
   return {w, h};
 }
 
+namespace {
+void set_display_overrides(SceneBuilder& b, const SceneOverrides& o) {
+  if (o.exposure_ev) b.exposure_ev(*o.exposure_ev, Source::option("--exposure"));
+  if (o.iso || o.shutter_s || o.f_number) {
+    if (!o.iso || !o.shutter_s || !o.f_number) fail_usage("--iso, --shutter and --f-number: give all three or none");
+    b.camera_exposure({*o.iso, *o.shutter_s, *o.f_number}, Source::option("--iso/--shutter/--f-number"));
+  }
+  if (o.auto_exposure == "on") b.auto_exposure(true);
+  else if (o.auto_exposure == "off") b.auto_exposure(false);
+  else if (!o.auto_exposure.empty()) fail_usage("--auto-exposure: expected on or off (got '{}')", o.auto_exposure);
+  if (!o.white_balance.empty()) b.white_balance(o.white_balance, Source::option("--white-balance"));
+  if (!o.display.empty()) b.display_curve(o.display, Source::option("--display"));
+  if (o.expose_float_outputs) b.expose_float_outputs(true);
+}
+}  // namespace
+
 SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
   SceneBuilder b(scene);
   load_scene(scene, b);
@@ -248,7 +268,27 @@ SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
     const Resolution r = parse_resolution(o.resolution);
     b.resolution(r.width, r.height, Source::option("--resolution"));
   }
+  set_display_overrides(b, o);
   return std::move(b).build();
+}
+
+void add_display_options(CLI::App& app, SceneOverrides& o, bool float_outputs) {
+  app.add_option("--exposure", o.exposure_ev,
+                 "Exposure compensation in EV, -32 to 32: +1 doubles the linear values shown (overrides the scene)");
+  app.add_option("--iso", o.iso, "Camera exposure: ISO speed S (with --shutter and --f-number; turns --auto-exposure off)");
+  app.add_option("--shutter", o.shutter_s, "Camera exposure: shutter time t in seconds");
+  app.add_option("--f-number", o.f_number,
+                 "Camera exposure: f-number N; luminance L is shown as L/(1.2*2^EV100), EV100 = log2(N^2/t) - log2(S/100)");
+  app.add_option("--auto-exposure", o.auto_exposure,
+                 "on|off: expose the finished film so that the 97th percentile of its lit pixels' luminance shows at 0.8 "
+                 "(default: on for glTF assets, off for JSON scenes)");
+  app.add_option("--white-balance", o.white_balance,
+                 "Adapt this white to the display's D65 (Bradford): an illuminant (D65, D50, A, E, F2, F7, F11, "
+                 "blackbody:<kelvin>), brightest_emitter or none");
+  app.add_option("--display", o.display, "Display curve of PNG images: clip (default) or filmic (a shoulder that keeps hue)");
+  if (float_outputs)
+    app.add_flag("--expose-float-outputs", o.expose_float_outputs,
+                 "Apply the exposure and white balance to EXR, PFM and the spectral EXR too (otherwise linear and unscaled)");
 }
 
 Command add_render_command(CLI::App& parent) {
@@ -279,6 +319,7 @@ Command add_render_command(CLI::App& parent) {
                   "the image then depends on the machine)")
       ->check(CLI::PositiveNumber);
   app->add_option("--stats-json", o->stats_json, "Write seconds, rays, rays_per_second, spp, resolution as JSON");
+  add_display_options(*app, over, true);
   app->add_flag("--quiet", o->quiet, "No progress and no summary line");
   return {app, [o] { return run_render(*o); }};
 }

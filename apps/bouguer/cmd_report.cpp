@@ -18,6 +18,7 @@
 #include "bouguer/render/compare.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
+#include "bouguer/scene/display_white.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/spectra/cie.h"
 #include "commands.h"
@@ -117,6 +118,8 @@ int run_report(const ReportOptions& o) {
       settings.spectral = modes[m];
       films[m] = render(scene, settings, control, stats[m]);
     }
+    // One exposure for both (measured on the full-spectrum film), so that they are shown alike.
+    const DisplayTransform display = display_transform(scene, desc.display, films[0]);
     const ImageDifference d = compare_images(films[0], films[1]);
     const Film heat = delta_e_heatmap(d, 10.0);
     const std::string integrator(integrator_info(desc.render.integrator).name);
@@ -132,9 +135,9 @@ int run_report(const ReportOptions& o) {
                         desc.render.spp, integrator, desc.render.seed, stats[0].seconds, stats[1].seconds, d.mean,
                         d.median, d.p95, d.max);
     body += fmt::format("<figure>{}<figcaption>full spectrum (96 bins)</figcaption></figure>",
-                        img("image/png", encode_png(films[0]), name + " full", "render"));
+                        img("image/png", encode_png(displayed(films[0], display)), name + " full", "render"));
     body += fmt::format("<figure>{}<figcaption>rgb3: 700.0, 546.1, 435.8 nm (the paper's RGB)</figcaption></figure>",
-                        img("image/png", encode_png(films[1]), name + " rgb3", "render"));
+                        img("image/png", encode_png(displayed(films[1], display)), name + " rgb3", "render"));
     body += fmt::format("<figure>{}<figcaption>ΔE00, 0 (black) to 10 (white)</figcaption></figure></div>\n",
                         img("image/png", encode_png(heat), name + " heat map", "render"));
     // The absorbing media of the scene: their spectra and transmittance by thickness.
@@ -192,6 +195,7 @@ Command add_report_command(CLI::App& parent) {
   app->add_option("--resolution", o->overrides.resolution, "WxH instead of each scene's own");
   app->add_option("--spp", o->overrides.spp, "samples per pixel instead of each scene's own");
   app->add_option("--threads", o->threads, "worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_display_options(*app, o->overrides, false);
   app->add_flag("--quiet", o->quiet, "no progress lines");
   return {app, [o] { return run_report(*o); }};
 }

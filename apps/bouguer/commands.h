@@ -38,7 +38,14 @@ Resolution parse_resolution(const std::string& text);
 struct SceneOverrides {
   std::string integrator, spectral, resolution;
   std::optional<std::int64_t> spp, max_depth, seed;
+  // The display (io/display.h): --exposure, --iso/--shutter/--f-number (all three), --auto-exposure
+  // on|off, --white-balance, --display, --expose-float-outputs.
+  std::optional<double> exposure_ev, iso, shutter_s, f_number;
+  std::string auto_exposure, white_balance, display;
+  bool expose_float_outputs = false;
 };
+// Registers the display options above on a subcommand (render, report).
+void add_display_options(CLI::App& app, SceneOverrides& o, bool float_outputs);
 bouguer::SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& overrides);
 
 }  // namespace bouguer::cli

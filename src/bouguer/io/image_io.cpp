@@ -22,6 +22,11 @@ void write_image(const std::filesystem::path& path, const Film& film) {
   fail("{}: unknown image type '{}' (use .png, .exr or .pfm)", path.string(), ext);
 }
 
+void write_image(const std::filesystem::path& path, const Film& film, const DisplayTransform& t) {
+  if (extension_of(path) == ".png") return write_png(path, t.leaves_png() ? film : displayed(film, t));
+  return write_image(path, t.leaves_floats() ? film : exposed(film, t));
+}
+
 Film read_image(const std::filesystem::path& path) {
   const std::string ext = extension_of(path);
   if (ext == ".exr") return read_exr(path);

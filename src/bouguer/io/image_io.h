@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "bouguer/io/display.h"
 #include "bouguer/io/image.h"
 
 namespace bouguer {
@@ -26,6 +27,9 @@ std::string encode_png(const Film& film);
 // Chooses the writer by extension (.png, .exr, .pfm); an unknown extension is an Error.
 inline constexpr std::array<std::string_view, 3> kImageExtensions = {".png", ".exr", ".pfm"};
 void write_image(const std::filesystem::path& path, const Film& film);
+// The same through a display transform (io/display.h): a PNG gets displayed(film, t), EXR and PFM
+// exposed(film, t); the identity transform writes exactly what write_image(path, film) writes.
+void write_image(const std::filesystem::path& path, const Film& film, const DisplayTransform& t);
 
 // EXR reading keeps spectral channels (S0.*nm) when the file has them, and converts RGB in other
 // primaries (the chromaticities attribute: ACEScg, Rec.2020, ...) to linear Rec.709. Both readers

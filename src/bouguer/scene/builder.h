@@ -53,6 +53,19 @@ class SceneBuilder {
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 
+  // The display (io/display.h; defined in builder_display.cpp), checked the same way: exposure
+  // compensation in EV (−32 to 32), an absolute camera exposure (turns the automatic one off),
+  // automatic exposure on or off (on clears a camera exposure), white balance by name (an
+  // illuminant of spectra/cie.h, "brightest_emitter" or "none"), the curve ("clip", "filmic"),
+  // and whether EXR, PFM and the spectral EXR are exposed and balanced too.
+  SceneBuilder& exposure_ev(double ev, const Source& where);
+  SceneBuilder& camera_exposure(const CameraExposure& c, const Source& where);
+  SceneBuilder& auto_exposure(bool on);
+  SceneBuilder& white_balance(const std::string& name, const Source& where);
+  SceneBuilder& display_curve(const std::string& name, const Source& where);
+  SceneBuilder& expose_float_outputs(bool on);
+  bool auto_exposure_on() const { return desc_.display.auto_exposure; }
+
   // The checked description; an Error naming the place of a medium name that does not exist.
   SceneDesc build() &&;
 

@@ -14,6 +14,7 @@
 
 #include "bouguer/geometry/shapes.h"
 #include "bouguer/geometry/transform.h"
+#include "bouguer/io/display.h"
 #include "bouguer/io/texture_image.h"
 #include "bouguer/lights/spot.h"
 #include "bouguer/media/concentration_field.h"
@@ -177,6 +178,7 @@ struct SceneDesc {
   EmissionDesc background;                     // used when there is no environment map
   std::optional<EnvironmentDesc> environment;  // "background": {"environment": "sky.exr", ...}
   std::shared_ptr<const EnvironmentMap> environment_map;  // that map, read by the builder
+  DisplayDesc display;  // exposure, white balance, display curve: applied as images are written (io/display.h)
 };
 
 }  // namespace bouguer

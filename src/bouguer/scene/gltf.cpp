@@ -1009,6 +1009,7 @@ void load_gltf_scene(const fs::path& path, SceneBuilder& b) {
   if (asset.lights.empty())  // the default studio: a uniform white (D65) background of luminance 1
     b.background(resolve_emission(EmissionInput{RgbInput{{1, 1, 1}}, 1.0}, top), top);
   b.integrator("path", top);
+  b.auto_exposure(true);  // an asset's lights are in candela and lux: expose for them (docs/assets.md)
   add_asset_objects(b, asset, GltfObjectInput{path, Transform{}, {}}, top);
 }
 

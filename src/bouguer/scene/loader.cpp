@@ -683,6 +683,27 @@ void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
   if (j.contains("exit_guide")) b.exit_guide(boolean(j["exit_guide"], w / "exit_guide"));
 }
 
+// "display": exposure, white balance and display curve (io/display.h, docs/scene-format.md).
+void read_display(const json& j, const Where& w, SceneBuilder& b) {
+  expect_keys(j, w, {"exposure_ev", "auto_exposure", "camera_exposure", "white_balance", "curve", "expose_float_outputs"});
+  if (j.contains("exposure_ev")) b.exposure_ev(number(j["exposure_ev"], w / "exposure_ev"), w / "exposure_ev");
+  if (j.contains("auto_exposure")) b.auto_exposure(boolean(j["auto_exposure"], w / "auto_exposure"));
+  if (j.contains("camera_exposure")) {
+    const Where wc = w / "camera_exposure";
+    if (j.contains("auto_exposure") && b.auto_exposure_on()) wc.fail("excludes 'auto_exposure': true; give one of them");
+    expect_keys(j["camera_exposure"], wc, {"iso", "shutter_s", "f_number"});
+    for (const char* key : {"iso", "shutter_s", "f_number"})
+      if (!j["camera_exposure"].contains(key)) wc.fail("needs 'iso', 'shutter_s' and 'f_number'");
+    b.camera_exposure({number(j["camera_exposure"]["iso"], wc / "iso"), number(j["camera_exposure"]["shutter_s"], wc / "shutter_s"),
+                       number(j["camera_exposure"]["f_number"], wc / "f_number")},
+                      wc);
+  }
+  if (j.contains("white_balance")) b.white_balance(text(j["white_balance"], w / "white_balance"), w / "white_balance");
+  if (j.contains("curve")) b.display_curve(text(j["curve"], w / "curve"), w / "curve");
+  if (j.contains("expose_float_outputs"))
+    b.expose_float_outputs(boolean(j["expose_float_outputs"], w / "expose_float_outputs"));
+}
+
 DeltaLightDesc delta_light(const json& j, const Where& w) {
   expect_keys(j, w,
               {"type", "position", "look_at", "direction", "cone_deg", "falloff_deg", "spectrum", "scale", "radius"});
@@ -779,9 +800,10 @@ GltfObjectInput gltf_object(const json& j, const Where& w) {
 static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b) {
   const json root = parse_json(json_text, path);
   const Where top{path, ""};
-  expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "lights", "background"});
+  expect_keys(root, top, {"camera", "render", "display", "world_medium", "media", "objects", "lights", "background"});
   if (root.contains("camera")) read_camera(root["camera"], top / "camera", b);
   if (root.contains("render")) read_render_settings(root["render"], top / "render", b);
+  if (root.contains("display")) read_display(root["display"], top / "display", b);
   if (root.contains("world_medium")) b.world_medium(text(root["world_medium"], top / "world_medium"), top / "world_medium");
   if (root.contains("media")) {
     const Where wm = top / "media";
