@@ -289,6 +289,12 @@ TEST(Display, ABlenderLikeAssetIsExposedAutomaticallyAndPlusOneEvDoublesThePng) 
   const double auto_scale = json::parse(test::read_file(dir / "auto.json"))["exposure_scale"].get<double>();
   EXPECT_EQ(json::parse(test::read_file(dir / "plus1.json"))["exposure_scale"].get<double>(), 2.0 * auto_scale);
   EXPECT_EQ(json::parse(test::read_file(dir / "off.json"))["exposure_scale"].get<double>(), 1.0);
+  // Asked, the EXR gets the exposure too (the same scale, in float).
+  render("floats", {"--expose-float-outputs"});
+  const Film exposed_exr = read_exr(dir / "floats.exr");
+  ASSERT_EQ(exposed_exr.rgb.size(), exr.rgb.size());
+  for (std::size_t i = 0; i < exr.rgb.size(); i += 97)
+    EXPECT_EQ(exposed_exr.rgb[i], static_cast<float>(static_cast<double>(exr.rgb[i]) * auto_scale)) << i;
 
   // The lit floor: the pixels whose radiance is at least a quarter of the floor's peak under the
   // light, ρ·I/(π·h²) ≈ 430 cd/m². Without exposure they are white (clipped); with it, neither
@@ -353,6 +359,48 @@ TEST(Display, WhiteBalanceToTheBrightestEmitterNeutralisesItsColour) {
   EXPECT_NEAR(shown.x, 0.3, 1e-6);
   EXPECT_NEAR(shown.y, 0.3, 1e-6);
   EXPECT_NEAR(shown.z, 0.3, 1e-6);
+}
+
+}  // namespace
+}  // namespace bouguer
+
+namespace bouguer {
+namespace {
+
+// The data: URI of the image with alt text `alt` in a report page.
+std::string report_image(const std::string& html, const std::string& alt) {
+  const std::size_t at = html.find("alt=\"" + alt + "\"");
+  if (at == std::string::npos) return {};
+  const std::size_t begin = html.find("src=\"", at), end = html.find('"', begin + 5);
+  return html.substr(begin + 5, end - begin - 5);
+}
+
+TEST(Display, TheReportShowsItsRendersThroughTheDisplayTransform) {
+  const fs::path dir = test::scratch_dir("display_report");
+  fs::create_directories(dir / "scenes");
+  test::write_file(dir / "scenes" / "lit.json", R"({
+    "camera": {"position": [0, 1, 0.001], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [6, 4]},
+    "render": {"integrator": "whitted", "spp": 1},
+    "objects": [{"shape": {"type": "quad", "size": [4, 4]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+                 "material": {"type": "diffuse", "reflectance": 0.7}}],
+    "lights": [{"type": "point", "position": [0, 2, 0], "spectrum": "D65", "scale": 0.5}]
+  })");
+  const auto page = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"report", "--out", (dir / name).string(), "--scenes", (dir / "scenes").string(), "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = test::run_bouguer(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return test::read_file(dir / name / "index.html");
+  };
+  const std::string plain = page("plain", {}), same = page("same", {"--exposure", "0"}),
+                    brighter = page("brighter", {"--exposure", "1"});
+  for (const char* alt : {"lit full", "lit rgb3", "lit heat map"}) {
+    ASSERT_FALSE(report_image(plain, alt).empty()) << alt;
+    EXPECT_EQ(report_image(plain, alt), report_image(same, alt)) << alt;
+  }
+  EXPECT_NE(report_image(plain, "lit full"), report_image(brighter, "lit full"));
+  EXPECT_NE(report_image(plain, "lit rgb3"), report_image(brighter, "lit rgb3"));
+  EXPECT_EQ(report_image(plain, "lit heat map"), report_image(brighter, "lit heat map"));  // ΔE00 of the linear films
 }
 
 }  // namespace
