@@ -359,6 +359,21 @@ TEST(Display, WhiteBalanceToTheBrightestEmitterNeutralisesItsColour) {
   EXPECT_NEAR(shown.x, 0.3, 1e-6);
   EXPECT_NEAR(shown.y, 0.3, 1e-6);
   EXPECT_NEAR(shown.z, 0.3, 1e-6);
+
+  // An emitting quad of luminance 6 has power π·6 per m²: each of its two triangles (3π) is below the
+  // point light's 4π, the quad (6π) above it, and the quad is the brightest emitter.
+  test::write_file(dir / "b.json", R"({
+    "objects": [{"shape": {"type": "quad", "size": [4, 4]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+                 "material": {"type": "diffuse", "reflectance": 0.7}},
+                {"shape": {"type": "quad", "size": [1, 1]}, "transform": [{"translate": [0, 0.5, -3]}],
+                 "emission": {"spectrum": "F11", "scale": 6}}],
+    "lights": [{"type": "point", "position": [0, 2, 0], "spectrum": "A", "scale": 1.0}]
+  })");
+  const std::optional<Vec3> quad = brightest_emitter_white_xyz(compile(load_scene(dir / "b.json")));
+  ASSERT_TRUE(quad);
+  const Vec3 f11 = spectrum_to_xyz(named_illuminant("F11"));
+  EXPECT_NEAR(quad->x, f11.x, 1e-9);
+  EXPECT_NEAR(quad->z, f11.z, 1e-9);
 }
 
 }  // namespace

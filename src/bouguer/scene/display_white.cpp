@@ -1,5 +1,6 @@
 #include "bouguer/scene/display_white.h"
 
+#include <map>
 #include <numbers>
 #include <variant>
 
@@ -44,10 +45,18 @@ std::optional<Vec3> light_xyz(const RenderScene& scene, const Light& light) {
 }  // namespace
 
 std::optional<Vec3> brightest_emitter_white_xyz(const RenderScene& scene) {
-  std::size_t brightest = scene.lights.size();
+  // An emitting mesh is one light per triangle: its triangles' powers are summed (by their
+  // spectrum, which they share), so that a large softbox outweighs a small lamp as it should.
+  std::map<int, double> mesh_power;
   for (std::size_t i = 0; i < scene.lights.size(); ++i)
-    if (scene.light_power[i] > 0.0 && (brightest == scene.lights.size() || scene.light_power[i] > scene.light_power[brightest]))
-      brightest = i;
+    if (const auto* a = std::get_if<AreaLight>(&scene.lights[i])) mesh_power[a->radiance] += scene.light_power[i];
+  std::size_t brightest = scene.lights.size();
+  double most = 0.0;
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const auto* a = std::get_if<AreaLight>(&scene.lights[i]);
+    const double power = a ? mesh_power[a->radiance] : scene.light_power[i];
+    if (power > most) most = power, brightest = i;
+  }
   if (brightest == scene.lights.size()) return std::nullopt;
   const std::optional<Vec3> xyz = light_xyz(scene, scene.lights[brightest]);
   if (!xyz || !(xyz->y > 0.0)) return std::nullopt;

@@ -9,10 +9,11 @@
 
 namespace bouguer {
 
-// The CIE 1931 XYZ (at Y = 1) of the light of largest luminous power (RenderScene::light_power):
-// an area light's, point, spot or distant light's spectrum (a textured emitter's untextured
-// spectrum), the background's, or an environment map's mean colour over the sphere. nullopt for a
-// scene without light or whose brightest light has no luminance.
+// The CIE 1931 XYZ (at Y = 1) of the light of largest luminous power (RenderScene::light_power;
+// an emitting mesh's triangles summed by the spectrum they share): an emitter's, point, spot or
+// distant light's spectrum (a textured emitter's untextured spectrum), the background's, or an
+// environment map's mean colour over the sphere. nullopt for a scene without light or whose
+// brightest light has no luminance.
 std::optional<Vec3> brightest_emitter_white_xyz(const RenderScene& scene);
 
 // resolve_display with the brightest emitter's white when the description asks for it.
