@@ -374,6 +374,19 @@ TEST(Display, WhiteBalanceToTheBrightestEmitterNeutralisesItsColour) {
   const Vec3 f11 = spectrum_to_xyz(named_illuminant("F11"));
   EXPECT_NEAR(quad->x, f11.x, 1e-9);
   EXPECT_NEAR(quad->z, f11.z, 1e-9);
+
+  // An environment map of one colour: its white is that colour.
+  Film sky(8, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) sky.set_rgb(x, y, {1.0f, 0.5f, 0.25f});
+  write_exr(dir / "sky.exr", sky);
+  test::write_file(dir / "c.json", R"({"background": {"environment": "sky.exr"},
+    "objects": [{"shape": {"type": "quad", "size": [4, 4]}, "material": {"type": "diffuse", "reflectance": 0.7}}]})");
+  const std::optional<Vec3> env = brightest_emitter_white_xyz(compile(load_scene(dir / "c.json")));
+  ASSERT_TRUE(env);
+  const Vec3 orange = rgb_to_xyz_matrix(kRec709) * Vec3{1.0, 0.5, 0.25};
+  EXPECT_NEAR(env->x, orange.x / orange.y, 1e-6);
+  EXPECT_NEAR(env->z, orange.z / orange.y, 1e-6);
 }
 
 }  // namespace
