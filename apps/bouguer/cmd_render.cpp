@@ -210,7 +210,11 @@ int run_render(const RenderCli& o) {
   // All or nothing: no file is replaced unless every output was written.
   using Path = std::filesystem::path;
   outputs.write_all({{"-o", [&](const Path& p) { write_image(p, film, display); }},
-                     {"--spectral-exr", [&](const Path& p) { write_spectral_exr(p, exposed(film, display)); }},
+                     {"--spectral-exr",
+                      [&](const Path& p) {
+                        if (display.leaves_floats()) write_spectral_exr(p, film);  // no copy of the spectra
+                        else write_spectral_exr(p, exposed(film, display));
+                      }},
                      {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }}});
   if (interrupted) {
     fmt::print(stderr, "bouguer: interrupted: wrote the image after {} of {} samples per pixel{} -> {}\n",
@@ -275,20 +279,24 @@ SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
 void add_display_options(CLI::App& app, SceneOverrides& o, bool float_outputs) {
   app.add_option("--exposure", o.exposure_ev,
                  "Exposure compensation in EV, -32 to 32: +1 doubles the linear values shown (overrides the scene)");
-  app.add_option("--iso", o.iso, "Camera exposure: ISO speed S (with --shutter and --f-number; turns --auto-exposure off)");
+  app.add_option("--iso", o.iso,
+                 "Camera exposure: ISO speed S (with --shutter and --f-number; turns --auto-exposure off)");
   app.add_option("--shutter", o.shutter_s, "Camera exposure: shutter time t in seconds");
   app.add_option("--f-number", o.f_number,
-                 "Camera exposure: f-number N; luminance L is shown as L/(1.2*2^EV100), EV100 = log2(N^2/t) - log2(S/100)");
+                 "Camera exposure: f-number N; luminance L is shown as L/(1.2*2^EV100), "
+                 "EV100 = log2(N^2/t) - log2(S/100)");
   app.add_option("--auto-exposure", o.auto_exposure,
-                 "on|off: expose the finished film so that the 97th percentile of its lit pixels' luminance shows at 0.8 "
-                 "(default: on for glTF assets, off for JSON scenes)");
+                 "on|off: expose the finished film so that the 97th percentile of its lit pixels' luminance "
+                 "shows at 0.8 (default: on for glTF assets, off for JSON scenes)");
   app.add_option("--white-balance", o.white_balance,
                  "Adapt this white to the display's D65 (Bradford): an illuminant (D65, D50, A, E, F2, F7, F11, "
                  "blackbody:<kelvin>), brightest_emitter or none");
-  app.add_option("--display", o.display, "Display curve of PNG images: clip (default) or filmic (a shoulder that keeps hue)");
+  app.add_option("--display", o.display,
+                 "Display curve of PNG images: clip (default) or filmic (a shoulder that keeps hue)");
   if (float_outputs)
     app.add_flag("--expose-float-outputs", o.expose_float_outputs,
-                 "Apply the exposure and white balance to EXR, PFM and the spectral EXR too (otherwise linear and unscaled)");
+                 "Apply the exposure and white balance to EXR, PFM and the spectral EXR too "
+                 "(otherwise linear and unscaled)");
 }
 
 Command add_render_command(CLI::App& parent) {

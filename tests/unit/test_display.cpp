@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "bouguer/io/display.h"
 #include "bouguer/io/image_io.h"
@@ -44,7 +44,8 @@ TEST(Display, Ev100AndTheCameraScaleFollowTheSaturationBasedRelation) {
   }
   // One stop more light (twice the time, twice the ISO, or N/√2) doubles the scale.
   EXPECT_NEAR(camera_exposure_scale({200.0, 0.01, 16.0}) / camera_exposure_scale(sunny), 2.0, 1e-12);
-  EXPECT_NEAR(camera_exposure_scale({100.0, 0.01, 16.0 / std::numbers::sqrt2}) / camera_exposure_scale(sunny), 2.0, 1e-12);
+  EXPECT_NEAR(camera_exposure_scale({100.0, 0.01, 16.0 / std::numbers::sqrt2}) / camera_exposure_scale(sunny), 2.0,
+              1e-12);
   EXPECT_EQ(compensation_scale(1.0), 2.0);
   EXPECT_EQ(compensation_scale(-2.0), 0.25);
   EXPECT_EQ(compensation_scale(0.0), 1.0);
@@ -106,8 +107,10 @@ TEST(Display, FilmicCurveIsMonotoneMapsZeroToZeroAndKeepsHue) {
   double previous = -1.0;
   for (double x = 0.0; x < 200.0; x += 0.01) {
     const double f = filmic_shoulder(x);
-    if (x < 10.0) EXPECT_GT(f, previous) << x;  // increasing (until 1 − f is below double precision, near x = 15)
-    else EXPECT_GE(f, previous) << x;
+    if (x < 10.0)
+      EXPECT_GT(f, previous) << x;  // increasing (until 1 − f is below double precision, near x = 15)
+    else
+      EXPECT_GE(f, previous) << x;
     EXPECT_LE(f, 1.0) << x;  // never above white
     previous = f;
   }
@@ -189,32 +192,38 @@ TEST(Display, SceneKeysAndTheCommandLinePassOneCheck) {
   // A JSON scene has no automatic exposure unless it asks.
   EXPECT_FALSE(load_scene(scene("{}")).display.auto_exposure);
   // The same bad value from the file and from the command line: one check, one message.
-  const auto from_file = test::run_bouguer({"render", scene(R"({"exposure_ev": 40})").string(), "-o",
-                                            (dir / "x.png").string(), "--quiet"});
+  const auto from_file = test::run_bouguer(
+      {"render", scene(R"({"exposure_ev": 40})").string(), "-o", (dir / "x.png").string(), "--quiet"});
   EXPECT_EQ(from_file.exit_code, 1);
-  EXPECT_NE(from_file.err.find("s.json: display.exposure_ev: must be between -32 and 32 EV (got 40)"), std::string::npos)
+  EXPECT_NE(from_file.err.find("s.json: display.exposure_ev: must be between -32 and 32 EV (got 40)"),
+            std::string::npos)
       << from_file.err;
-  const auto from_cli = test::run_bouguer({"render", scene("{}").string(), "-o", (dir / "x.png").string(), "--exposure",
-                                           "40", "--quiet"});
+  const auto from_cli = test::run_bouguer(
+      {"render", scene("{}").string(), "-o", (dir / "x.png").string(), "--exposure", "40", "--quiet"});
   EXPECT_EQ(from_cli.exit_code, 2);
   EXPECT_NE(from_cli.err.find("--exposure: must be between -32 and 32 EV (got 40)"), std::string::npos) << from_cli.err;
-  const auto white = test::run_bouguer({"render", scene(R"({"white_balance": "D56"})").string(), "-o",
-                                        (dir / "x.png").string(), "--quiet"});
+  const auto white = test::run_bouguer(
+      {"render", scene(R"({"white_balance": "D56"})").string(), "-o", (dir / "x.png").string(), "--quiet"});
   EXPECT_NE(white.err.find("display.white_balance: unknown white 'D56' (did you mean"), std::string::npos) << white.err;
-  const auto curve = test::run_bouguer({"render", scene("{}").string(), "-o", (dir / "x.png").string(), "--display",
-                                        "filmc", "--quiet"});
+  const auto curve = test::run_bouguer(
+      {"render", scene("{}").string(), "-o", (dir / "x.png").string(), "--display", "filmc", "--quiet"});
   EXPECT_NE(curve.err.find("--display: unknown display curve 'filmc' (did you mean 'filmic'?)"), std::string::npos)
       << curve.err;
-  const auto partial = test::run_bouguer({"render", scene("{}").string(), "-o", (dir / "x.png").string(), "--iso",
-                                          "100", "--quiet"});
+  const auto partial =
+      test::run_bouguer({"render", scene("{}").string(), "-o", (dir / "x.png").string(), "--iso", "100", "--quiet"});
   EXPECT_EQ(partial.exit_code, 2);
   EXPECT_NE(partial.err.find("give all three"), std::string::npos) << partial.err;
-  const auto both = test::run_bouguer({"render", scene(R"({"auto_exposure": true,
-      "camera_exposure": {"iso": 100, "shutter_s": 1, "f_number": 1}})").string(), "-o", (dir / "x.png").string(), "--quiet"});
+  const auto both = test::run_bouguer({"render",
+                                       scene(R"({"auto_exposure": true,
+      "camera_exposure": {"iso": 100, "shutter_s": 1, "f_number": 1}})")
+                                           .string(),
+                                       "-o", (dir / "x.png").string(), "--quiet"});
   EXPECT_NE(both.err.find("display.camera_exposure: excludes 'auto_exposure'"), std::string::npos) << both.err;
-  const auto shutter = test::run_bouguer({"render", scene(R"({"camera_exposure": {"iso": 100, "shutter_s": 0, "f_number": 1}})").string(),
-                                          "-o", (dir / "x.png").string(), "--quiet"});
-  EXPECT_NE(shutter.err.find("display.camera_exposure: the shutter time (s) must be a positive number"), std::string::npos)
+  const auto shutter = test::run_bouguer(
+      {"render", scene(R"({"camera_exposure": {"iso": 100, "shutter_s": 0, "f_number": 1}})").string(), "-o",
+       (dir / "x.png").string(), "--quiet"});
+  EXPECT_NE(shutter.err.find("display.camera_exposure: the shutter time (s) must be a positive number"),
+            std::string::npos)
       << shutter.err;
 }
 
@@ -250,15 +259,19 @@ constexpr double kLightHeightM = 4.0, kFloorAlbedo = 0.8;
 fs::path blender_like_asset(const fs::path& dir) {
   test::GltfDoc g;
   const auto grey = [&](double albedo) {
-    return g.material({{"pbrMetallicRoughness",
-                        {{"baseColorFactor", {albedo, albedo, albedo, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}});
+    return g.material(
+        {{"pbrMetallicRoughness",
+          {{"baseColorFactor", {albedo, albedo, albedo, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}});
   };
   g.node({{"name", "floor"},
           {"mesh", g.mesh({{-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}}, {0, 1, 2, 0, 2, 3}, grey(kFloorAlbedo))}});
-  g.node({{"name", "cube"}, {"mesh", g.mesh(test::cube_positions(), test::cube_indices(), grey(0.5))},
-          {"translation", {0.0, 0.25, 0.0}}, {"scale", {0.5, 0.5, 0.5}}});
+  g.node({{"name", "cube"},
+          {"mesh", g.mesh(test::cube_positions(), test::cube_indices(), grey(0.5))},
+          {"translation", {0.0, 0.25, 0.0}},
+          {"scale", {0.5, 0.5, 0.5}}});
   const double pitch = -std::atan2(2.0, 5.0);  // looking at the origin
-  g.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"aspectRatio", 1.5}, {"znear", 0.1}}}}};
+  g.doc["cameras"] = {
+      {{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"aspectRatio", 1.5}, {"znear", 0.1}}}}};
   g.node({{"camera", 0}, {"translation", {0, 2, 5}}, {"rotation", {std::sin(pitch / 2), 0, 0, std::cos(pitch / 2)}}});
   g.doc["extensionsUsed"] = {"KHR_lights_punctual"};
   g.doc["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", kCandela}}}}}}};
@@ -272,17 +285,25 @@ TEST(Display, ABlenderLikeAssetIsExposedAutomaticallyAndPlusOneEvDoublesThePng) 
   const fs::path asset = blender_like_asset(dir);
   EXPECT_TRUE(load_scene(asset).display.auto_exposure);  // on for assets
   const auto render = [&](const std::string& name, std::vector<std::string> extra) {
-    std::vector<std::string> args = {"render", asset.string(), "--resolution", "48x32", "--spp", "4", "--spectral", "rgb3",
-                                     "-o", (dir / (name + ".png")).string(), "-o", (dir / (name + ".exr")).string(),
-                                     "--stats-json", (dir / (name + ".json")).string(), "--quiet"};
+    std::vector<std::string> args = {"render",       asset.string(),
+                                     "--resolution", "48x32",
+                                     "--spp",        "4",
+                                     "--spectral",   "rgb3",
+                                     "-o",           (dir / (name + ".png")).string(),
+                                     "-o",           (dir / (name + ".exr")).string(),
+                                     "--stats-json", (dir / (name + ".json")).string(),
+                                     "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     const auto r = test::run_bouguer(args);
     EXPECT_EQ(r.exit_code, 0) << r.err;
   };
   render("auto", {});
+  render("one_thread", {"--threads", "1"});
   render("plus1", {"--exposure", "1"});
   render("off", {"--auto-exposure", "off"});
   const Film exr = read_exr(dir / "auto.exr");
+  // The exposure is measured on the finished film: the same at any thread count, byte for byte.
+  EXPECT_EQ(test::read_file(dir / "auto.png"), test::read_file(dir / "one_thread.png"));
   // The EXR is the linear film, whatever the exposure: the same bytes with +1 EV or without any.
   EXPECT_EQ(test::read_file(dir / "auto.exr"), test::read_file(dir / "plus1.exr"));
   EXPECT_EQ(test::read_file(dir / "auto.exr"), test::read_file(dir / "off.exr"));
@@ -301,7 +322,8 @@ TEST(Display, ABlenderLikeAssetIsExposedAutomaticallyAndPlusOneEvDoublesThePng) 
   // clipped nor below 10 % grey.
   const double peak = kFloorAlbedo * kCandela / (std::numbers::pi * kLightHeightM * kLightHeightM);
   int width = 0;
-  const std::vector<unsigned char> shown = png_pixels(dir / "auto.png", width), raw = png_pixels(dir / "off.png", width),
+  const std::vector<unsigned char> shown = png_pixels(dir / "auto.png", width),
+                                   raw = png_pixels(dir / "off.png", width),
                                    doubled = png_pixels(dir / "plus1.png", width);
   ASSERT_EQ(shown.size(), exr.rgb.size());
   int lit = 0, compared = 0;
@@ -414,7 +436,8 @@ TEST(Display, TheReportShowsItsRendersThroughTheDisplayTransform) {
     "lights": [{"type": "point", "position": [0, 2, 0], "spectrum": "D65", "scale": 0.5}]
   })");
   const auto page = [&](const std::string& name, std::vector<std::string> extra) {
-    std::vector<std::string> args = {"report", "--out", (dir / name).string(), "--scenes", (dir / "scenes").string(), "--quiet"};
+    std::vector<std::string> args = {"report", "--out", (dir / name).string(), "--scenes", (dir / "scenes").string(),
+                                     "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     const auto r = test::run_bouguer(args);
     EXPECT_EQ(r.exit_code, 0) << r.err;

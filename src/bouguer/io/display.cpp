@@ -56,14 +56,18 @@ DisplayTransform resolve_display(const DisplayDesc& d, const Film& film, const s
   t.curve = d.curve;
   t.float_outputs = d.float_outputs;
   std::optional<Vec3> white;
-  if (const auto* named = std::get_if<IlluminantWhite>(&d.white_balance)) white = named->white_xyz;
-  else if (std::holds_alternative<BrightestEmitterWhite>(d.white_balance)) white = emitter_white_xyz;
+  if (const auto* named = std::get_if<IlluminantWhite>(&d.white_balance))
+    white = named->white_xyz;
+  else if (std::holds_alternative<BrightestEmitterWhite>(d.white_balance))
+    white = emitter_white_xyz;
   if (white && white->y > 0.0) {
     t.white_balance = white_balance_matrix(*white);
     t.balanced = true;
   }
-  if (d.camera) t.scale = camera_exposure_scale(*d.camera);
-  else if (d.auto_exposure) t.scale = auto_exposure_scale(film.rgb, t.white_balance);
+  if (d.camera)
+    t.scale = camera_exposure_scale(*d.camera);
+  else if (d.auto_exposure)
+    t.scale = auto_exposure_scale(film.rgb, t.white_balance);
   t.scale *= compensation_scale(d.exposure_ev);
   return t;
 }

@@ -23,9 +23,9 @@ enum class DisplayCurve { clip, filmic };
 
 // An absolute exposure as a camera sets it (saturation-based sensitivity, ISO 12232).
 struct CameraExposure {
-  double iso = 100.0;      // S
-  double shutter_s = 0.01; // t
-  double f_number = 1.0;   // N
+  double iso = 100.0;       // S
+  double shutter_s = 0.01;  // t
+  double f_number = 1.0;    // N
 };
 
 // White balance: none, to a named illuminant's white (its CIE 1931 XYZ at Y = 1), or to the
@@ -40,12 +40,12 @@ using WhiteBalance = std::variant<NoWhiteBalance, IlluminantWhite, BrightestEmit
 
 // The description's values: everything off (the film written as it is) by default.
 struct DisplayDesc {
-  double exposure_ev = 0.0;               // compensation: linear values ×2^ev, on top of the rest
-  std::optional<CameraExposure> camera;   // absolute exposure; then no automatic one
-  bool auto_exposure = false;             // on by default for assets in photometric units
+  double exposure_ev = 0.0;              // compensation: linear values ×2^ev, on top of the rest
+  std::optional<CameraExposure> camera;  // absolute exposure; then no automatic one
+  bool auto_exposure = false;            // on by default for assets in photometric units
   WhiteBalance white_balance = NoWhiteBalance{};
   DisplayCurve curve = DisplayCurve::clip;
-  bool float_outputs = false;             // EXR, PFM, spectral EXR exposed and balanced too
+  bool float_outputs = false;  // EXR, PFM, spectral EXR exposed and balanced too
 };
 
 // What is applied to each pixel: rgb' = curve(scale · M · rgb), linear Rec.709 in and out.

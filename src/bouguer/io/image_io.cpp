@@ -23,8 +23,13 @@ void write_image(const std::filesystem::path& path, const Film& film) {
 }
 
 void write_image(const std::filesystem::path& path, const Film& film, const DisplayTransform& t) {
-  if (extension_of(path) == ".png") return write_png(path, t.leaves_png() ? film : displayed(film, t));
-  return write_image(path, t.leaves_floats() ? film : exposed(film, t));
+  // Each branch passes the film itself when nothing changes: a copy of a spectral film is large.
+  if (extension_of(path) == ".png") {
+    if (t.leaves_png()) return write_png(path, film);
+    return write_png(path, displayed(film, t));
+  }
+  if (t.leaves_floats()) return write_image(path, film);
+  return write_image(path, exposed(film, t));
 }
 
 Film read_image(const std::filesystem::path& path) {

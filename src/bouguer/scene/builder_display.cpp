@@ -64,9 +64,12 @@ SceneBuilder& SceneBuilder::white_balance(const std::string& name, const Source&
 }
 
 SceneBuilder& SceneBuilder::display_curve(const std::string& name, const Source& where) {
-  if (name == "clip") desc_.display.curve = DisplayCurve::clip;
-  else if (name == "filmic") desc_.display.curve = DisplayCurve::filmic;
-  else where.fail("unknown display curve '{}'{}", name, suggestion(name, {"clip", "filmic"}));
+  if (name == "clip")
+    desc_.display.curve = DisplayCurve::clip;
+  else if (name == "filmic")
+    desc_.display.curve = DisplayCurve::filmic;
+  else
+    where.fail("unknown display curve '{}'{}", name, suggestion(name, {"clip", "filmic"}));
   return *this;
 }
 

@@ -29,10 +29,14 @@ std::optional<Vec3> light_xyz(const RenderScene& scene, const Light& light) {
   const int id = std::visit(
       [](const auto& l) -> int {
         using L = std::decay_t<decltype(l)>;
-        if constexpr (std::is_same_v<L, AreaLight> || std::is_same_v<L, BackgroundLight>) return l.radiance;
-        else if constexpr (std::is_same_v<L, PointLight> || std::is_same_v<L, SpotLight>) return l.intensity;
-        else if constexpr (std::is_same_v<L, DistantLight>) return l.irradiance;
-        else return -1;
+        if constexpr (std::is_same_v<L, AreaLight> || std::is_same_v<L, BackgroundLight>)
+          return l.radiance;
+        else if constexpr (std::is_same_v<L, PointLight> || std::is_same_v<L, SpotLight>)
+          return l.intensity;
+        else if constexpr (std::is_same_v<L, DistantLight>)
+          return l.irradiance;
+        else
+          return -1;
       },
       light);
   if (const auto* env = std::get_if<EnvironmentLight>(&light)) return environment_mean_xyz(*env->map);

@@ -685,17 +685,20 @@ void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
 
 // "display": exposure, white balance and display curve (io/display.h, docs/scene-format.md).
 void read_display(const json& j, const Where& w, SceneBuilder& b) {
-  expect_keys(j, w, {"exposure_ev", "auto_exposure", "camera_exposure", "white_balance", "curve", "expose_float_outputs"});
+  expect_keys(j, w,
+              {"exposure_ev", "auto_exposure", "camera_exposure", "white_balance", "curve", "expose_float_outputs"});
   if (j.contains("exposure_ev")) b.exposure_ev(number(j["exposure_ev"], w / "exposure_ev"), w / "exposure_ev");
   if (j.contains("auto_exposure")) b.auto_exposure(boolean(j["auto_exposure"], w / "auto_exposure"));
   if (j.contains("camera_exposure")) {
     const Where wc = w / "camera_exposure";
-    if (j.contains("auto_exposure") && b.auto_exposure_on()) wc.fail("excludes 'auto_exposure': true; give one of them");
+    if (j.contains("auto_exposure") && b.auto_exposure_on())
+      wc.fail("excludes 'auto_exposure': true; give one of them");
     expect_keys(j["camera_exposure"], wc, {"iso", "shutter_s", "f_number"});
     for (const char* key : {"iso", "shutter_s", "f_number"})
-      if (!j["camera_exposure"].contains(key)) wc.fail("needs 'iso', 'shutter_s' and 'f_number'");
-    b.camera_exposure({number(j["camera_exposure"]["iso"], wc / "iso"), number(j["camera_exposure"]["shutter_s"], wc / "shutter_s"),
-                       number(j["camera_exposure"]["f_number"], wc / "f_number")},
+      if (!j["camera_exposure"].contains(key)) wc.fail("needs 'iso', 'shutter_s' and 'f_number' (missing '{}')", key);
+    const json& c = j["camera_exposure"];
+    b.camera_exposure({number(c["iso"], wc / "iso"), number(c["shutter_s"], wc / "shutter_s"),
+                       number(c["f_number"], wc / "f_number")},
                       wc);
   }
   if (j.contains("white_balance")) b.white_balance(text(j["white_balance"], w / "white_balance"), w / "white_balance");
