@@ -147,7 +147,7 @@ struct ObjectDesc {
   double roughness = 0.0;  // interfaces: GGX alpha of the dielectric boundary (0: smooth)
   // Interfaces: where objects with priorities overlap, the higher one's medium fills the overlap
   // (scene/nested.h). None: the object's surfaces keep the media of its two sides, as always.
-  std::optional<int> priority;
+  std::optional<std::int64_t> priority;  // checked by the builder: 0 to kMaxPriority
   std::optional<NormalMapDesc> normal_map;  // any surface kind; a shape with one is always meshed
 };
 

@@ -99,7 +99,7 @@ struct GltfMaterialOverride {
   std::optional<MaterialDesc> material;  // resolved by the front end (resolve_surface_material)
   std::optional<EmissionDesc> emission;
   double roughness = 0.0;
-  std::optional<int> priority;  // nested media (scene/nested.h)
+  std::optional<std::int64_t> priority;  // nested media (scene/nested.h); checked by the builder
 };
 
 struct GltfObjectInput {
