@@ -415,6 +415,75 @@ TEST(Gltf, ValuesOutsideTheModelAreClampedWithOneWarningPerMaterial) {
   EXPECT_EQ(overridden.warnings.size(), 1u);
 }
 
+// Beyond materials: a camera, a light, a node of scale 0 (a hidden node) and a texture on another
+// coordinate set load too, each with its warning, when the asset is rendered as it is.
+TEST(Gltf, CamerasLightsNodesAndTexturesOutsideTheModelLoadWithAWarning) {
+  const fs::path dir = test::scratch_dir("gltf_clamped_rest");
+  GltfDoc g = volume_slab(0.01);
+  g.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 3.5}, {"aspectRatio", 200.0}, {"znear", 0.01}}}}};
+  g.node({{"camera", 0}, {"translation", {0, 0.05, 0.5}}});
+  g.doc["extensions"] = {{"KHR_lights_punctual",
+                          {{"lights", {{{"type", "spot"}, {"intensity", -5.0}, {"spot", {{"innerConeAngle", 2.5}, {"outerConeAngle", 2.0}}}}}}}}};
+  g.node({{"translation", {0, 0.3, 0.3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  g.node({{"mesh", 0}, {"scale", {0, 0, 0}}});  // nodes[3]
+  // A 1 × 1 white PNG as the Paint material's base colour, on TEXCOORD_1.
+  static const unsigned char png[] = {
+      0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00,
+      0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08, 0x02, 0x00, 0x00, 0x00, 0x90, 0x77, 0x53, 0xde, 0x00, 0x00, 0x00,
+      0x0c, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8, 0xff, 0xff, 0x3f, 0x00, 0x05, 0xfe, 0x02, 0xfe, 0x0d,
+      0xef, 0x46, 0xb8, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+  g.doc["images"] = {{{"bufferView", g.view(png, sizeof png)}, {"mimeType", "image/png"}}};
+  g.doc["textures"] = {{{"source", 0}}};
+  const int paint = g.material({{"name", "Paint"},
+                                {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}}, {"metallicFactor", 0.0}}}});
+  g.node({{"mesh", g.mesh(test::cube_positions(), test::cube_indices(), paint)}, {"translation", {0, -0.05, 0}},
+          {"scale", {0.1, 0.01, 0.1}}});
+  g.write(dir / "rest.glb");
+  const SceneDesc d = load_scene(dir / "rest.glb");
+  const std::string all = fmt::format("{}", fmt::join(d.warnings, "\n"));
+  ASSERT_EQ(d.warnings.size(), 4u) << all;
+  for (const char* w : {"cameras[0].perspective: yfov 3.5 as 3.1, aspectRatio 200 as 34.1333",
+                        "lights[0]: intensity -5 as 0, spot.outerConeAngle 2 as 1.5708, spot.innerConeAngle 2.5 as 1.5708",
+                        "nodes[3]: a singular transform (a scale of 0) collapses the node and its children: left out",
+                        "material 'Paint': baseColorTexture on TEXCOORD_1 left out (only TEXCOORD_0 is read)"})
+    EXPECT_NE(all.find(w), std::string::npos) << w << " in\n" << all;
+  EXPECT_EQ(d.objects.size(), 2u);  // the slab and the paint, not the node of scale 0
+  EXPECT_EQ(d.camera.width_px, 16384);
+  EXPECT_FALSE(std::get<DiffuseDesc>(*d.objects[1].material).reflectance_texture);
+}
+
+// Strips and fans become triangle lists with every triangle wound as the specification says (all
+// facing +z here, as the list's); points and lines have no surface and are left out with a warning.
+TEST(Gltf, StripsAndFansAreTrianglesAndPointsAreLeftOut) {
+  const fs::path dir = test::scratch_dir("gltf_modes");
+  GltfDoc g;
+  // A square fan around vertex 0, and the same square as a strip (a zig-zag).
+  g.mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {0, 1, 2, 3});
+  g.doc["meshes"][0]["primitives"][0]["mode"] = 6;
+  g.mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {0, 1, 2, 3});
+  g.doc["meshes"][1]["primitives"][0]["mode"] = 5;
+  g.mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
+  g.doc["meshes"][2]["primitives"][0]["mode"] = 0;
+  for (int mesh = 0; mesh < 3; ++mesh) g.node({{"mesh", mesh}});
+  g.write(dir / "modes.glb");
+  const GltfAsset a = read_gltf(dir / "modes.glb");
+  ASSERT_EQ(a.primitives.size(), 2u);
+  for (const GltfPrimitive& p : a.primitives) {
+    const Mesh& m = p.shape.mesh;
+    ASSERT_EQ(m.triangles.size(), 2u) << p.place;
+    double area = 0.0;
+    for (const auto& t : m.triangles) {
+      const Vec3 n = cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+      EXPECT_GT(n.z, 0.0) << p.place;  // counter-clockwise seen from +z, as glTF's front faces
+      area += 0.5 * length(n);
+    }
+    EXPECT_NEAR(area, 1.0, 1e-12) << p.place;  // the whole square, once
+  }
+  ASSERT_EQ(a.notes.size(), 1u);
+  EXPECT_EQ(a.notes[0].first, "meshes[2].primitives[0]");
+  EXPECT_NE(a.notes[0].second.find("mode 0 (points or lines) has no surface to render: left out"), std::string::npos);
+}
+
 // Khronos's DispersionTest has materials of ior 1.0 and dispersion 5 (V_d = 4, below Bouguer's Abbe
 // range): with n_d = 1 there is nothing to disperse, a constant index, no warning; with n_d = 1.5 the
 // Abbe number is clamped to 5 (dispersion 4) with one.

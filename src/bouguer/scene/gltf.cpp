@@ -374,7 +374,6 @@ Transform node_transform(const tinygltf::Node& n, const Place& at) {
     t.linear = r * Mat3::diagonal(s);
     t.translation = vec3(n.translation, at / "translation", {0, 0, 0});
   }
-  if (!(std::abs(t.determinant()) > 1e-300)) at.fail("a singular transform collapses what the node holds");
   return t;
 }
 
@@ -499,17 +498,32 @@ std::vector<Tangent> vertex_tangents(const std::vector<double>& v, std::size_t n
   return out;
 }
 
+// A strip's or a fan's indices as a triangle list (glTF 3.7.2.1): strip triangle i is
+// (v_i, v_{i+1+i%2}, v_{i+2−i%2}), keeping every triangle's winding; fan triangle i is (v_{i+1}, v_{i+2}, v_0).
+std::vector<double> triangle_list(const std::vector<double>& v, bool fan) {
+  std::vector<double> out;
+  out.reserve(3 * (v.size() - 2));
+  for (std::size_t i = 0; i + 2 < v.size(); ++i) {
+    if (fan) out.insert(out.end(), {v[i + 1], v[i + 2], v[0]});
+    else out.insert(out.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+  }
+  return out;
+}
+
 // The primitive's triangles with the node's transform applied (normals by its inverse transpose).
+// Its mode is triangles (4, the default), a strip (5) or a fan (6).
 GltfPrimitive make_primitive(const Model& m, const tinygltf::Primitive& p, const Transform& to_asset,
                              const Place& at) {
-  if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES)
-    (at / "mode").fail("mode {} is not supported (only triangles, 4)", p.mode);
   Attributes a = primitive_attributes(m, p, at);
   const std::size_t n = a.positions.size() / 3;
   if (n > kMaxMeshVertices) at.fail("{} vertices exceed the limit of {}", n, kMaxMeshVertices);
   if (!a.has_indices) {
     a.indices.resize(n);
     for (std::size_t i = 0; i < n; ++i) a.indices[i] = double(i);
+  }
+  if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    if (a.indices.size() < 3) (at / "indices").fail("{} indices make no triangle", a.indices.size());
+    a.indices = triangle_list(a.indices, p.mode == TINYGLTF_MODE_TRIANGLE_FAN);
   }
   if (a.indices.size() % 3 != 0) (at / "indices").fail("{} indices are not whole triangles", a.indices.size());
   GltfPrimitive out;
@@ -566,7 +580,7 @@ struct TextureSources {
   const fs::path& file;
 };
 
-// KHR_texture_transform of a texture reference (texCoord must stay 0: only TEXCOORD_0 is read).
+// KHR_texture_transform of a texture reference (its texCoord is read by texture_coordinates).
 UvTransform texture_transform(const tinygltf::ExtensionMap& extensions, const Place& at) {
   UvTransform t;
   const Value* e = member(extensions, "KHR_texture_transform");
@@ -582,7 +596,6 @@ UvTransform texture_transform(const tinygltf::ExtensionMap& extensions, const Pl
   pair("offset", t.offset);
   pair("scale", t.scale);
   t.rotation_rad = number(*e, "rotation", pt).value_or(0.0);
-  if (number(*e, "texCoord", pt).value_or(0.0) != 0.0) (pt / "texCoord").fail("only TEXCOORD_0 is read");
   return t;
 }
 
@@ -626,10 +639,22 @@ void read_sampler(const Model& m, int index, GltfTexture& out, const Place& at) 
 
 // A texture's texels times per-channel factors, clamped to [0, 1]: sRGB-decoded first for colour
 // (baseColorTexture), as stored for data (metallicRoughnessTexture).
+// The texture coordinate set a texture reference reads: its texCoord, or its KHR_texture_transform's.
+double texture_coordinates(const tinygltf::TextureInfo& info, const Place& at) {
+  const Value* e = member(info.extensions, "KHR_texture_transform");
+  if (!e) return info.texCoord;
+  return number(*e, "texCoord", at / "extensions" / "KHR_texture_transform").value_or(info.texCoord);
+}
+
+// A texture on another coordinate set than TEXCOORD_0 (the only one read) is left out, and noted.
 std::optional<GltfTexture> scaled_texture(const TextureSources& src, const tinygltf::TextureInfo& info,
-                                          const Vec3& factor, bool colour, const Place& at) {
+                                          const Vec3& factor, bool colour, const Place& at,
+                                          std::vector<std::string>& notes) {
   if (info.index < 0) return std::nullopt;
-  if (info.texCoord != 0) (at / "texCoord").fail("only TEXCOORD_0 is read (got {})", info.texCoord);
+  if (const double set = texture_coordinates(info, at); set != 0.0) {
+    notes.push_back(fmt::format("{} on TEXCOORD_{:g} left out (only TEXCOORD_0 is read)", at.path.substr(at.path.rfind('.') + 1), set));
+    return std::nullopt;
+  }
   const auto image = texture_image(src, info.index, at);
   auto linear = std::make_shared<TextureImage>(*image);
   linear->srgb = false;
@@ -653,7 +678,10 @@ constexpr double kMinAttenuationColour = 1e-6;
 // The largest index Bouguer models (media/ior.h: below 5), for ior 0 (infinite) and above.
 constexpr double kMaxGltfIor = 4.99;
 // A hundredth of the emission limit (core/limits.h), room for a saturated colour's spectrum.
-constexpr double kMaxEmissiveStrength = kMaxEmission / 100.0;
+constexpr double kMaxEmissiveStrength = kMaxEmission / 100.0;  // also a light's candela or lux
+// A camera's yfov within (0, π), and an aspect ratio that keeps both sides of 480 pixels within 16384.
+constexpr double kMinYfovRad = 1e-4, kMaxYfovRad = 3.1, kMinAspect = 480.0 / 16384.0;
+constexpr double kMinConeRad = 1e-4;  // a spot light's outer cone
 
 bool emits(const GltfMaterial& m) { return std::max({m.emissive.x, m.emissive.y, m.emissive.z}) * m.emissive_strength > 0.0; }
 
@@ -715,16 +743,16 @@ GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, co
   mat.roughness = finite(pbr.roughnessFactor, pp / "roughnessFactor");
   mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
   clamp_factors(mat);
-  mat.base_color_texture = scaled_texture(src, pbr.baseColorTexture, mat.base_color, true, pp / "baseColorTexture");
+  mat.base_color_texture = scaled_texture(src, pbr.baseColorTexture, mat.base_color, true, pp / "baseColorTexture", mat.clamped);
   // glTF's layout: G roughness, B metalness (R is occlusion in packed textures, unused).
   mat.metallic_roughness_texture = scaled_texture(src, pbr.metallicRoughnessTexture, {1.0, mat.roughness, mat.metallic},
-                                                  false, pp / "metallicRoughnessTexture");
-  mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture");
+                                                  false, pp / "metallicRoughnessTexture", mat.clamped);
+  mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture", mat.clamped);
   tinygltf::TextureInfo normal;  // the same fields as a TextureInfo, and a scale
   normal.index = g.normalTexture.index;
   normal.texCoord = g.normalTexture.texCoord;
   normal.extensions = g.normalTexture.extensions;
-  mat.normal_texture = scaled_texture(src, normal, {1.0, 1.0, 1.0}, false, at / "normalTexture");
+  mat.normal_texture = scaled_texture(src, normal, {1.0, 1.0, 1.0}, false, at / "normalTexture", mat.clamped);
   mat.normal_scale = finite(g.normalTexture.scale, at / "normalTexture" / "scale");
   const Place pe = at / "extensions";
   if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
@@ -764,6 +792,10 @@ struct Walker {
     visited[index] = true;
     const tinygltf::Node& n = m.nodes[index];
     const Transform to_asset = node_transform(n, at).then(parent);
+    if (!(std::abs(to_asset.determinant()) > 1e-300)) {  // a scale of 0 (glTF allows it: a hidden node)
+      out.notes.push_back({at.path, "a singular transform (a scale of 0) collapses the node and its children: left out"});
+      return;
+    }
     if (n.mesh >= 0) mesh(checked_index(n.mesh, m.meshes.size(), at / "mesh", "mesh"), to_asset, at);
     if (n.camera >= 0) camera(checked_index(n.camera, m.cameras.size(), at / "camera", "camera"), to_asset);
     if (const Value* l = member(n.extensions, "KHR_lights_punctual")) light(*l, to_asset, at);
@@ -775,6 +807,14 @@ struct Walker {
     const tinygltf::Mesh& mesh = m.meshes[index];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
       const Place at = (place("meshes", index) / "primitives")[p];
+      const int mode = mesh.primitives[p].mode;
+      if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {  // 0 to 3: glTF allows them
+        out.notes.push_back({at.path, fmt::format("mode {} (points or lines) has no surface to render: left out", mode)});
+        continue;
+      }
+      if (mode != -1 && mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        (at / "mode").fail("{} is not a primitive mode (0 to 6)", mode);
       GltfPrimitive prim = make_primitive(m, mesh.primitives[p], to_asset, at);
       if (prim.material >= 0) checked_index(prim.material, m.materials.size(), at / "material", "material");
       triangles += prim.shape.mesh.triangles.size();
@@ -792,10 +832,11 @@ struct Walker {
     cam.position_m = to_asset.translation;
     cam.forward = normalize(to_asset.linear * Vec3{0, 0, -1});
     cam.up = normalize(to_asset.linear * Vec3{0, 1, 0});
-    cam.yfov_rad = finite(c.perspective.yfov, at / "yfov");
-    if (!(cam.yfov_rad > 0.0 && cam.yfov_rad < 3.1)) (at / "yfov").fail("must lie between 0 and π (got {})", cam.yfov_rad);
+    cam.place = at.path;
+    cam.yfov_rad = clamp_noted(finite(c.perspective.yfov, at / "yfov"), kMinYfovRad, kMaxYfovRad, "yfov", cam.clamped);
     cam.aspect = finite(c.perspective.aspectRatio, at / "aspectRatio");
-    if (cam.aspect < 0.0 || cam.aspect > 100.0) (at / "aspectRatio").fail("must be positive (got {})", cam.aspect);
+    if (cam.aspect != 0.0)  // 0: not given
+      cam.aspect = clamp_noted(cam.aspect, kMinAspect, 1.0 / kMinAspect, "aspectRatio", cam.clamped);
     out.cameras.push_back(cam);
   }
 
@@ -813,10 +854,14 @@ struct Walker {
     else (at / "type").fail("unknown light type '{}' (point, spot, directional)", l.type);
     g.position_m = to_asset.translation;
     g.direction = normalize(to_asset.linear * Vec3{0, 0, -1});
-    g.color = vec3(l.color, at / "color", {1, 1, 1});
-    g.intensity = finite(l.intensity, at / "intensity");
+    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, std::numeric_limits<double>::max(), "color", g.clamped);
+    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength, "intensity", g.clamped);
     g.inner_cone_rad = finite(l.spot.innerConeAngle, at / "spot" / "innerConeAngle");
     g.outer_cone_rad = finite(l.spot.outerConeAngle, at / "spot" / "outerConeAngle");
+    if (g.type == DeltaLightType::spot) {  // 0 ≤ inner < outer ≤ π/2
+      g.outer_cone_rad = clamp_noted(g.outer_cone_rad, kMinConeRad, std::numbers::pi / 2, "spot.outerConeAngle", g.clamped);
+      g.inner_cone_rad = clamp_noted(g.inner_cone_rad, 0.0, g.outer_cone_rad, "spot.innerConeAngle", g.clamped);
+    }
     out.lights.push_back(g);
   }
 };
@@ -909,6 +954,10 @@ MediumInput volume_medium(const GltfMaterial& g) {
   return m;
 }
 
+std::string clamped_warning(const std::vector<std::string>& notes) {
+  return fmt::format("{} (clamped into what Bouguer models, docs/assets.md)", fmt::join(notes, ", "));
+}
+
 // What adding an asset's primitives keeps track of: the media made of its volumes, and the
 // materials whose clamped values were warned about (once each).
 struct AddedSoFar {
@@ -951,8 +1000,7 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     return;
   }
   if (!g.clamped.empty() && added.warned.insert(p.material).second)
-    b.warn(at.source(), fmt::format("material '{}': {} (clamped into what Bouguer models, docs/assets.md)", g.name,
-                                    fmt::join(g.clamped, ", ")));
+    b.warn(at.source(), fmt::format("material '{}': {}", g.name, clamped_warning(g.clamped)));
   if (emits(g)) {
     if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
       o.emission = resolve_emission(EmissionInput{texture_input(*t), g.emissive_strength},
@@ -1027,6 +1075,7 @@ void add_asset_objects(SceneBuilder& b, const GltfAsset& asset, const GltfObject
   for (const auto& [name, ov] : in.materials)
     if (std::find(names.begin(), names.end(), name) == names.end())
       (where / "materials" / name).fail("{} has no material '{}'{}", in.file.filename().string(), name, suggestion(name, names));
+  for (const auto& [place, note] : asset.notes) b.warn(Source{in.file, place}, note);
   AddedSoFar added;
   for (const GltfPrimitive& p : asset.primitives) add_primitive(b, asset, p, in, where, added);
 }
@@ -1075,6 +1124,7 @@ void load_gltf_scene(const fs::path& path, SceneBuilder& b, std::optional<bool> 
   const Source top{path, ""};
   if (!asset.cameras.empty()) {
     const GltfCamera& g = asset.cameras.front();
+    if (!g.clamped.empty()) b.warn(top / g.place, clamped_warning(g.clamped));
     CameraDesc c;
     c.position_m = g.position_m;
     c.look_at_m = g.position_m + g.forward;
@@ -1088,6 +1138,7 @@ void load_gltf_scene(const fs::path& path, SceneBuilder& b, std::optional<bool> 
     frame_asset(b, asset, top);
   }
   for (const GltfLight& g : asset.lights) {
+    if (!g.clamped.empty()) b.warn(top / g.place, clamped_warning(g.clamped));
     DeltaLightDesc l;
     l.type = g.type;
     l.position_m = g.position_m;

@@ -72,6 +72,8 @@ struct GltfCamera {
   Vec3 position_m, forward, up;  // the node's −z and +y in the asset's frame
   double yfov_rad = 0.8;
   double aspect = 0.0;  // width / height; 0 when the asset does not say
+  std::string place;    // "cameras[0].perspective"
+  std::vector<std::string> clamped;  // as GltfMaterial's
 };
 
 struct GltfLight {
@@ -81,6 +83,7 @@ struct GltfLight {
   double intensity = 1.0;  // candela (point, spot) or lux (directional)
   double inner_cone_rad = 0.0, outer_cone_rad = 0.785398163397448;
   std::string place;  // "extensions.KHR_lights_punctual.lights[0]"
+  std::vector<std::string> clamped;  // as GltfMaterial's
 };
 
 struct GltfAsset {
@@ -89,6 +92,8 @@ struct GltfAsset {
   std::vector<GltfCamera> cameras;  // in node order
   std::vector<GltfLight> lights;    // in node order
   std::optional<bool> studio;       // the default scene's extras.bouguer_studio, where it is a boolean
+  // What was left out, with its place ("nodes[3]": a node of scale 0), one warning each.
+  std::vector<std::pair<std::string, std::string>> notes;
 };
 
 bool is_gltf_file(const std::filesystem::path& path);  // by extension: .gltf or .glb
