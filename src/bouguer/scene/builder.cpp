@@ -196,6 +196,11 @@ void check_material(const MaterialDesc& material, const Source& where) {
       (where / "reflectance").fail("a reflectance must lie between 0 and 1");
     return;
   }
+  if (const auto* t = std::get_if<ThinDielectricDesc>(&material)) {
+    if (!(t->ior >= 1.0 && t->ior < 5.0)) (where / "ior").fail("a refractive index must be between 1 and 5 (got {})", t->ior);
+    if (max_value(t->tint) > 1.0 || min_value(t->tint) < 0.0) (where / "tint").fail("a tint must lie between 0 and 1");
+    return;
+  }
   if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material)) {
     if (!(g->metalness >= 0.0 && g->metalness <= 1.0)) (where / "metalness").fail("must be between 0 and 1 (got {})", g->metalness);
     if (!(g->roughness >= 0.0 && g->roughness <= 1.0)) (where / "roughness").fail("must be between 0 and 1 (got {})", g->roughness);
@@ -277,6 +282,11 @@ SceneBuilder& SceneBuilder::environment(const EnvironmentDesc& e, const Source& 
     file.fail("{}", error.what());
   }
   desc_.environment = e;
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::warn(const Source& where, const std::string& message) {
+  desc_.warnings.push_back(fmt::format("{}: {}", where.name(), message));
   return *this;
 }
 

@@ -264,6 +264,9 @@ SurfaceMaterial surface_material(RenderScene& s, const MaterialDesc& material, c
   if (const auto* d = std::get_if<DiffuseDesc>(&material))
     return DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance),
                            material_texture(s, d->reflectance_texture, TextureUse::reflectance, o, parts, desc)};
+  if (const auto* t = std::get_if<ThinDielectricDesc>(&material))
+    return ThinDielectricMaterial{t->ior, add_spectrum(s, t->tint, SpectrumRole::reflectance),
+                                  material_texture(s, t->tint_texture, TextureUse::reflectance, o, parts, desc)};
   if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material))
     return MetallicRoughnessMaterial{
         add_spectrum(s, g->base_colour, SpectrumRole::reflectance),

@@ -435,27 +435,32 @@ SpectralInput spectral_input(const json& j, const Where& w) {
   return table_input(j, w, {});
 }
 
+// A reflectance (a diffuse one, a thin sheet's tint): a number, {"rgb": ...}, a texture or a table.
+std::variant<double, TableInput, RgbInput, TextureInput> reflectance_input(const json& r, const Where& wr) {
+  if (r.is_object() && r.contains("rgb")) {
+    expect_keys(r, wr, {"rgb"});
+    return rgb_input(r, wr);
+  }
+  if (r.is_object() && r.contains("texture")) return texture_input(r, wr);
+  if (r.is_number()) return number(r, wr);
+  return table_input(r, wr, {});
+}
+
 MaterialDesc material(const json& j, const Where& w) {
-  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type' (diffuse or conductor)");
+  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type' (diffuse, conductor or thin_dielectric)");
   const std::string type = text(j["type"], w / "type");
   if (type == "diffuse") {
     expect_keys(j, w, {"type", "reflectance"});
     DiffuseInput d;
-    if (j.contains("reflectance")) {
-      const json& r = j["reflectance"];
-      const Where wr = w / "reflectance";
-      if (r.is_object() && r.contains("rgb")) {
-        expect_keys(r, wr, {"rgb"});
-        d.reflectance = rgb_input(r, wr);
-      } else if (r.is_object() && r.contains("texture")) {
-        d.reflectance = texture_input(r, wr);
-      } else if (r.is_number()) {
-        d.reflectance = number(r, wr);
-      } else {
-        d.reflectance = table_input(r, wr, {});
-      }
-    }
+    if (j.contains("reflectance")) d.reflectance = reflectance_input(j["reflectance"], w / "reflectance");
     return resolve_surface_material(d, w);
+  }
+  if (type == "thin_dielectric") {
+    expect_keys(j, w, {"type", "ior", "tint"});
+    ThinDielectricInput t;
+    if (j.contains("ior")) t.ior = number(j["ior"], w / "ior");
+    if (j.contains("tint")) t.tint = reflectance_input(j["tint"], w / "tint");
+    return resolve_surface_material(t, w);  // its ranges checked by the builder
   }
   if (type == "conductor") {
     expect_keys(j, w, {"type", "n", "k", "roughness"});
@@ -468,7 +473,7 @@ MaterialDesc material(const json& j, const Where& w) {
     }
     return resolve_surface_material(c, w);  // its ranges checked by the builder
   }
-  (w / "type").fail("unknown material '{}' (diffuse, conductor)", type);
+  (w / "type").fail("unknown material '{}' (diffuse, conductor, thin_dielectric)", type);
 }
 
 // "normal_map": "bumps.png", or {"texture": "bumps.png", "scale": 1, "transform": {...}}.
@@ -700,12 +705,14 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   return o;  // its roles and media are checked by the builder
 }
 
-// {"gltf": "bottle.glb", "transform": [...], "materials": {"Glass": {"inside": "glass"}}}: an asset's
-// primitives as objects, its materials overridden by name with an object's roles.
+// {"gltf": "bottle.glb", "name": "bottle", "transform": [...], "materials": {"Glass": {"inside": "glass"}}}:
+// an asset's primitives as objects (named "bottle: nodes[2] meshes[0].primitives[1]"), its materials
+// overridden by name with an object's roles.
 GltfObjectInput gltf_object(const json& j, const Where& w) {
-  expect_keys(j, w, {"gltf", "transform", "materials"});
+  expect_keys(j, w, {"gltf", "name", "transform", "materials"});
   GltfObjectInput in;
   in.file = w.resolve(text(j["gltf"], w / "gltf"));
+  if (j.contains("name")) in.name = text(j["name"], w / "name");
   if (j.contains("transform")) in.transform = transform(j["transform"], w / "transform");
   if (j.contains("materials")) {
     const Where wm = w / "materials";

@@ -452,6 +452,15 @@ Spectrum reflectance_rgb(const RgbInput& c, const Source& wr) {
   return Spectrum{rgb_to_reflectance(rgb)};
 }
 
+// A reflectance as a number, table, RGB or texture: into `spectrum`, or `texture` read instead.
+void resolve_reflectance(const std::variant<double, TableInput, RgbInput, TextureInput>& in, const Source& wr,
+                         Spectrum& spectrum, std::optional<TextureDesc>& texture) {
+  if (const auto* c = std::get_if<RgbInput>(&in)) spectrum = reflectance_rgb(*c, wr);
+  else if (const auto* v = std::get_if<double>(&in)) spectrum = ConstantSpectrum{*v};
+  else if (const auto* t = std::get_if<TextureInput>(&in)) texture = resolve_texture(*t, wr, TextureUse::reflectance);
+  else spectrum = resolve_table(std::get<TableInput>(in), wr);
+}
+
 MetallicRoughnessDesc resolve_metallic_roughness(const MetallicRoughnessInput& in, const Source& where) {
   MetallicRoughnessDesc d;
   const Source wb = where / "base_colour";
@@ -482,19 +491,15 @@ MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& whe
     return d;
   }
   if (const auto* g = std::get_if<MetallicRoughnessInput>(&in)) return resolve_metallic_roughness(*g, where);
+  if (const auto* t = std::get_if<ThinDielectricInput>(&in)) {
+    ThinDielectricDesc d;
+    d.ior = t->ior;  // its range checked by the builder
+    if (t->tint) resolve_reflectance(*t->tint, where / "tint", d.tint, d.tint_texture);
+    return d;
+  }
   DiffuseDesc d;
   const auto& reflectance = std::get<DiffuseInput>(in).reflectance;
-  if (!reflectance) return d;
-  const Source wr = where / "reflectance";
-  if (const auto* c = std::get_if<RgbInput>(&*reflectance)) {
-    d.reflectance = reflectance_rgb(*c, wr);
-  } else if (const auto* v = std::get_if<double>(&*reflectance)) {
-    d.reflectance = ConstantSpectrum{*v};
-  } else if (const auto* t = std::get_if<TextureInput>(&*reflectance)) {
-    d.reflectance_texture = resolve_texture(*t, wr, TextureUse::reflectance);
-  } else {
-    d.reflectance = resolve_table(std::get<TableInput>(*reflectance), wr);
-  }
+  if (reflectance) resolve_reflectance(*reflectance, where / "reflectance", d.reflectance, d.reflectance_texture);
   return d;
 }
 

@@ -190,7 +190,13 @@ struct MetallicRoughnessInput {
   double metalness = 1.0, roughness = 1.0;
   std::optional<TextureInput> metallic_roughness_texture;
 };
-using MaterialInput = std::variant<DiffuseInput, ConductorInput, MetallicRoughnessInput>;
+// A thin dielectric sheet (ThinDielectricDesc): its index and the tint of what it transmits (as a
+// diffuse reflectance is given; white when not given).
+struct ThinDielectricInput {
+  double ior = 1.5;
+  std::optional<std::variant<double, TableInput, RgbInput, TextureInput>> tint;
+};
+using MaterialInput = std::variant<DiffuseInput, ConductorInput, MetallicRoughnessInput, ThinDielectricInput>;
 
 // ---- what they mean ----------------------------------------------------------------------------
 
