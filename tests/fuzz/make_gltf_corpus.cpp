@@ -1,6 +1,6 @@
 // Writes the seed files of tests/fuzz/corpus/gltf/: a few tiny valid assets (.glb, and .gltf with
-// its buffer as a base64 data URI; a textured quad with a sampler and tangents), then truncated and
-// corrupted copies. Built beside the
+// its buffer as a base64 data URI; a textured quad with a sampler and tangents; thin-walled glass
+// with values clamped into the model), then truncated and corrupted copies. Built beside the
 // harnesses (tests/fuzz/CMakeLists.txt):
 //   build-fuzz/tests/fuzz/make_gltf_corpus tests/fuzz/corpus/gltf
 #include <cstdio>
@@ -79,6 +79,24 @@ GltfDoc sampled_quad() {
   g.node({{"mesh", mesh}, {"scale", {-1, 1, 1}}});
   return g;
 }
+// Thin-walled glass (no KHR_materials_volume: a thin dielectric sheet), an emitter, and values
+// outside what Bouguer models that load clamped with a warning (ior 0, a base colour above 1, a
+// negative strength), with the default scene's studio key.
+GltfDoc thin_and_clamped() {
+  GltfDoc g;
+  const int sheet = g.material({{"name", "Pane"},
+                                {"pbrMetallicRoughness", {{"baseColorFactor", {1.2, 0.9, 0.8, 1}}, {"roughnessFactor", 0.4}}},
+                                {"extensions",
+                                 {{"KHR_materials_transmission", {{"transmissionFactor", 0.7}}},
+                                  {"KHR_materials_ior", {{"ior", 0.0}}}}}});
+  const int glow = g.material({{"name", "Glow"}, {"emissiveFactor", {1, 0.5, 0.2}},
+                               {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", -3.0}}}}}});
+  g.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength"};
+  g.node({{"mesh", g.mesh(bouguer::test::cube_positions(), bouguer::test::cube_indices(), sheet)}});
+  g.node({{"mesh", g.mesh(bouguer::test::cube_positions(), bouguer::test::cube_indices(), glow)}, {"translation", {0, 2, 0}}});
+  g.doc["scenes"][0]["extras"] = {{"bouguer_studio", true}};
+  return g;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,5 +136,6 @@ int main(int argc, char** argv) {
   const float zero = 0.0f;
   bad_tangent.bin.replace(at + 12, 4, reinterpret_cast<const char*>(&zero), 4);  // the first tangent's w
   bad_tangent.write(dir / "bad_tangent.glb");
+  thin_and_clamped().write(dir / "thin_and_clamped.glb");
   return 0;
 }

@@ -53,6 +53,10 @@ class SceneBuilder {
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 
+  // A value the front end let through but changed (an asset's value clamped into what Bouguer
+  // models): one line, "file: place: message", kept in SceneDesc::warnings. Never for a mistake in
+  // a scene written by hand: that is an Error.
+  SceneBuilder& warn(const Source& where, const std::string& message);
   // The display (io/display.h; defined in builder_display.cpp), checked the same way: exposure
   // compensation in EV (−32 to 32), an absolute camera exposure (turns the automatic one off),
   // automatic exposure on or off (on clears a camera exposure), white balance by name (an
