@@ -26,7 +26,7 @@
 #include "bouguer/core/csv.h"
 #include "bouguer/core/limits.h"
 #include "bouguer/io/texture_image.h"
-#include "bouguer/spectra/rgb_to_spectrum.h"
+#include "bouguer/scene/pbr_material.h"
 
 namespace bouguer {
 namespace {
@@ -874,83 +874,24 @@ TextureInput texture_input(const GltfTexture& t) {
 
 std::string asset_name(const fs::path& file) { return file.filename().string(); }
 
-// A metal's F0 = base colour at normal incidence, as a conductor of n = 1: F0 = k²/(4 + k²).
-ConductorInput metal(const GltfMaterial& g) {
-  const Vec3 f0{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
-                std::clamp(g.base_color.z, 0.0, 1.0)};
-  const SigmoidPolynomial lifted = rgb_to_reflectance(f0);
-  TableInput k;
-  for (double nm = 360.0; nm <= 830.0; nm += 5.0) {
-    const double r = std::min(lifted(nm), 0.999);
-    k.wavelength_nm.push_back(nm);
-    k.value.push_back(2.0 * std::sqrt(r / (1.0 - r)));
-  }
-  return {1.0, k, g.roughness * g.roughness, std::nullopt};
-}
-
-// glTF's metallic-roughness BRDF itself (materials/surface_bsdf.h), for materials whose metalness
-// is textured or fractional: the base colour texture (times its factor) or the factor, and the
-// metallicRoughness texture (times the factors) or the factors.
-MetallicRoughnessInput metallic_roughness(const GltfMaterial& g) {
-  MetallicRoughnessInput in;
-  if (const auto& t = g.base_color_texture) in.base_colour = texture_input(*t);
-  else in.base_colour = RgbInput{{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
-                                  std::clamp(g.base_color.z, 0.0, 1.0)}};
-  in.metalness = std::clamp(g.metallic, 0.0, 1.0);
-  in.roughness = std::clamp(g.roughness, 0.0, 1.0);
-  if (const auto& t = g.metallic_roughness_texture) in.metallic_roughness_texture = texture_input(*t);
-  return in;
-}
-
-// σ_a(λ) of an attenuation colour c at distance d: the transmittance over d is the smooth
-// reflectance-like lift of c (a sigmoid in (0, 1), so σ_a ≥ 0 and its colour under D65 is c),
-// plus narrow Gaussians (2 nm wide) at the rgb3 lines (700.0, 546.1, 435.8 nm) sized to make it
-// exactly c there, so the paper's RGB mode gives c per channel; they move the full-mode colour by
-// well under 1 % (docs/assets.md). Tabulated at 1 nm and at the lines.
-TableInput volume_sigma_a(const Vec3& c, double d) {
-  constexpr std::array<double, 3> lines_nm{700.0, 546.1, 435.8};
-  constexpr double width_nm = 2.0;
-  const SigmoidPolynomial lifted = rgb_to_reflectance(c);
-  const std::array<double, 3> want{c.x, c.y, c.z};
-  auto bump = [&](std::size_t i, double nm) {
-    const double x = (nm - lines_nm[i]) / width_nm;
-    return std::exp(-0.5 * x * x);
-  };
-  // Solve Σ_j a_j bump_j(λ_i) = residual_i (optical depth over d); the matrix is the identity
-  // to 1e-300 at these spacings, so one pass suffices, and a second makes it exact to rounding.
-  std::array<double, 3> residual{}, a{};
-  for (std::size_t i = 0; i < 3; ++i) residual[i] = std::log(lifted(lines_nm[i])) - std::log(want[i]);
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t i = 0; i < 3; ++i) {
-      double others = 0.0;
-      for (std::size_t j = 0; j < 3; ++j)
-        if (j != i) others += a[j] * bump(j, lines_nm[i]);
-      a[i] = residual[i] - others;
-    }
-  TableInput t;
-  for (int nm = 360; nm <= 830; ++nm) {
-    if (nm == 436) t.wavelength_nm.push_back(435.8);
-    if (nm == 547) t.wavelength_nm.push_back(546.1);
-    t.wavelength_nm.push_back(nm);
-  }
-  for (double nm : t.wavelength_nm) {
-    double depth = -std::log(lifted(nm));
-    for (std::size_t i = 0; i < 3; ++i) depth += a[i] * bump(i, nm);
-    t.value.push_back(std::max(0.0, depth) / d);
-  }
-  return t;
-}
-
-// A transmissive material with a volume: its medium, σ_a = −ln(c)/d lifted as the internal
-// transmittance c at thickness d (docs/assets.md).
-// Its values come clamped into the model (clamp_extensions).
-MediumInput volume_medium(const GltfMaterial& g) {
-  MediumInput m;
-  if (g.dispersion > 0.0) m.ior = AbbeInput{g.ior, 20.0 / g.dispersion};
-  else m.ior = g.ior;
-  if (g.attenuation_distance_m) {
-    m.absorption.push_back({AbsorptionValuesInput{volume_sigma_a(g.attenuation_color, *g.attenuation_distance_m), "attenuation_per_m", std::nullopt}, std::nullopt});
-  }
+// The material as the one mapping shared with a scene's "pbr" objects takes it (scene/pbr_material.h):
+// its values come clamped into the model (clamp_extensions), its textures with the factors applied.
+PbrMaterialInput pbr_input(const GltfMaterial& g) {
+  PbrMaterialInput m;
+  m.base_color = g.base_color;
+  if (const auto& t = g.base_color_texture) m.base_color_texture = texture_input(*t);
+  m.metallic = g.metallic;
+  m.roughness = g.roughness;
+  if (const auto& t = g.metallic_roughness_texture) m.metallic_roughness_texture = texture_input(*t);
+  m.emissive = g.emissive;
+  m.emissive_strength = g.emissive_strength;
+  if (const auto& t = g.emissive_texture) m.emissive_texture = texture_input(*t);
+  m.transmission = g.transmission;
+  m.thin_walled = g.thickness == 0.0;
+  m.ior = g.ior;
+  m.dispersion = g.dispersion;
+  m.attenuation_color = g.attenuation_color;
+  m.attenuation_distance_m = g.attenuation_distance_m;
   return m;
 }
 
@@ -964,15 +905,6 @@ struct AddedSoFar {
   std::set<std::string> media;
   std::set<int> warned;
 };
-
-// A thin-walled transmissive material: a thin dielectric sheet whose transmission is tinted by the
-// base colour (KHR_materials_transmission; KHR_materials_volume's attenuation needs a thickness).
-MaterialDesc thin_sheet(const GltfMaterial& g, const Place& at) {
-  ThinDielectricInput sheet{g.ior, std::nullopt};
-  if (const auto& t = g.base_color_texture) sheet.tint = texture_input(*t);
-  else sheet.tint = RgbInput{g.base_color};
-  return resolve_surface_material(sheet, at.source() / "extensions" / "KHR_materials_transmission");
-}
 
 void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive& p, const GltfObjectInput& in,
                    const Source& where, AddedSoFar& added) {
@@ -1001,33 +933,16 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   }
   if (!g.clamped.empty() && added.warned.insert(p.material).second)
     b.warn(at.source(), fmt::format("material '{}': {}", g.name, clamped_warning(g.clamped)));
-  if (emits(g)) {
-    if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
-      o.emission = resolve_emission(EmissionInput{texture_input(*t), g.emissive_strength},
-                                    at.source() / "emissiveTexture");
-    else
-      o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
-  } else if (g.transmission > 0.0) {
-    if (g.thickness == 0.0) {
-      o.material = thin_sheet(g, at);
-    } else {
-      // One medium per material and placement: primitives and instances share it.
-      const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
-                                             asset_name(in.file), p.material, g.name);
-      if (added.media.insert(medium).second) b.medium(medium, volume_medium(g), at.source());
-      o.inside = medium;
-      o.roughness = g.roughness * g.roughness;
-    }
-  } else if (g.metallic_roughness_texture || (g.metallic > 0.0 && g.metallic < 1.0)) {
-    o.material = resolve_surface_material(metallic_roughness(g), at.source() / "pbrMetallicRoughness");
-  } else if (g.metallic >= 0.5) {
-    o.material = resolve_surface_material(metal(g), at.source() / "pbrMetallicRoughness");
-  } else {
-    const Source wp = at.source() / "pbrMetallicRoughness";
-    if (const auto& t = g.base_color_texture)
-      o.material = resolve_surface_material(DiffuseInput{texture_input(*t)}, wp);
-    else
-      o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, wp);
+  PbrRole role = pbr_role(pbr_input(g), at.source());
+  o.emission = std::move(role.emission);
+  o.material = std::move(role.material);
+  if (role.volume) {
+    // One medium per material and placement: primitives and instances share it.
+    const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
+                                           asset_name(in.file), p.material, g.name);
+    if (added.media.insert(medium).second) b.medium(medium, *role.volume, at.source());
+    o.inside = medium;
+    o.roughness = role.interface_roughness;
   }
   b.object(std::move(o), ws);
 }
