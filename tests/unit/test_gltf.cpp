@@ -17,6 +17,7 @@
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
+#include "bouguer/scene/render_modes.h"
 #include "bouguer/spectra/cie.h"
 #include "support/gltf_files.h"
 #include "support/test_scenes.h"
@@ -553,6 +554,42 @@ TEST(Gltf, ThinWalledTransmissionIsAThinSheetTintedByTheBaseColour) {
   EXPECT_LT(eval(sheet->tint, 650.0), 0.4);
   ASSERT_EQ(d.warnings.size(), 1u);  // the sheet is smooth: its roughness is dropped, and said so
   EXPECT_NE(d.warnings[0].find("roughnessFactor 0.5 as 0 (the thin sheet is smooth)"), std::string::npos) << d.warnings[0];
+}
+
+// As the Blender check has it: a thin-walled, non-absorbing sheet (white base colour, ior 1.5)
+// face-on before an emitting panel of luminance 1 transmits (1−R)/(1+R) of it, 0.923, within 1 %
+// (a Bernoulli of T' a sample: 16 pixels × 1024 samples give σ = 0.0021). The panel is an emitter,
+// so no studio is added behind the sheet's reflection.
+TEST(Gltf, AThinWalledSheetFaceOnTransmitsOneMinusROverOnePlusR) {
+  const fs::path dir = test::scratch_dir("gltf_sheet");
+  GltfDoc g;
+  auto square = [&](double half, double z, int material) {
+    g.node({{"mesh", g.mesh({{-half, -half, z}, {half, -half, z}, {half, half, z}, {-half, half, z}}, {0, 1, 2, 0, 2, 3},
+                            material)}});
+  };
+  json glass = thin_glass();
+  glass["extensions"]["KHR_materials_ior"]["ior"] = 1.5;
+  square(0.1, 0.0, g.material(glass));
+  square(1.0, -0.5, g.material({{"name", "Panel"}, {"emissiveFactor", {1, 1, 1}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}}));
+  g.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.05}, {"aspectRatio", 1.0}, {"znear", 0.01}}}}};
+  g.node({{"camera", 0}, {"translation", {0, 0, 1}}});
+  g.write(dir / "sheet.glb");
+  SceneDesc d = load_scene(dir / "sheet.glb");
+  EXPECT_TRUE(d.warnings.empty());
+  EXPECT_EQ(eval(d.background.radiance, 560.0), 0.0);  // an emitter lights it: no studio
+  d.camera.width_px = d.camera.height_px = 4;
+  d.render.spectral = SpectralMode::rgb3;
+  d.render.spp = 1024;
+  const double r = 0.04, expected = (1.0 - r) / (1.0 + r);
+  for (const IntegratorType integrator : {IntegratorType::path, IntegratorType::bdpt}) {
+    d.render.integrator = integrator;
+    const Film f = test::render_desc(d);
+    const test::Estimate e = test::channel_estimate(f, 1, 0, 0, 4, 4);
+    std::printf("glTF thin sheet face-on, %s: %.4f ± %.4f (closed form %.4f)\n", integrator_info(integrator).name.data(),
+                e.mean, e.standard_error, expected);
+    EXPECT_NEAR(e.mean, expected, 0.01 * expected);
+    EXPECT_LT(4.0 * e.standard_error, 0.01 * expected);
+  }
 }
 
 // A thin-walled glass ball over a red floor under a point light, against the same asset without the
