@@ -387,9 +387,15 @@ TEST(Gltf, ValuesOutsideTheModelAreClampedWithOneWarningPerMaterial) {
                                 {"pbrMetallicRoughness", {{"baseColorFactor", {1.2, 0.5, -0.1, 1}}, {"metallicFactor", -0.5}}}});
   g.node({{"mesh", g.mesh(test::cube_positions(), test::cube_indices(), paint)}, {"translation", {0, -0.05, 0}},
           {"scale", {0.1, 0.01, 0.1}}});
+  const int glare = g.material({{"name", "Glare"}, {"emissiveFactor", {1e6, 1, 1}},
+                                {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1e6}}}}}});
+  g.node({{"mesh", g.mesh(test::cube_positions(), test::cube_indices(), glare)}, {"translation", {0, -0.15, 0}},
+          {"scale", {0.1, 0.01, 0.1}}});
   g.write(dir / "odd.glb");
   const SceneDesc d = with_asset(dir / "odd.glb");
-  ASSERT_EQ(d.warnings.size(), 2u) << fmt::format("{}", fmt::join(d.warnings, "\n"));
+  ASSERT_EQ(d.warnings.size(), 3u) << fmt::format("{}", fmt::join(d.warnings, "\n"));
+  // An emitter's factor × strength within a hundredth of the emission limit: 10⁶ × 10⁴.
+  EXPECT_NE(d.warnings[2].find("material 'Glare': emissiveStrength 1e+06 as 10000"), std::string::npos) << d.warnings[2];
   const std::string glass = d.warnings[0], paint_warning = d.warnings[1];
   EXPECT_NE(glass.find("odd.glb: materials[0]: material 'Glass': "), std::string::npos) << glass;
   for (const char* v : {"roughnessFactor 1.5 as 1", "ior 0 (infinite) as 4.99", "dispersion -1 as 0",
@@ -406,14 +412,14 @@ TEST(Gltf, ValuesOutsideTheModelAreClampedWithOneWarningPerMaterial) {
   const auto r = test::run_bouguer({"render", (dir / "odd.glb").string(), "-o", (dir / "odd.png").string(),
                                     "--resolution", "8x6", "--spp", "1", "--quiet"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(test::line_count(r.err), 2) << r.err;
+  EXPECT_EQ(test::line_count(r.err), 3) << r.err;
   EXPECT_EQ(r.err.rfind("bouguer: warning: " + (dir / "odd.glb").string() + ": materials[0]: material 'Glass': ", 0), 0u) << r.err;
   // A scene that overrides the material gives no warning about the values it does not use.
   const SceneDesc overridden = parse_scene(
       backlit(fmt::format(R"({{"gltf": "{}", "materials": {{"Glass": {{"inside": "glass"}}}}}})", (dir / "odd.glb").string()),
               "rgb3"),
       dir / "s.json");
-  EXPECT_EQ(overridden.warnings.size(), 1u);
+  EXPECT_EQ(overridden.warnings.size(), 2u);  // Paint's and Glare's, not Glass's
 }
 
 // Beyond materials: a camera, a light, a node of scale 0 (a hidden node) and a texture on another

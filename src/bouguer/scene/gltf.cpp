@@ -701,13 +701,14 @@ void clamp_factors(GltfMaterial& m) {
   m.base_color = clamp_noted(m.base_color, 0.0, 1.0, "baseColorFactor", m.clamped);
   m.metallic = clamp_noted(m.metallic, 0.0, 1.0, "metallicFactor", m.clamped);
   m.roughness = clamp_noted(m.roughness, 0.0, 1.0, "roughnessFactor", m.clamped);
-  m.emissive = clamp_noted(m.emissive, 0.0, std::numeric_limits<double>::max(), "emissiveFactor", m.clamped);
+  m.emissive = clamp_noted(m.emissive, 0.0, kMaxEmissiveStrength, "emissiveFactor", m.clamped);
 }
 
 // The extensions' values, each where the material's mapping uses it (docs/assets.md).
 void clamp_extensions(GltfMaterial& m) {
   auto& notes = m.clamped;
-  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength, "emissiveStrength", notes);
+  const double peak = std::max({m.emissive.x, m.emissive.y, m.emissive.z, 1.0});  // factor × strength within the limit
+  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength / peak, "emissiveStrength", notes);
   if (emits(m)) return;  // an emitter: nothing else of it is used
   m.transmission = clamp_noted(m.transmission, 0.0, 1.0, "transmissionFactor", notes);
   if (!(m.transmission > 0.0)) return;
@@ -854,8 +855,9 @@ struct Walker {
     else (at / "type").fail("unknown light type '{}' (point, spot, directional)", l.type);
     g.position_m = to_asset.translation;
     g.direction = normalize(to_asset.linear * Vec3{0, 0, -1});
-    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, std::numeric_limits<double>::max(), "color", g.clamped);
-    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength, "intensity", g.clamped);
+    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, kMaxEmissiveStrength, "color", g.clamped);
+    const double peak = std::max({g.color.x, g.color.y, g.color.z, 1.0});  // colour × intensity within the limit
+    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength / peak, "intensity", g.clamped);
     g.inner_cone_rad = finite(l.spot.innerConeAngle, at / "spot" / "innerConeAngle");
     g.outer_cone_rad = finite(l.spot.outerConeAngle, at / "spot" / "outerConeAngle");
     if (g.type == DeltaLightType::spot) {  // 0 ≤ inner < outer ≤ π/2
