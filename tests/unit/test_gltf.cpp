@@ -309,7 +309,7 @@ TEST(Gltf, MalformedAssetsGiveOneLineNamingTheFileAndThePlace) {
          g.doc["materials"][0]["extensions"]["KHR_materials_volume"]["attenuationDistance"] = "far";
        }, "materials[0].extensions.KHR_materials_volume.attenuationDistance: expected a number"},
       {"studio", [](GltfDoc& g) { g.doc["scenes"][0]["extras"] = {{"bouguer_studio", "yes"}}; },
-       "scenes[0].extras.bouguer_studio: expected true or false"},
+       "scenes[0].extras.bouguer_studio: expected true or false (or 1 or 0)"},
       {"huge", [](GltfDoc& g) { g.doc["accessors"][0]["count"] = 4000000000u; }, "accessors[0].count: 4000000000 exceeds"},
       {"view", [](GltfDoc& g) { g.doc["bufferViews"][0]["byteLength"] = 1u << 30; }, "bufferViews[0]"},
       {"cycle", [](GltfDoc& g) { g.doc["nodes"][0]["children"] = {0}; }, "nodes[0]: is reached twice"},
@@ -649,9 +649,13 @@ TEST(Gltf, TheStudioLightsOnlyAnAssetWithoutLightsOrEmitters) {
   lamp.write(dir / "lamp.glb");
   EXPECT_EQ(background_y(load_scene(dir / "lamp.glb")), 0.0);  // an emitting mesh lights it
   // The asset's own key, and the command line over it, either way.
-  lamp.doc["scenes"][0]["extras"] = {{"bouguer_studio", true}};
+  lamp.doc["scenes"][0]["extras"] = {{"bouguer_studio", 1}};  // as Blender 3.4 writes a boolean custom property
   lamp.write(dir / "lamp_studio.glb");
   EXPECT_GT(background_y(load_scene(dir / "lamp_studio.glb")), 0.5);
+  GltfDoc unlit = volume_slab(0.01);
+  unlit.doc["scenes"][0]["extras"] = {{"bouguer_studio", false}};
+  unlit.write(dir / "unlit.glb");
+  EXPECT_EQ(background_y(load_scene(dir / "unlit.glb")), 0.0);
   SceneBuilder off(dir / "lamp_studio.glb");
   load_gltf_scene(dir / "lamp_studio.glb", off, false);
   EXPECT_EQ(background_y(std::move(off).build()), 0.0);

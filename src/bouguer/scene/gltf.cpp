@@ -1034,6 +1034,14 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   b.object(std::move(o), ws);
 }
 
+// The default scene's extras.bouguer_studio: true or false, or 1 or 0 (Blender 3.4's exporter writes
+// a boolean custom property of the scene as 1 or 0).
+bool studio_key(const Value& v, const Place& at) {
+  if (v.IsBool()) return v.Get<bool>();
+  if (v.IsNumber() && (v.GetNumberAsDouble() == 0.0 || v.GetNumberAsDouble() == 1.0)) return v.GetNumberAsDouble() == 1.0;
+  at.fail("expected true or false (or 1 or 0)");
+}
+
 }  // namespace
 
 bool is_gltf_file(const fs::path& path) { return path.extension() == ".gltf" || path.extension() == ".glb"; }
@@ -1050,11 +1058,8 @@ GltfAsset read_gltf(const fs::path& path) {
   if (!m.scenes.empty()) {
     const std::size_t s = m.defaultScene < 0 ? 0 : checked_index(m.defaultScene, m.scenes.size(), Place{&path, "scene"}, "scene");
     roots = m.scenes[s].nodes;
-    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio")) {
-      if (!x.Get("bouguer_studio").IsBool())
-        (Place{&path, "scenes"}[s] / "extras" / "bouguer_studio").fail("expected true or false");
-      out.studio = x.Get("bouguer_studio").Get<bool>();
-    }
+    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio"))
+      out.studio = studio_key(x.Get("bouguer_studio"), Place{&path, "scenes"}[s] / "extras" / "bouguer_studio");
   } else {  // no scenes: every node that is no node's child
     std::vector<bool> child(m.nodes.size(), false);
     for (const auto& n : m.nodes)
