@@ -491,6 +491,60 @@ TEST(Gltf, StripsAndFansAreTrianglesAndPointsAreLeftOut) {
   EXPECT_NE(a.notes[0].second.find("mode 0 (points or lines) has no surface to render: left out"), std::string::npos);
 }
 
+// Sparse accessors (glTF 3.6.2.3): a POSITION accessor without a buffer view (all zeros) whose
+// sparse substitutions make a triangle, and one over a buffer view moving one vertex; broken ones
+// (an index out of order or past the count, values past their view) refused with one line.
+TEST(Gltf, SparseAccessorsAreRead) {
+  const fs::path dir = test::scratch_dir("gltf_sparse");
+  auto asset = [&](const std::vector<std::uint16_t>& indices, int value_bytes = 36) {
+    GltfDoc g;
+    const int mesh = g.mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
+    const std::vector<float> values{0, 0, 0, 2, 0, 0, 0, 3, 0};
+    const int iv = g.view(indices.data(), indices.size() * sizeof(std::uint16_t));
+    const int vv = g.view(values.data(), std::size_t(value_bytes));
+    json zeros = {{"componentType", 5126}, {"count", 3}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {2, 3, 0}},
+                  {"sparse", {{"count", indices.size()}, {"indices", {{"bufferView", iv}, {"componentType", 5123}}},
+                              {"values", {{"bufferView", vv}}}}}};
+    g.doc["accessors"].push_back(zeros);
+    g.doc["meshes"][std::size_t(mesh)]["primitives"][0]["attributes"]["POSITION"] = g.doc["accessors"].size() - 1;
+    g.node({{"mesh", mesh}});
+    g.write(dir / "sparse.glb");
+  };
+  asset({0, 1, 2});
+  const GltfAsset a = read_gltf(dir / "sparse.glb");
+  ASSERT_EQ(a.primitives.size(), 1u);
+  const auto& p = a.primitives[0].shape.mesh.positions;
+  EXPECT_EQ(p[1].x, 2.0);
+  EXPECT_EQ(p[2].y, 3.0);
+  {  // Over the buffer view of accessor 0: vertex 1 moved to (5, 0, 0), the others as stored.
+    GltfDoc g;
+    g.node({{"mesh", g.mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2})}});
+    const std::uint8_t index = 1;
+    const std::vector<float> value{5, 0, 0};
+    const int iv = g.view(&index, 1), vv = g.view(value.data(), 12);
+    g.doc["accessors"][0]["max"] = {5, 1, 0};
+    g.doc["accessors"][0]["sparse"] = {{"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5121}}},
+                                       {"values", {{"bufferView", vv}}}};
+    g.write(dir / "moved.glb");
+    const GltfAsset moved = read_gltf(dir / "moved.glb");
+    const auto& q = moved.primitives.at(0).shape.mesh.positions;
+    EXPECT_EQ(q[1].x, 5.0);
+    EXPECT_EQ(q[2].y, 1.0);
+  }
+  for (const auto& [indices, bytes, expected] :
+       {std::tuple{std::vector<std::uint16_t>{0, 2, 1}, 36, "sparse.indices: index 1 at 2 is not increasing"},
+        std::tuple{std::vector<std::uint16_t>{0, 1, 3}, 36, "not below the accessor's count 3"},
+        std::tuple{std::vector<std::uint16_t>{0, 1, 2}, 24, "sparse.values: 36 bytes from offset 0 do not fit in bufferView"}}) {
+    asset(indices, bytes);
+    try {
+      read_gltf(dir / "sparse.glb");
+      ADD_FAILURE() << expected;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
 // Khronos's DispersionTest has materials of ior 1.0 and dispersion 5 (V_d = 4, below Bouguer's Abbe
 // range): with n_d = 1 there is nothing to disperse, a constant index, no warning; with n_d = 1.5 the
 // Abbe number is clamped to 5 (dispersion 4) with one.

@@ -297,8 +297,49 @@ double component(const unsigned char* p, int type, bool normalized) {
   }
 }
 
+// `bytes` bytes from `offset` into buffer view `view`, checked to lie inside the view and its buffer.
+const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint64_t bytes, const Place& at) {
+  const std::size_t vi = checked_index(view, m.bufferViews.size(), at / "bufferView", "bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[vi];
+  const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
+  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), pv / "buffer", "buffer");
+  const std::size_t buffer_bytes = m.buffers[bi].data.size();
+  if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
+    pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
+            bi, buffer_bytes);
+  if (offset < 0 || std::uint64_t(offset) > v.byteLength || bytes > v.byteLength - std::uint64_t(offset))
+    at.fail("{} bytes from offset {} do not fit in bufferView {} ({} bytes)", bytes, offset, vi, v.byteLength);
+  return m.buffers[bi].data.data() + v.byteOffset + std::size_t(offset);
+}
+
+// A sparse accessor's substitutions (glTF 3.6.2.3): `count` strictly increasing indices below the
+// accessor's count, each replacing its element by one of the tightly packed values.
+void apply_sparse(const Model& m, const tinygltf::Accessor& a, int components, std::vector<double>& out, const Place& pa) {
+  const auto& sp = a.sparse;
+  const Place ps = pa / "sparse";
+  if (sp.count < 1 || std::size_t(sp.count) > a.count)
+    (ps / "count").fail("{} is not between 1 and the accessor's count {}", sp.count, a.count);
+  const int itype = sp.indices.componentType;
+  if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    (ps / "indices" / "componentType").fail("{} is not an index type (5121, 5123, 5125)", itype);
+  const std::size_t n = std::size_t(sp.count), isize = component_bytes(itype), csize = component_bytes(a.componentType);
+  const std::size_t element = csize * std::size_t(components);
+  const unsigned char* indices = view_bytes(m, sp.indices.bufferView, sp.indices.byteOffset, std::uint64_t(n) * isize, ps / "indices");
+  const unsigned char* values = view_bytes(m, sp.values.bufferView, sp.values.byteOffset, std::uint64_t(n) * element, ps / "values");
+  double previous = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double index = component(indices + i * isize, itype, false);
+    if (!(index > previous && index < double(a.count)))
+      (ps / "indices").fail("index {} at {} is not increasing or not below the accessor's count {}", index, i, a.count);
+    previous = index;
+    for (std::size_t c = 0; c < std::size_t(components); ++c)
+      out[std::size_t(index) * std::size_t(components) + c] = component(values + i * element + c * csize, a.componentType, a.normalized);
+  }
+}
+
 // The accessor's elements as `components` numbers each, of one of the allowed component types,
-// every byte they read inside its buffer view and buffer.
+// every byte they read inside its buffer view and buffer; a sparse accessor's substitutions applied.
 std::vector<double> read_accessor(const Model& m, int index, int components, std::initializer_list<int> types,
                                   const Place& at) {
   const Place where = Place{at.file, ""} / "accessors";
@@ -309,14 +350,14 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     pa.fail("type {} where {} components are needed ({})", a.type, components, at.path);
   if (std::find(types.begin(), types.end(), a.componentType) == types.end())
     (pa / "componentType").fail("{} is not accepted here ({})", a.componentType, at.path);
-  if (a.sparse.isSparse) (pa / "sparse").fail("sparse accessors are not supported");
   if (a.count == 0) (pa / "count").fail("must be at least 1");
   if (a.count > kMaxMeshVertices * 3) (pa / "count").fail("{} exceeds the limit of {}", a.count, kMaxMeshVertices * 3);
   const std::size_t csize = component_bytes(a.componentType);
   const std::size_t element = csize * std::size_t(components);
   std::vector<double> out;
-  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2)
+  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2), unless sparse says otherwise
     out.assign(a.count * std::size_t(components), 0.0);
+    if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
     return out;
   }
   const std::size_t vi = checked_index(a.bufferView, m.bufferViews.size(), pa / "bufferView", "bufferView");
@@ -342,6 +383,7 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     for (int c = 0; c < components; ++c)
       out[i * std::size_t(components) + std::size_t(c)] =
           component(base + i * stride + std::size_t(c) * csize, a.componentType, a.normalized);
+  if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
   return out;
 }
 
