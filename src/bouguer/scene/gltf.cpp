@@ -297,8 +297,49 @@ double component(const unsigned char* p, int type, bool normalized) {
   }
 }
 
+// `bytes` bytes from `offset` into buffer view `view`, checked to lie inside the view and its buffer.
+const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint64_t bytes, const Place& at) {
+  const std::size_t vi = checked_index(view, m.bufferViews.size(), at / "bufferView", "bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[vi];
+  const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
+  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), pv / "buffer", "buffer");
+  const std::size_t buffer_bytes = m.buffers[bi].data.size();
+  if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
+    pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
+            bi, buffer_bytes);
+  if (offset < 0 || std::uint64_t(offset) > v.byteLength || bytes > v.byteLength - std::uint64_t(offset))
+    at.fail("{} bytes from offset {} do not fit in bufferView {} ({} bytes)", bytes, offset, vi, v.byteLength);
+  return m.buffers[bi].data.data() + v.byteOffset + std::size_t(offset);
+}
+
+// A sparse accessor's substitutions (glTF 3.6.2.3): `count` strictly increasing indices below the
+// accessor's count, each replacing its element by one of the tightly packed values.
+void apply_sparse(const Model& m, const tinygltf::Accessor& a, int components, std::vector<double>& out, const Place& pa) {
+  const auto& sp = a.sparse;
+  const Place ps = pa / "sparse";
+  if (sp.count < 1 || std::size_t(sp.count) > a.count)
+    (ps / "count").fail("{} is not between 1 and the accessor's count {}", sp.count, a.count);
+  const int itype = sp.indices.componentType;
+  if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    (ps / "indices" / "componentType").fail("{} is not an index type (5121, 5123, 5125)", itype);
+  const std::size_t n = std::size_t(sp.count), isize = component_bytes(itype), csize = component_bytes(a.componentType);
+  const std::size_t element = csize * std::size_t(components);
+  const unsigned char* indices = view_bytes(m, sp.indices.bufferView, sp.indices.byteOffset, std::uint64_t(n) * isize, ps / "indices");
+  const unsigned char* values = view_bytes(m, sp.values.bufferView, sp.values.byteOffset, std::uint64_t(n) * element, ps / "values");
+  double previous = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double index = component(indices + i * isize, itype, false);
+    if (!(index > previous && index < double(a.count)))
+      (ps / "indices").fail("index {} at {} is not increasing or not below the accessor's count {}", index, i, a.count);
+    previous = index;
+    for (std::size_t c = 0; c < std::size_t(components); ++c)
+      out[std::size_t(index) * std::size_t(components) + c] = component(values + i * element + c * csize, a.componentType, a.normalized);
+  }
+}
+
 // The accessor's elements as `components` numbers each, of one of the allowed component types,
-// every byte they read inside its buffer view and buffer.
+// every byte they read inside its buffer view and buffer; a sparse accessor's substitutions applied.
 std::vector<double> read_accessor(const Model& m, int index, int components, std::initializer_list<int> types,
                                   const Place& at) {
   const Place where = Place{at.file, ""} / "accessors";
@@ -309,14 +350,14 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     pa.fail("type {} where {} components are needed ({})", a.type, components, at.path);
   if (std::find(types.begin(), types.end(), a.componentType) == types.end())
     (pa / "componentType").fail("{} is not accepted here ({})", a.componentType, at.path);
-  if (a.sparse.isSparse) (pa / "sparse").fail("sparse accessors are not supported");
   if (a.count == 0) (pa / "count").fail("must be at least 1");
   if (a.count > kMaxMeshVertices * 3) (pa / "count").fail("{} exceeds the limit of {}", a.count, kMaxMeshVertices * 3);
   const std::size_t csize = component_bytes(a.componentType);
   const std::size_t element = csize * std::size_t(components);
   std::vector<double> out;
-  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2)
+  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2), unless sparse says otherwise
     out.assign(a.count * std::size_t(components), 0.0);
+    if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
     return out;
   }
   const std::size_t vi = checked_index(a.bufferView, m.bufferViews.size(), pa / "bufferView", "bufferView");
@@ -342,6 +383,7 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     for (int c = 0; c < components; ++c)
       out[i * std::size_t(components) + std::size_t(c)] =
           component(base + i * stride + std::size_t(c) * csize, a.componentType, a.normalized);
+  if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
   return out;
 }
 
@@ -701,13 +743,14 @@ void clamp_factors(GltfMaterial& m) {
   m.base_color = clamp_noted(m.base_color, 0.0, 1.0, "baseColorFactor", m.clamped);
   m.metallic = clamp_noted(m.metallic, 0.0, 1.0, "metallicFactor", m.clamped);
   m.roughness = clamp_noted(m.roughness, 0.0, 1.0, "roughnessFactor", m.clamped);
-  m.emissive = clamp_noted(m.emissive, 0.0, std::numeric_limits<double>::max(), "emissiveFactor", m.clamped);
+  m.emissive = clamp_noted(m.emissive, 0.0, kMaxEmissiveStrength, "emissiveFactor", m.clamped);
 }
 
 // The extensions' values, each where the material's mapping uses it (docs/assets.md).
 void clamp_extensions(GltfMaterial& m) {
   auto& notes = m.clamped;
-  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength, "emissiveStrength", notes);
+  const double peak = std::max({m.emissive.x, m.emissive.y, m.emissive.z, 1.0});  // factor × strength within the limit
+  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength / peak, "emissiveStrength", notes);
   if (emits(m)) return;  // an emitter: nothing else of it is used
   m.transmission = clamp_noted(m.transmission, 0.0, 1.0, "transmissionFactor", notes);
   if (!(m.transmission > 0.0)) return;
@@ -854,8 +897,9 @@ struct Walker {
     else (at / "type").fail("unknown light type '{}' (point, spot, directional)", l.type);
     g.position_m = to_asset.translation;
     g.direction = normalize(to_asset.linear * Vec3{0, 0, -1});
-    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, std::numeric_limits<double>::max(), "color", g.clamped);
-    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength, "intensity", g.clamped);
+    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, kMaxEmissiveStrength, "color", g.clamped);
+    const double peak = std::max({g.color.x, g.color.y, g.color.z, 1.0});  // colour × intensity within the limit
+    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength / peak, "intensity", g.clamped);
     g.inner_cone_rad = finite(l.spot.innerConeAngle, at / "spot" / "innerConeAngle");
     g.outer_cone_rad = finite(l.spot.outerConeAngle, at / "spot" / "outerConeAngle");
     if (g.type == DeltaLightType::spot) {  // 0 ≤ inner < outer ≤ π/2
@@ -947,6 +991,14 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   b.object(std::move(o), ws);
 }
 
+// The default scene's extras.bouguer_studio: true or false, or 1 or 0 (Blender 3.4's exporter writes
+// a boolean custom property of the scene as 1 or 0).
+bool studio_key(const Value& v, const Place& at) {
+  if (v.IsBool()) return v.Get<bool>();
+  if (v.IsNumber() && (v.GetNumberAsDouble() == 0.0 || v.GetNumberAsDouble() == 1.0)) return v.GetNumberAsDouble() == 1.0;
+  at.fail("expected true or false (or 1 or 0)");
+}
+
 }  // namespace
 
 bool is_gltf_file(const fs::path& path) { return path.extension() == ".gltf" || path.extension() == ".glb"; }
@@ -963,11 +1015,8 @@ GltfAsset read_gltf(const fs::path& path) {
   if (!m.scenes.empty()) {
     const std::size_t s = m.defaultScene < 0 ? 0 : checked_index(m.defaultScene, m.scenes.size(), Place{&path, "scene"}, "scene");
     roots = m.scenes[s].nodes;
-    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio")) {
-      if (!x.Get("bouguer_studio").IsBool())
-        (Place{&path, "scenes"}[s] / "extras" / "bouguer_studio").fail("expected true or false");
-      out.studio = x.Get("bouguer_studio").Get<bool>();
-    }
+    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio"))
+      out.studio = studio_key(x.Get("bouguer_studio"), Place{&path, "scenes"}[s] / "extras" / "bouguer_studio");
   } else {  // no scenes: every node that is no node's child
     std::vector<bool> child(m.nodes.size(), false);
     for (const auto& n : m.nodes)
