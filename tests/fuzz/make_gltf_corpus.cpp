@@ -1,6 +1,6 @@
 // Writes the seed files of tests/fuzz/corpus/gltf/: a few tiny valid assets (.glb, and .gltf with
 // its buffer as a base64 data URI; a textured quad with a sampler and tangents; thin-walled glass
-// with values clamped into the model), then truncated and corrupted copies. Built beside the
+// with values clamped into the model; a sparse accessor and a strip), then truncated and corrupted copies. Built beside the
 // harnesses (tests/fuzz/CMakeLists.txt):
 //   build-fuzz/tests/fuzz/make_gltf_corpus tests/fuzz/corpus/gltf
 #include <cstdio>
@@ -137,5 +137,15 @@ int main(int argc, char** argv) {
   bad_tangent.bin.replace(at + 12, 4, reinterpret_cast<const char*>(&zero), 4);  // the first tangent's w
   bad_tangent.write(dir / "bad_tangent.glb");
   thin_and_clamped().write(dir / "thin_and_clamped.glb");
+  // A sparse POSITION accessor: vertex 0 moved by substitution, and a triangle strip.
+  GltfDoc sparse = glass_cube();
+  const std::uint16_t index = 0;
+  const float moved[3] = {-0.6f, -0.6f, -0.6f};
+  const int iv = sparse.view(&index, 2), vv = sparse.view(moved, 12);
+  sparse.doc["accessors"][0]["sparse"] = {{"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5123}}},
+                                          {"values", {{"bufferView", vv}}}};
+  sparse.doc["accessors"][0]["min"] = {-0.6, -0.6, -0.6};
+  sparse.doc["meshes"][1]["primitives"][0]["mode"] = 5;
+  sparse.write(dir / "sparse_strip.glb");
   return 0;
 }

@@ -103,10 +103,10 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     const SampledSpectrum<N> f = s->weight * static_cast<float>(share);
     const float w_branch = weight * (tr * f).max_value();
     if (w_branch < kMinPathWeight) continue;
-    l += f * radiance(hit->point, {offset_ray_origin(*hit, s->wi), s->wi}, e.medium_towards(s->wi), depth + 1, w_branch,
-                      cone_width_m, inside);
+    l += tr * f * radiance(hit->point, {offset_ray_origin(*hit, s->wi), s->wi}, e.medium_towards(s->wi), depth + 1,
+                           w_branch, cone_width_m, inside);
   }
-  return tr * l;
+  return l;
 }
 
 }  // namespace

@@ -26,7 +26,7 @@
 #include "bouguer/core/csv.h"
 #include "bouguer/core/limits.h"
 #include "bouguer/io/texture_image.h"
-#include "bouguer/spectra/rgb_to_spectrum.h"
+#include "bouguer/scene/pbr_material.h"
 
 namespace bouguer {
 namespace {
@@ -297,8 +297,49 @@ double component(const unsigned char* p, int type, bool normalized) {
   }
 }
 
+// `bytes` bytes from `offset` into buffer view `view`, checked to lie inside the view and its buffer.
+const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint64_t bytes, const Place& at) {
+  const std::size_t vi = checked_index(view, m.bufferViews.size(), at / "bufferView", "bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[vi];
+  const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
+  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), pv / "buffer", "buffer");
+  const std::size_t buffer_bytes = m.buffers[bi].data.size();
+  if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
+    pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
+            bi, buffer_bytes);
+  if (offset < 0 || std::uint64_t(offset) > v.byteLength || bytes > v.byteLength - std::uint64_t(offset))
+    at.fail("{} bytes from offset {} do not fit in bufferView {} ({} bytes)", bytes, offset, vi, v.byteLength);
+  return m.buffers[bi].data.data() + v.byteOffset + std::size_t(offset);
+}
+
+// A sparse accessor's substitutions (glTF 3.6.2.3): `count` strictly increasing indices below the
+// accessor's count, each replacing its element by one of the tightly packed values.
+void apply_sparse(const Model& m, const tinygltf::Accessor& a, int components, std::vector<double>& out, const Place& pa) {
+  const auto& sp = a.sparse;
+  const Place ps = pa / "sparse";
+  if (sp.count < 1 || std::size_t(sp.count) > a.count)
+    (ps / "count").fail("{} is not between 1 and the accessor's count {}", sp.count, a.count);
+  const int itype = sp.indices.componentType;
+  if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    (ps / "indices" / "componentType").fail("{} is not an index type (5121, 5123, 5125)", itype);
+  const std::size_t n = std::size_t(sp.count), isize = component_bytes(itype), csize = component_bytes(a.componentType);
+  const std::size_t element = csize * std::size_t(components);
+  const unsigned char* indices = view_bytes(m, sp.indices.bufferView, sp.indices.byteOffset, std::uint64_t(n) * isize, ps / "indices");
+  const unsigned char* values = view_bytes(m, sp.values.bufferView, sp.values.byteOffset, std::uint64_t(n) * element, ps / "values");
+  double previous = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double index = component(indices + i * isize, itype, false);
+    if (!(index > previous && index < double(a.count)))
+      (ps / "indices").fail("index {} at {} is not increasing or not below the accessor's count {}", index, i, a.count);
+    previous = index;
+    for (std::size_t c = 0; c < std::size_t(components); ++c)
+      out[std::size_t(index) * std::size_t(components) + c] = component(values + i * element + c * csize, a.componentType, a.normalized);
+  }
+}
+
 // The accessor's elements as `components` numbers each, of one of the allowed component types,
-// every byte they read inside its buffer view and buffer.
+// every byte they read inside its buffer view and buffer; a sparse accessor's substitutions applied.
 std::vector<double> read_accessor(const Model& m, int index, int components, std::initializer_list<int> types,
                                   const Place& at) {
   const Place where = Place{at.file, ""} / "accessors";
@@ -309,14 +350,14 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     pa.fail("type {} where {} components are needed ({})", a.type, components, at.path);
   if (std::find(types.begin(), types.end(), a.componentType) == types.end())
     (pa / "componentType").fail("{} is not accepted here ({})", a.componentType, at.path);
-  if (a.sparse.isSparse) (pa / "sparse").fail("sparse accessors are not supported");
   if (a.count == 0) (pa / "count").fail("must be at least 1");
   if (a.count > kMaxMeshVertices * 3) (pa / "count").fail("{} exceeds the limit of {}", a.count, kMaxMeshVertices * 3);
   const std::size_t csize = component_bytes(a.componentType);
   const std::size_t element = csize * std::size_t(components);
   std::vector<double> out;
-  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2)
+  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2), unless sparse says otherwise
     out.assign(a.count * std::size_t(components), 0.0);
+    if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
     return out;
   }
   const std::size_t vi = checked_index(a.bufferView, m.bufferViews.size(), pa / "bufferView", "bufferView");
@@ -342,6 +383,7 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     for (int c = 0; c < components; ++c)
       out[i * std::size_t(components) + std::size_t(c)] =
           component(base + i * stride + std::size_t(c) * csize, a.componentType, a.normalized);
+  if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
   return out;
 }
 
@@ -701,13 +743,14 @@ void clamp_factors(GltfMaterial& m) {
   m.base_color = clamp_noted(m.base_color, 0.0, 1.0, "baseColorFactor", m.clamped);
   m.metallic = clamp_noted(m.metallic, 0.0, 1.0, "metallicFactor", m.clamped);
   m.roughness = clamp_noted(m.roughness, 0.0, 1.0, "roughnessFactor", m.clamped);
-  m.emissive = clamp_noted(m.emissive, 0.0, std::numeric_limits<double>::max(), "emissiveFactor", m.clamped);
+  m.emissive = clamp_noted(m.emissive, 0.0, kMaxEmissiveStrength, "emissiveFactor", m.clamped);
 }
 
 // The extensions' values, each where the material's mapping uses it (docs/assets.md).
 void clamp_extensions(GltfMaterial& m) {
   auto& notes = m.clamped;
-  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength, "emissiveStrength", notes);
+  const double peak = std::max({m.emissive.x, m.emissive.y, m.emissive.z, 1.0});  // factor × strength within the limit
+  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength / peak, "emissiveStrength", notes);
   if (emits(m)) return;  // an emitter: nothing else of it is used
   m.transmission = clamp_noted(m.transmission, 0.0, 1.0, "transmissionFactor", notes);
   if (!(m.transmission > 0.0)) return;
@@ -854,8 +897,9 @@ struct Walker {
     else (at / "type").fail("unknown light type '{}' (point, spot, directional)", l.type);
     g.position_m = to_asset.translation;
     g.direction = normalize(to_asset.linear * Vec3{0, 0, -1});
-    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, std::numeric_limits<double>::max(), "color", g.clamped);
-    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength, "intensity", g.clamped);
+    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, kMaxEmissiveStrength, "color", g.clamped);
+    const double peak = std::max({g.color.x, g.color.y, g.color.z, 1.0});  // colour × intensity within the limit
+    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength / peak, "intensity", g.clamped);
     g.inner_cone_rad = finite(l.spot.innerConeAngle, at / "spot" / "innerConeAngle");
     g.outer_cone_rad = finite(l.spot.outerConeAngle, at / "spot" / "outerConeAngle");
     if (g.type == DeltaLightType::spot) {  // 0 ≤ inner < outer ≤ π/2
@@ -874,83 +918,24 @@ TextureInput texture_input(const GltfTexture& t) {
 
 std::string asset_name(const fs::path& file) { return file.filename().string(); }
 
-// A metal's F0 = base colour at normal incidence, as a conductor of n = 1: F0 = k²/(4 + k²).
-ConductorInput metal(const GltfMaterial& g) {
-  const Vec3 f0{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
-                std::clamp(g.base_color.z, 0.0, 1.0)};
-  const SigmoidPolynomial lifted = rgb_to_reflectance(f0);
-  TableInput k;
-  for (double nm = 360.0; nm <= 830.0; nm += 5.0) {
-    const double r = std::min(lifted(nm), 0.999);
-    k.wavelength_nm.push_back(nm);
-    k.value.push_back(2.0 * std::sqrt(r / (1.0 - r)));
-  }
-  return {1.0, k, g.roughness * g.roughness, std::nullopt};
-}
-
-// glTF's metallic-roughness BRDF itself (materials/surface_bsdf.h), for materials whose metalness
-// is textured or fractional: the base colour texture (times its factor) or the factor, and the
-// metallicRoughness texture (times the factors) or the factors.
-MetallicRoughnessInput metallic_roughness(const GltfMaterial& g) {
-  MetallicRoughnessInput in;
-  if (const auto& t = g.base_color_texture) in.base_colour = texture_input(*t);
-  else in.base_colour = RgbInput{{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
-                                  std::clamp(g.base_color.z, 0.0, 1.0)}};
-  in.metalness = std::clamp(g.metallic, 0.0, 1.0);
-  in.roughness = std::clamp(g.roughness, 0.0, 1.0);
-  if (const auto& t = g.metallic_roughness_texture) in.metallic_roughness_texture = texture_input(*t);
-  return in;
-}
-
-// σ_a(λ) of an attenuation colour c at distance d: the transmittance over d is the smooth
-// reflectance-like lift of c (a sigmoid in (0, 1), so σ_a ≥ 0 and its colour under D65 is c),
-// plus narrow Gaussians (2 nm wide) at the rgb3 lines (700.0, 546.1, 435.8 nm) sized to make it
-// exactly c there, so the paper's RGB mode gives c per channel; they move the full-mode colour by
-// well under 1 % (docs/assets.md). Tabulated at 1 nm and at the lines.
-TableInput volume_sigma_a(const Vec3& c, double d) {
-  constexpr std::array<double, 3> lines_nm{700.0, 546.1, 435.8};
-  constexpr double width_nm = 2.0;
-  const SigmoidPolynomial lifted = rgb_to_reflectance(c);
-  const std::array<double, 3> want{c.x, c.y, c.z};
-  auto bump = [&](std::size_t i, double nm) {
-    const double x = (nm - lines_nm[i]) / width_nm;
-    return std::exp(-0.5 * x * x);
-  };
-  // Solve Σ_j a_j bump_j(λ_i) = residual_i (optical depth over d); the matrix is the identity
-  // to 1e-300 at these spacings, so one pass suffices, and a second makes it exact to rounding.
-  std::array<double, 3> residual{}, a{};
-  for (std::size_t i = 0; i < 3; ++i) residual[i] = std::log(lifted(lines_nm[i])) - std::log(want[i]);
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t i = 0; i < 3; ++i) {
-      double others = 0.0;
-      for (std::size_t j = 0; j < 3; ++j)
-        if (j != i) others += a[j] * bump(j, lines_nm[i]);
-      a[i] = residual[i] - others;
-    }
-  TableInput t;
-  for (int nm = 360; nm <= 830; ++nm) {
-    if (nm == 436) t.wavelength_nm.push_back(435.8);
-    if (nm == 547) t.wavelength_nm.push_back(546.1);
-    t.wavelength_nm.push_back(nm);
-  }
-  for (double nm : t.wavelength_nm) {
-    double depth = -std::log(lifted(nm));
-    for (std::size_t i = 0; i < 3; ++i) depth += a[i] * bump(i, nm);
-    t.value.push_back(std::max(0.0, depth) / d);
-  }
-  return t;
-}
-
-// A transmissive material with a volume: its medium, σ_a = −ln(c)/d lifted as the internal
-// transmittance c at thickness d (docs/assets.md).
-// Its values come clamped into the model (clamp_extensions).
-MediumInput volume_medium(const GltfMaterial& g) {
-  MediumInput m;
-  if (g.dispersion > 0.0) m.ior = AbbeInput{g.ior, 20.0 / g.dispersion};
-  else m.ior = g.ior;
-  if (g.attenuation_distance_m) {
-    m.absorption.push_back({AbsorptionValuesInput{volume_sigma_a(g.attenuation_color, *g.attenuation_distance_m), "attenuation_per_m", std::nullopt}, std::nullopt});
-  }
+// The material as the one mapping shared with a scene's "pbr" objects takes it (scene/pbr_material.h):
+// its values come clamped into the model (clamp_extensions), its textures with the factors applied.
+PbrMaterialInput pbr_input(const GltfMaterial& g) {
+  PbrMaterialInput m;
+  m.base_color = g.base_color;
+  if (const auto& t = g.base_color_texture) m.base_color_texture = texture_input(*t);
+  m.metallic = g.metallic;
+  m.roughness = g.roughness;
+  if (const auto& t = g.metallic_roughness_texture) m.metallic_roughness_texture = texture_input(*t);
+  m.emissive = g.emissive;
+  m.emissive_strength = g.emissive_strength;
+  if (const auto& t = g.emissive_texture) m.emissive_texture = texture_input(*t);
+  m.transmission = g.transmission;
+  m.thin_walled = g.thickness == 0.0;
+  m.ior = g.ior;
+  m.dispersion = g.dispersion;
+  m.attenuation_color = g.attenuation_color;
+  m.attenuation_distance_m = g.attenuation_distance_m;
   return m;
 }
 
@@ -964,15 +949,6 @@ struct AddedSoFar {
   std::set<std::string> media;
   std::set<int> warned;
 };
-
-// A thin-walled transmissive material: a thin dielectric sheet whose transmission is tinted by the
-// base colour (KHR_materials_transmission; KHR_materials_volume's attenuation needs a thickness).
-MaterialDesc thin_sheet(const GltfMaterial& g, const Place& at) {
-  ThinDielectricInput sheet{g.ior, std::nullopt};
-  if (const auto& t = g.base_color_texture) sheet.tint = texture_input(*t);
-  else sheet.tint = RgbInput{g.base_color};
-  return resolve_surface_material(sheet, at.source() / "extensions" / "KHR_materials_transmission");
-}
 
 void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive& p, const GltfObjectInput& in,
                    const Source& where, AddedSoFar& added) {
@@ -1001,35 +977,26 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
   }
   if (!g.clamped.empty() && added.warned.insert(p.material).second)
     b.warn(at.source(), fmt::format("material '{}': {}", g.name, clamped_warning(g.clamped)));
-  if (emits(g)) {
-    if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
-      o.emission = resolve_emission(EmissionInput{texture_input(*t), g.emissive_strength},
-                                    at.source() / "emissiveTexture");
-    else
-      o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
-  } else if (g.transmission > 0.0) {
-    if (g.thickness == 0.0) {
-      o.material = thin_sheet(g, at);
-    } else {
-      // One medium per material and placement: primitives and instances share it.
-      const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
-                                             asset_name(in.file), p.material, g.name);
-      if (added.media.insert(medium).second) b.medium(medium, volume_medium(g), at.source());
-      o.inside = medium;
-      o.roughness = g.roughness * g.roughness;
-    }
-  } else if (g.metallic_roughness_texture || (g.metallic > 0.0 && g.metallic < 1.0)) {
-    o.material = resolve_surface_material(metallic_roughness(g), at.source() / "pbrMetallicRoughness");
-  } else if (g.metallic >= 0.5) {
-    o.material = resolve_surface_material(metal(g), at.source() / "pbrMetallicRoughness");
-  } else {
-    const Source wp = at.source() / "pbrMetallicRoughness";
-    if (const auto& t = g.base_color_texture)
-      o.material = resolve_surface_material(DiffuseInput{texture_input(*t)}, wp);
-    else
-      o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, wp);
+  PbrRole role = pbr_role(pbr_input(g), at.source());
+  o.emission = std::move(role.emission);
+  o.material = std::move(role.material);
+  if (role.volume) {
+    // One medium per material and placement: primitives and instances share it.
+    const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
+                                           asset_name(in.file), p.material, g.name);
+    if (added.media.insert(medium).second) b.medium(medium, *role.volume, at.source());
+    o.inside = medium;
+    o.roughness = role.interface_roughness;
   }
   b.object(std::move(o), ws);
+}
+
+// The default scene's extras.bouguer_studio: true or false, or 1 or 0 (Blender 3.4's exporter writes
+// a boolean custom property of the scene as 1 or 0).
+bool studio_key(const Value& v, const Place& at) {
+  if (v.IsBool()) return v.Get<bool>();
+  if (v.IsNumber() && (v.GetNumberAsDouble() == 0.0 || v.GetNumberAsDouble() == 1.0)) return v.GetNumberAsDouble() == 1.0;
+  at.fail("expected true or false (or 1 or 0)");
 }
 
 }  // namespace
@@ -1048,11 +1015,8 @@ GltfAsset read_gltf(const fs::path& path) {
   if (!m.scenes.empty()) {
     const std::size_t s = m.defaultScene < 0 ? 0 : checked_index(m.defaultScene, m.scenes.size(), Place{&path, "scene"}, "scene");
     roots = m.scenes[s].nodes;
-    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio")) {
-      if (!x.Get("bouguer_studio").IsBool())
-        (Place{&path, "scenes"}[s] / "extras" / "bouguer_studio").fail("expected true or false");
-      out.studio = x.Get("bouguer_studio").Get<bool>();
-    }
+    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio"))
+      out.studio = studio_key(x.Get("bouguer_studio"), Place{&path, "scenes"}[s] / "extras" / "bouguer_studio");
   } else {  // no scenes: every node that is no node's child
     std::vector<bool> child(m.nodes.size(), false);
     for (const auto& n : m.nodes)

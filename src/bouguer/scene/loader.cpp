@@ -1,6 +1,7 @@
 #include "bouguer/scene/loader.h"
 
 #include "bouguer/scene/gltf.h"
+#include "bouguer/scene/pbr_material.h"
 
 #include <fmt/ranges.h>
 
@@ -729,6 +730,65 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index) {
   return o;  // its roles and media are checked by the builder
 }
 
+// "pbr": glTF's metallic-roughness material with its extensions' values (docs/scene-format.md), the
+// role the glTF reader gives an asset's materials, through the same mapping (scene/pbr_material.h).
+PbrMaterialInput pbr_input(const json& j, const Where& w) {
+  if (!j.is_object()) w.fail("expected an object of material values (base_color, metallic, roughness, ...)");
+  expect_keys(j, w,
+              {"base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture", "emission",
+               "emission_strength", "emission_texture", "transmission", "thin_walled", "ior", "dispersion",
+               "attenuation_color", "attenuation_distance"});
+  PbrMaterialInput m;
+  auto num = [&](const char* key, double& out) {
+    if (j.contains(key)) out = number(j[key], w / key);
+  };
+  auto colour = [&](const char* key, Vec3& out) {
+    if (j.contains(key)) out = vec3(j[key], w / key);
+  };
+  auto texture = [&](const char* key, std::optional<TextureInput>& out) {
+    if (j.contains(key)) out = texture_input(j[key], w / key);
+  };
+  colour("base_color", m.base_color);
+  texture("base_color_texture", m.base_color_texture);
+  num("metallic", m.metallic);
+  num("roughness", m.roughness);
+  texture("metallic_roughness_texture", m.metallic_roughness_texture);
+  colour("emission", m.emissive);
+  num("emission_strength", m.emissive_strength);
+  texture("emission_texture", m.emissive_texture);
+  num("transmission", m.transmission);
+  if (j.contains("thin_walled")) m.thin_walled = boolean(j["thin_walled"], w / "thin_walled");
+  num("ior", m.ior);
+  num("dispersion", m.dispersion);
+  colour("attenuation_color", m.attenuation_color);
+  if (j.contains("attenuation_distance")) m.attenuation_distance_m = length_m(j["attenuation_distance"], w / "attenuation_distance");
+  return m;
+}
+
+// An object whose role is a "pbr" material. A transmissive solid bounds the medium `inside` names
+// (a scene's measured medium: a Blender material's volume), or else one made of the material's
+// own ior and attenuation, named "<object> (pbr)".
+void add_pbr_object(SceneBuilder& b, const json& j, const Where& w, std::size_t index) {
+  if (j.contains("material") || j.contains("emission")) w.fail("give either 'pbr' or 'material'/'emission', not both");
+  json rest = j;
+  rest.erase("pbr");
+  ObjectDesc o = object(rest, w, index);
+  const Where wp = w / "pbr";
+  PbrRole role = pbr_role(pbr_input(j["pbr"], wp), wp);
+  o.emission = std::move(role.emission);
+  o.material = std::move(role.material);
+  if (role.volume) {
+    if (!j.contains("roughness")) o.roughness = role.interface_roughness;
+    if (!o.inside) {
+      o.inside = fmt::format("{} (pbr)", o.name);
+      b.medium(*o.inside, *role.volume, wp);
+    }
+  } else if (o.inside) {
+    (w / "inside").fail("belongs to a transmissive 'pbr' material (transmission above 0, not thin-walled)");
+  }
+  b.object(std::move(o), w);
+}
+
 // {"gltf": "bottle.glb", "name": "bottle", "transform": [...], "materials": {"Glass": {"inside": "glass"}}}:
 // an asset's primitives as objects (named "bottle: nodes[2] meshes[0].primitives[1]"), its materials
 // overridden by name with an object's roles.
@@ -779,6 +839,8 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
     const json& o = root["objects"][i];
     if (o.is_object() && o.contains("gltf")) {
       add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
+    } else if (o.is_object() && o.contains("pbr")) {
+      add_pbr_object(b, o, wo[i], i);
     } else if (o.is_object() && o.contains("material") && o["material"] == "mtl") {
       for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i), wo[i] / "material"))
         b.object(std::move(part), wo[i]);
