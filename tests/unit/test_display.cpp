@@ -254,26 +254,43 @@ TEST(Display, JsonScenesWriteTheLinearFilmClippedAsBefore) {
 constexpr double kCandela = 27176.0;  // Blender's 500 W point light through its exporter's 683 lm/W / 4π
 constexpr double kLightHeightM = 4.0, kFloorAlbedo = 0.8;
 
-// An 8 m grey floor, a grey cube on it and a point light 4 m above, seen by the asset's camera
-// from 5 m away and 2 m up, as Blender's exporter writes such a scene.
+// A UV sphere of radius r centred at c: `rings` bands of `segments` quads, faces outward.
+void uv_sphere(double r, const Vec3& c, int rings, int segments, std::vector<Vec3>& p,
+               std::vector<std::uint32_t>& idx) {
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j <= segments; ++j) {
+      const double theta = std::numbers::pi * i / rings, phi = 2 * std::numbers::pi * j / segments;
+      p.push_back(c + Vec3{std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi)} * r);
+    }
+  const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * (segments + 1) + j); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j)
+      idx.insert(idx.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+}
+
+// An 8 m grey floor, a glass ball on it (Principled BSDF with Transmission 1 as Blender's exporter
+// writes it: KHR_materials_transmission without a volume, a thin-walled sheet) and a point light
+// 4 m above, seen by the asset's camera from 5 m away and 2 m up.
 fs::path blender_like_asset(const fs::path& dir) {
   test::GltfDoc g;
-  const auto grey = [&](double albedo) {
-    return g.material(
-        {{"pbrMetallicRoughness",
-          {{"baseColorFactor", {albedo, albedo, albedo, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}});
-  };
+  const int floor = g.material({{"pbrMetallicRoughness",
+                                 {{"baseColorFactor", {kFloorAlbedo, kFloorAlbedo, kFloorAlbedo, 1.0}},
+                                  {"metallicFactor", 0.0},
+                                  {"roughnessFactor", 1.0}}}});
+  const int glass = g.material({{"name", "Glass"},
+                                {"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+                                {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}}});
   g.node({{"name", "floor"},
-          {"mesh", g.mesh({{-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}}, {0, 1, 2, 0, 2, 3}, grey(kFloorAlbedo))}});
-  g.node({{"name", "cube"},
-          {"mesh", g.mesh(test::cube_positions(), test::cube_indices(), grey(0.5))},
-          {"translation", {0.0, 0.25, 0.0}},
-          {"scale", {0.5, 0.5, 0.5}}});
+          {"mesh", g.mesh({{-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}}, {0, 1, 2, 0, 2, 3}, floor)}});
+  std::vector<Vec3> ball;
+  std::vector<std::uint32_t> ball_indices;
+  uv_sphere(0.4, {0.6, 0.4, 0.6}, 12, 24, ball, ball_indices);
+  g.node({{"name", "ball"}, {"mesh", g.mesh(ball, ball_indices, glass)}});
   const double pitch = -std::atan2(2.0, 5.0);  // looking at the origin
   g.doc["cameras"] = {
       {{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"aspectRatio", 1.5}, {"znear", 0.1}}}}};
   g.node({{"camera", 0}, {"translation", {0, 2, 5}}, {"rotation", {std::sin(pitch / 2), 0, 0, std::cos(pitch / 2)}}});
-  g.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  g.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_transmission"};
   g.doc["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", kCandela}}}}}}};
   g.node({{"translation", {0, kLightHeightM, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   g.write(dir / "blender.glb");
