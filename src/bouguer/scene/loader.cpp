@@ -533,7 +533,7 @@ std::vector<std::array<double, 2>> profile(const json& j, const Where& w) {
   return p;
 }
 
-Shape shape(const json& j, const Where& w) {
+Shape shape(const json& j, const Where& w, const MeshArrays* arrays) {
   if (!j.is_object() || !j.contains("type")) w.fail("needs 'type'");
   const std::string type = text(j["type"], w / "type");
   auto get_len = [&](const char* k, double def) { return j.contains(k) ? positive_length_m(j[k], w / k) : def; };
@@ -599,9 +599,20 @@ Shape shape(const json& j, const Where& w) {
                        get_int("segments", 128, 3, 4096), get_num("crease_angle_deg", kDefaultCreaseAngleDeg)};
   }
   if (type == "mesh") {
-    expect_keys(j, w, {"type", "file"});
-    if (!j.contains("file")) w.fail("a mesh needs 'file' (.obj or .ply)");
-    return MeshShape{w.resolve(text(j["file"], w / "file"))};
+    expect_keys(j, w, {"type", "file", "arrays"});
+    if (j.contains("file") == j.contains("arrays"))
+      w.fail("a mesh needs either 'file' (.obj or .ply) or 'arrays' (a mesh given to load_dict)");
+    if (j.contains("file")) return MeshShape{w.resolve(text(j["file"], w / "file"))};
+    // Triangles a front end handed over in memory (Python's load_dict(meshes=...)), checked there.
+    const std::string name = text(j["arrays"], w / "arrays");
+    if (arrays == nullptr) (w / "arrays").fail("meshes given as arrays exist only in Python's load_dict(meshes=...)");
+    const auto it = arrays->find(name);
+    if (it == arrays->end()) {
+      std::vector<std::string> names;
+      for (const auto& [n, m] : *arrays) names.push_back(n);
+      (w / "arrays").fail("no mesh '{}' was given{}", name, suggestion(name, names));
+    }
+    return it->second;
   }
   const std::vector<std::string> types = {"quad", "disk", "box", "sphere", "cylinder", "prism", "pyramid",
                                           "truncated_cube", "brilliant", "lathe", "vessel", "mesh"};
@@ -717,14 +728,14 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
   return l;
 }
 
-ObjectDesc object(const json& j, const Where& w, std::size_t index) {
+ObjectDesc object(const json& j, const Where& w, std::size_t index, const MeshArrays* arrays) {
   expect_keys(j, w,
               {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material", "roughness",
                "priority"});
   ObjectDesc o;
   o.name = j.contains("name") ? text(j["name"], w / "name") : fmt::format("object {}", index);
   if (!j.contains("shape")) w.fail("needs 'shape'");
-  o.shape = shape(j["shape"], w / "shape");
+  o.shape = shape(j["shape"], w / "shape", arrays);
   if (j.contains("transform")) o.transform = transform(j["transform"], w / "transform");
   if (j.contains("inside")) o.inside = text(j["inside"], w / "inside");
   if (j.contains("outside")) o.outside = text(j["outside"], w / "outside");
@@ -776,7 +787,8 @@ GltfObjectInput gltf_object(const json& j, const Where& w) {
 
 }  // namespace
 
-static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b) {
+static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b,
+                       const MeshArrays* arrays = nullptr) {
   const json root = parse_json(json_text, path);
   const Where top{path, ""};
   expect_keys(root, top, {"camera", "render", "world_medium", "media", "objects", "lights", "background"});
@@ -796,10 +808,10 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
     if (o.is_object() && o.contains("gltf")) {
       add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
     } else if (o.is_object() && o.contains("material") && o["material"] == "mtl") {
-      for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i), wo[i] / "material"))
+      for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i, arrays), wo[i] / "material"))
         b.object(std::move(part), wo[i]);
     } else {
-      b.object(object(o, wo[i], i), wo[i]);
+      b.object(object(o, wo[i], i, arrays), wo[i]);
     }
   }
   if (root.contains("lights")) {
@@ -816,9 +828,9 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
   }
 }
 
-SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
+SceneDesc parse_scene(const std::string& json_text, const fs::path& path, const MeshArrays* arrays) {
   SceneBuilder b(path);
-  read_scene(json_text, path, b);
+  read_scene(json_text, path, b, arrays);
   return std::move(b).build();
 }
 
