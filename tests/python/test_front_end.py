@@ -177,3 +177,29 @@ def test_stats_count_the_rays(small_scene):
     stats = scene.stats
     assert stats["spp"] == 8 and stats["rays"] >= 24 * 16 * 8
     assert stats["seconds"] > 0 and stats["rays_per_second"] == pytest.approx(stats["rays"] / stats["seconds"])
+
+
+@pytest.mark.parametrize("camera", [{"type": "pinhole", "fov_deg": 40}, {"type": "orthographic", "width": 0.05}])
+def test_a_shifted_camera_sees_part_of_a_wider_frame(camera):
+    # A 32x16 frame, and a 16x16 one shifted by half its side to the right and by a quarter up at
+    # the same fov (across the shorter, vertical side): the shifted one is the frame's right half,
+    # a quarter of the height up. Pixels meet other random numbers, so they agree to the noise.
+    def scene(resolution, shift):
+        s = {"camera": dict(camera, position=[0.01, 0.02, 0.08], look_at=[0.01, 0.02, 0], resolution=resolution,
+                            shift=shift),
+             "render": {"integrator": "path", "spectral": "rgb3", "spp": 64, "seed": 1},
+             "objects": [{"shape": {"type": "box", "size": [0.03, 0.03, 0.03]}, "material": {"type": "diffuse"},
+                          "transform": [{"translate": [0.035, 0.02, 0]}]}],
+             "background": {"spectrum": "D65", "scale": 1}}
+        return bouguer.load_dict(s)
+
+    wide = bouguer.render(scene([32, 16], [0, 0]), resolution=(32, 16))
+    shifted = bouguer.render(scene([16, 16], [0.5, 0]))
+    # The box's silhouette (dark against the bright background) is where the wide frame has it.
+    np.testing.assert_array_equal(shifted[..., 1] < 0.9, wide[:, 16:, 1] < 0.9)
+    assert (shifted[..., 1] < 0.9).sum() > 40
+    # Up by a quarter of the side: the window moves 4 rows up, so what it sees moves 4 rows down.
+    up = bouguer.render(scene([16, 16], [0.5, 0.25]))
+    np.testing.assert_array_equal(up[4:, :, 1] < 0.9, wide[:12, 16:, 1] < 0.9)
+    with pytest.raises(bouguer.Error, match=r"camera.shift\[1\]: must be between -100 and 100"):
+        scene([16, 16], [0, 1000])

@@ -662,7 +662,7 @@ Transform transform(const json& j, const Where& w) {
 // ---- top level ---------------------------------------------------------------------------------
 
 void read_camera(const json& j, const Where& w, SceneBuilder& b) {
-  expect_keys(j, w, {"type", "position", "look_at", "up", "fov_deg", "width", "resolution"});
+  expect_keys(j, w, {"type", "position", "look_at", "up", "fov_deg", "width", "shift", "resolution"});
   CameraDesc c;
   if (j.contains("type")) {
     const std::string t = text(j["type"], w / "type");
@@ -675,6 +675,11 @@ void read_camera(const json& j, const Where& w, SceneBuilder& b) {
   if (j.contains("up")) c.up = direction(j["up"], w / "up");
   if (j.contains("fov_deg")) c.fov_deg = number(j["fov_deg"], w / "fov_deg");
   if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
+  if (j.contains("shift")) {
+    const Where ws = w / "shift";
+    array(j["shift"], ws, 2);
+    c.shift_x = number(j["shift"][0], ws[0]), c.shift_y = number(j["shift"][1], ws[1]);
+  }
   b.camera(c, w);
   if (j.contains("resolution")) {
     const Where wr = w / "resolution";
