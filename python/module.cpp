@@ -27,6 +27,7 @@
 #include "bouguer/core/limits.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/integrators/render_into.h"
+#include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/update.h"
@@ -149,6 +150,7 @@ struct RenderArgs {
   std::optional<std::string> integrator, spectral;
   std::optional<std::pair<std::int64_t, std::int64_t>> resolution;
   std::optional<double> time_s;
+  std::optional<fs::path> spectral_exr;  // the command line's --spectral-exr
   int threads = 0;
   bool spectra = false;
   py::object progress, on_pass, should_stop;
@@ -349,8 +351,9 @@ py::object render(Scene& scene, const RenderArgs& a) {
   } restore{*scene.compiled, scene.compiled->camera};
   scene.compiled->camera = camera;
   const RenderScene& compiled = *scene.compiled;
-  check_settings(compiled, settings, a.spectra);
-  FilmBuffer buffer = make_film(compiled, settings, a.spectra);
+  const bool keep_spectra = a.spectra || a.spectral_exr;
+  check_settings(compiled, settings, keep_spectra);
+  FilmBuffer buffer = make_film(compiled, settings, keep_spectra);
   RenderStats stats;
   PassState st;
   const bool stopped = render_waiting(scene, compiled, settings, buffer, a, stats, st);
@@ -365,6 +368,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
                              buffer.saturated_splats())
                      .c_str(),
                  1);
+  if (a.spectral_exr) write_spectral_exr(*a.spectral_exr, film);
   py::array_t<float> rgb = rgb_array(film);
   if (!a.spectra) return rgb;
   const auto h = static_cast<py::ssize_t>(film.height), w = static_cast<py::ssize_t>(film.width);
@@ -469,24 +473,26 @@ PYBIND11_MODULE(bouguer, m) {
       [](Scene& scene, std::optional<std::int64_t> spp, std::optional<std::string> integrator,
          std::optional<std::string> spectral, std::optional<std::int64_t> seed, int threads,
          std::optional<std::pair<std::int64_t, std::int64_t>> resolution, std::optional<std::int64_t> max_depth,
-         bool spectra, py::object progress, std::optional<double> time_s, py::object on_pass, py::object should_stop) {
+         bool spectra, py::object progress, std::optional<double> time_s, py::object on_pass, py::object should_stop,
+         std::optional<fs::path> spectral_exr) {
         if (threads < 0 || threads > 1024) bouguer::fail_usage("threads: must be between 0 and 1024 (got {})", threads);
         if (time_s && !(std::isfinite(*time_s) && *time_s > 0.0))
           bouguer::fail_usage("time_s: must be a positive number of seconds (got {})", *time_s);
         RenderArgs a{spp,      seed,    max_depth,           std::move(integrator), std::move(spectral),
-                     resolution, time_s, threads,           spectra,               std::move(progress),
+                     resolution, time_s, {},      threads,               spectra,               std::move(progress),
                      std::move(on_pass), std::move(should_stop)};
+        a.spectral_exr = std::move(spectral_exr);
         return render(scene, a);
       },
       py::arg("scene"), py::kw_only(), py::arg("spp") = py::none(), py::arg("integrator") = py::none(),
       py::arg("spectral") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = 0,
       py::arg("resolution") = py::none(), py::arg("max_depth") = py::none(), py::arg("spectra") = false,
       py::arg("progress") = py::none(), py::arg("time_s") = py::none(), py::arg("on_pass") = py::none(),
-      py::arg("should_stop") = py::none(),
+      py::arg("should_stop") = py::none(), py::arg("spectral_exr") = py::none(),
       "Render: a float32 (H, W, 3) array, linear Rec.709, row 0 at the top; with spectra=True a tuple (rgb, "
       "spectra (H, W, N), wavelengths_nm (N,)). Keyword arguments override the scene's settings (the command "
       "line's names). progress(fraction) is called now and then; Ctrl-C stops the render (KeyboardInterrupt). "
       "time_s: a budget of seconds (the command line's --time). on_pass(rgb_so_far, samples_done, spp) after each "
       "pass; should_stop() polled every 50 ms: True ends the render and returns the image of the samples done. "
-      "Scene.stats describes the render (also during on_pass).");
+      "spectral_exr: a path, the command line's --spectral-exr. Scene.stats describes the render (also during on_pass).");
 }

@@ -203,3 +203,16 @@ def test_a_shifted_camera_sees_part_of_a_wider_frame(camera):
     np.testing.assert_array_equal(up[4:, :, 1] < 0.9, wide[:12, 16:, 1] < 0.9)
     with pytest.raises(bouguer.Error, match=r"camera.shift\[1\]: must be between -100 and 100"):
         scene([16, 16], [0, 1000])
+
+
+def test_the_spectral_exr_is_the_command_lines(tmp_path, small_scene):
+    import json
+    import subprocess
+
+    from conftest import BINARY
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    bouguer.render(bouguer.load(path), spp=2, spectral="full", spectral_exr=tmp_path / "module.exr")
+    subprocess.run([BINARY, "render", str(path), "-o", str(tmp_path / "cli.pfm"), "--spp", "2", "--quiet",
+                    "--spectral", "full", "--spectral-exr", str(tmp_path / "cli.exr")], check=True)
+    assert (tmp_path / "module.exr").read_bytes() == (tmp_path / "cli.exr").read_bytes()
