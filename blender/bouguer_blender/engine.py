@@ -9,8 +9,10 @@ import numpy as np
 from . import module
 from .export import export_scene
 
-# The reports of the last render (tests read them; Blender's report shows them to the user).
+# The reports and statistics of the last render (tests read them; Blender's report and status line
+# show them to the user).
 last_reports = []
+last_stats = {}
 
 
 def rgba_rows(rgb):
@@ -27,6 +29,10 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
     bl_use_preview = False
     bl_use_postprocess = True
     bl_use_shading_nodes_custom = False  # Blender's own shader nodes, as Cycles uses them
+
+    def stop_requested(self):
+        """Esc in Blender's render window (the one place the engine asks; tests put a stub here)."""
+        return self.test_break()
 
     def report_all(self, warnings):
         last_reports[:] = warnings
@@ -70,7 +76,7 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
         if settings.spectral_exr:
             kwargs["spectral_exr"] = bpy.path.abspath(settings.spectral_exr)
         try:
-            rgb = bouguer.render(loaded, threads=settings.threads, on_pass=on_pass, should_stop=self.test_break,
+            rgb = bouguer.render(loaded, threads=settings.threads, on_pass=on_pass, should_stop=self.stop_requested,
                                  progress=self.update_progress, **kwargs)
         except bouguer.Error as e:
             self.report({"ERROR"}, f"Bouguer: {e}")
@@ -79,6 +85,8 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
         combined.rect = rgba_rows(rgb)
         self.end_result(result)
         stats = loaded.stats
+        last_stats.clear()
+        last_stats.update(stats)
         self.update_stats("", f"Bouguer: {stats['spp']} samples in {stats['seconds']:.1f} s, "
                               f"{stats['rays_per_second'] / 1e6:.2f} M rays/s" + (" (stopped)" if stats["stopped"] else ""))
         if settings.stats_json:

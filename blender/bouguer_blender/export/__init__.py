@@ -38,6 +38,7 @@ def export_scene(depsgraph, bouguer, settings=None):
     """The scene as an Export: .scene (the dict), .meshes (for load_dict), .reports.warnings."""
     scene = depsgraph.scene
     out = Export()
+    out.spectral = settings.spectral if settings is not None else "hero"
     per_unit = axes.unit_scale(scene)
     cam = scene.camera.evaluated_get(depsgraph) if scene.camera else None
     objects, point_lights, media = [], [], {}
@@ -81,7 +82,7 @@ def add_geometry(out, inst, obj, per_unit, translated, media, objects, pbr):
     matrix = axes.matrix(inst.matrix_world, per_unit)
     for index, part in out.parts[key].items():
         material = slots[index].material if index < len(slots) else None
-        t = translation(material, out.reports, per_unit, translated, pbr)
+        t = translation(material, out.reports, per_unit, translated, pbr, out.spectral)
         media.update(t.media)
         roles = dict(t.roles)
         if "uvs" not in part and uses_texture(roles):
@@ -92,10 +93,10 @@ def add_geometry(out, inst, obj, per_unit, translated, media, objects, pbr):
                              "transform": [{"matrix": matrix}]}, **roles))
 
 
-def translation(material, reports, per_unit, translated, pbr):
+def translation(material, reports, per_unit, translated, pbr, spectral):
     key = material.name if material is not None else None
     if key not in translated:
-        translated[key] = materials.translate(material, reports, 1.0 / per_unit, pbr)
+        translated[key] = materials.translate(material, reports, 1.0 / per_unit, pbr, spectral)
     return translated[key]
 
 

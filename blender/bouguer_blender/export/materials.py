@@ -30,6 +30,7 @@ class Translation:
     def __init__(self):
         self.roles = {}
         self.media = {}
+        self.spectral = "hero"
 
 
 def texture_of(socket, owner, reports):
@@ -48,11 +49,21 @@ def texture_of(socket, owner, reports):
     return {"texture": os.path.abspath(path)}
 
 
-def colour_or_texture(socket, owner, reports):
+def reflectance(rgb, spectral):
+    """An RGB reflectance: lifted to a smooth spectrum (its colour under D65 is the RGB), except in
+    `rgb3`, which reads reflectances at its three lines (docs/rendering.md): there the three values
+    themselves, so that rgb3 multiplies colours as Cycles' RGB does."""
+    rgb = clamp01(rgb)
+    if spectral == "rgb3":
+        return {"wavelength_nm": RGB3_NM, "value": [rgb[2], rgb[1], rgb[0]]}
+    return {"rgb": rgb}
+
+
+def colour_or_texture(socket, owner, reports, spectral):
     tex = texture_of(socket, owner, reports)
     if tex is not None:
         return tex
-    return {"rgb": clamp01(nodes.constant(socket, owner, reports, "colour"))}
+    return reflectance(nodes.constant(socket, owner, reports, "colour"), spectral)
 
 
 def surface_closure(node, owner, reports):
@@ -152,11 +163,12 @@ def interface(t, name, medium, roughness, settings):
         t.roles["priority"] = settings.priority
 
 
-def translate(material, reports, per_m, pbr_supported):
+def translate(material, reports, per_m, pbr_supported, spectral="hero"):
     """The roles of a Blender material (None: Cycles' default grey) and the media they name."""
     t = Translation()
+    t.spectral = spectral
     if material is None:
-        t.roles["material"] = {"type": "diffuse", "reflectance": {"rgb": [DEFAULT_GREY] * 3}}
+        t.roles["material"] = {"type": "diffuse", "reflectance": reflectance([DEFAULT_GREY] * 3, spectral)}
         return t
     owner = f"Material '{material.name}'"
     settings = getattr(material, "bouguer", None)
@@ -165,12 +177,12 @@ def translate(material, reports, per_m, pbr_supported):
         interface(t, medium_name, library_medium(settings), 0.0, settings)
         return t
     if not material.use_nodes:
-        t.roles["material"] = {"type": "diffuse", "reflectance": {"rgb": clamp01(material.diffuse_color)}}
+        t.roles["material"] = {"type": "diffuse", "reflectance": reflectance(material.diffuse_color, spectral)}
         return t
     out = nodes.active_output(material.node_tree, "OUTPUT_MATERIAL")
     if out is None:
         reports.warn(f"{owner}: no Material Output node; rendered grey")
-        t.roles["material"] = {"type": "diffuse", "reflectance": {"rgb": [DEFAULT_GREY] * 3}}
+        t.roles["material"] = {"type": "diffuse", "reflectance": reflectance([DEFAULT_GREY] * 3, spectral)}
         return t
     volume = volume_coefficients(nodes.linked_node(out.inputs["Volume"]), owner, reports, per_m)
     node = surface_closure(nodes.linked_node(out.inputs["Surface"]), owner, reports)
@@ -190,7 +202,7 @@ def surface(t, node, owner, reports, volume, medium_name, settings, pbr_supporte
     if kind == "BSDF_DIFFUSE":
         if nodes.constant(node.inputs["Roughness"], owner, reports) > 0.0:
             reports.warn(f"{owner}: the Diffuse BSDF's roughness (Oren-Nayar) is not translated (Lambertian)")
-        t.roles["material"] = {"type": "diffuse", "reflectance": colour_or_texture(node.inputs["Color"], owner, reports)}
+        t.roles["material"] = {"type": "diffuse", "reflectance": colour_or_texture(node.inputs["Color"], owner, reports, t.spectral)}
     elif kind == "EMISSION":
         c = nodes.constant(node.inputs["Color"], owner, reports, "colour")
         s = nodes.constant(node.inputs["Strength"], owner, reports)
@@ -206,7 +218,7 @@ def surface(t, node, owner, reports, volume, medium_name, settings, pbr_supporte
         colour = node.inputs.get("Color") or node.inputs.get("Base Color")
         rgb = clamp01(nodes.constant(colour, owner, reports, "colour")) if colour is not None else [DEFAULT_GREY] * 3
         reports.warn(f"{owner}: node '{node.name}' ({node.bl_label}) is not translated; rendered diffuse with its colour")
-        t.roles["material"] = {"type": "diffuse", "reflectance": {"rgb": rgb}}
+        t.roles["material"] = {"type": "diffuse", "reflectance": reflectance(rgb, t.spectral)}
     if volume is not None and "inside" not in t.roles:
         reports.warn(f"{owner}: a volume needs a transmitting surface (Glass, Principled with transmission, or "
                      "none); the volume is not rendered")
@@ -256,4 +268,4 @@ def principled(t, node, owner, reports, volume, medium_name, settings, pbr_suppo
         t.roles["emission"] = {"spectrum": {"rgb": [max(0.0, x) for x in emission]}, "scale": strength,
                                "two_sided": True}
     else:
-        t.roles["material"] = {"type": "diffuse", "reflectance": colour_or_texture(base, owner, reports)}
+        t.roles["material"] = {"type": "diffuse", "reflectance": colour_or_texture(base, owner, reports, t.spectral)}
