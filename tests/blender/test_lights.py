@@ -88,5 +88,40 @@ def test_world():
     compare("world", plane_under("WORLD"), samples=128)
 
 
-common.Checks().run([test_point, test_point_with_a_radius, test_point_in_centimetres, test_spot, test_sun,
+def environment_scene(rotation):
+    s = common.new_scene((32, 24))
+    w, h = 64, 32
+    u, v = np.meshgrid((np.arange(w) + 0.5) / w, (np.arange(h) + 0.5) / h)
+    rgba = np.stack([u, v, 0.5 + 0.4 * np.sin(2 * np.pi * u), np.ones_like(u)], axis=-1).astype(np.float32)
+    image = common.bpy.data.images.new("sky", w, h, float_buffer=True, alpha=False)
+    image.pixels.foreach_set(rgba.ravel())  # Blender's rows run bottom to top: v up
+    image.filepath_raw = str(common.OUT / "sky.exr")
+    image.file_format = "OPEN_EXR"
+    image.save()
+    tree = s.world.node_tree
+    env = tree.nodes.new("ShaderNodeTexEnvironment")
+    env.image = common.bpy.data.images.load(str(common.OUT / "sky.exr"))
+    env.interpolation = "Linear"
+    tree.links.new(env.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    tree.nodes["Background"].inputs["Strength"].default_value = 2.0
+    common.add_camera(s, (0, 0, 0), rotation, kind="PERSP", lens=20.0)
+    return s
+
+
+def test_environment_map_faces_where_cycles_has_it():
+    # The camera sees the sky itself in three directions. An image whose colour runs with u and v shows
+    # any turn, mirror or flip of the map as a difference of 0.1 or more; the tolerance, 0.01 mean, is
+    # above the two renderers' texel filtering (bilinear both) and far below that.
+    for rotation in [(math.radians(90), 0, math.radians(-90)), (math.radians(60), 0, math.radians(150)),
+                     (math.radians(120), 0, math.radians(20))]:
+        s = environment_scene(rotation)
+        cycles, _ = common.render(s, "CYCLES", "sky-cycles", 16)
+        ours, _ = common.render(s, "BOUGUER", "sky-bouguer", 16)
+        d = np.abs(cycles - ours).mean()
+        print(f"  sky towards {np.round(np.degrees(rotation), 0)}: Cycles mean {np.round(cycles.mean(axis=(0, 1)), 3)}, "
+              f"Bouguer {np.round(ours.mean(axis=(0, 1)), 3)}, mean difference {d:.4f}")
+        assert d < 0.01 * cycles.mean() / 0.5, "the environment map is turned against Cycles'"
+
+
+common.Checks().run([test_environment_map_faces_where_cycles_has_it, test_point, test_point_with_a_radius, test_point_in_centimetres, test_spot, test_sun,
                      test_area_square, test_area_rectangle, test_area_disk, test_area_ellipse, test_world])

@@ -77,6 +77,49 @@ def test_volume_absorption_in_centimetres():
     assert np.all(np.abs(ours / expected - 1) < 0.01), f"rgb3 {ours} against {expected}"
 
 
+def principled_volume(colour, absorption, density):
+    m = bpy.data.materials.new("smoke")
+    m.use_nodes = True
+    tree = m.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    v = tree.nodes.new("ShaderNodeVolumePrincipled")
+    v.inputs["Color"].default_value = (*colour, 1.0)
+    v.inputs["Absorption Color"].default_value = (*absorption, 1.0)
+    v.inputs["Density"].default_value = density
+    tree.links.new(v.outputs[0], tree.nodes["Material Output"].inputs["Volume"])
+    return m
+
+
+def test_principled_volume_absorption_is_cycles():
+    # A black colour scatters nothing, so the slab only absorbs: sigma_a = density (1 - sqrt(absorption
+    # colour)) per channel, as Cycles computes it. 1 % catches the square root left out (6-20 % here).
+    absorption, density, t = (0.6, 0.3, 0.1), 1.5, 0.5
+    s, slab = backlit_slab(lambda: principled_volume((0, 0, 0), absorption, density), t)
+    cycles = transmittance(s, slab, "CYCLES", "principled-volume", 16)
+    ours = transmittance(s, slab, "BOUGUER", "principled-volume", 4)
+    print(f"  Principled Volume: Cycles {np.round(cycles, 4)}, Bouguer {np.round(ours, 4)}")
+    assert np.all(np.abs(ours / cycles - 1) < 0.01), f"{ours} against Cycles' {cycles}"
+
+
+def test_principled_bsdf_takes_the_pbr_role():
+    # The pbr role is the coordinator's (one mapping with the glTF reader); until the module has it,
+    # the add-on renders Principled's base colour as diffuse and says so, and this test skips.
+    from bouguer_blender.export import export_scene, pbr_supported
+    if not pbr_supported(bouguer):
+        print("  SKIP: this bouguer module's loader refuses the key 'pbr' (not merged yet)")
+        return
+    s = common.new_scene()
+    m = common.material("painted", "ShaderNodeBsdfPrincipled", Metallic=0.25, Roughness=0.4, IOR=1.45,
+                        **{"Base Color": (0.6, 0.2, 0.1, 1)})
+    common.add_mesh("plane", m, size=4)
+    common.add_camera(s, (0, 0, 2), kind="ORTHO", ortho_scale=1.0)
+    role = export_scene(bpy.context.evaluated_depsgraph_get(), bouguer, s.bouguer).scene["objects"][0]["pbr"]
+    assert role["metallic"] == 0.25 and abs(role["roughness"] - 0.4) < 1e-6 and abs(role["ior"] - 1.45) < 1e-6
+    assert np.allclose(role["base_color"], (0.6, 0.2, 0.1))
+    rgb, _ = common.render(s, "BOUGUER", "pbr", 4)
+    assert np.isfinite(rgb).all()
+
+
 def clear_slab(kind):
     if kind == "principled":
         # Blender's default base colour, 0.8: Cycles tints each pass through the surface by it.
@@ -171,5 +214,6 @@ def test_diffuse_scene_within_delta_e_of_cycles():
 
 
 common.Checks().run([test_volume_absorption_slab_is_cycles_per_channel_in_rgb3, test_volume_absorption_in_centimetres,
+                     test_principled_volume_absorption_is_cycles, test_principled_bsdf_takes_the_pbr_role,
                      test_clear_slab_is_physics_for_principled_and_glass, test_library_glass_slab_is_its_closed_form,
                      test_diffuse_scene_within_delta_e_of_cycles])

@@ -8,8 +8,9 @@ from . import nodes
 
 # Blender's equirectangular image has its centre looking along Blender's +x, columns running towards
 # -y; Bouguer's along -z, columns towards +x (docs/scene-format.md). In Bouguer's axes Blender's +x is
-# +x and -y is +z: a turn of -90 degrees about +y.
-ENVIRONMENT_ROTATE_DEG = -90.0
+# +x and -y is +z: a quarter turn about +y, which is Bouguer's rotate_deg of +90 (checked against
+# Cycles in tests/blender/test_lights.py: -90, 0 and 180 differ by 0.26 or more, 90 by 0.005).
+ENVIRONMENT_ROTATE_DEG = 90.0
 
 
 def export(scene, reports):
