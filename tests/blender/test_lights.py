@@ -104,6 +104,7 @@ def environment_scene(rotation):
     env.interpolation = "Linear"
     tree.links.new(env.outputs["Color"], tree.nodes["Background"].inputs["Color"])
     tree.nodes["Background"].inputs["Strength"].default_value = 2.0
+    s.world.cycles.sampling_method = "NONE"  # only the camera sees the sky: no importance map to build
     common.add_camera(s, (0, 0, 0), rotation, kind="PERSP", lens=20.0)
     return s
 
