@@ -149,9 +149,7 @@ def library_medium(settings):
         m["ior"] = {"abbe": {"n_d": settings.ior, "V_d": settings.abbe}}
     elif settings.ior_source == "SELLMEIER":
         m["ior"] = {"library": settings.sellmeier if settings.sellmeier in SELLMEIER else "N-BK7"}
-    elif settings.source == "FILE":
-        m["ior"] = settings.ior  # a file without '# ior:' needs one; the file's own takes precedence in docs
-    return m
+    return m  # "Medium's Own": the library entry's index, or the file's '# ior:' (the builder asks for one)
 
 
 def interface(t, name, medium, roughness, settings):
