@@ -27,6 +27,26 @@ def silhouette_scene(resolution, kind, **camera):
     return s
 
 
+def with_instances(scene):
+    """An Array modifier on the cube and a collection instanced twice: modifiers applied and instances
+    at their own matrices (the silhouettes move if either is lost)."""
+    import bpy
+    cube = scene.objects["Cube"]
+    array = cube.modifiers.new("array", "ARRAY")
+    array.count, array.relative_offset_displace = 2, (0.0, 1.6, 0.0)
+    collection = bpy.data.collections.new("pair")
+    sphere = scene.objects["Sphere"]
+    scene.collection.objects.unlink(sphere)
+    collection.objects.link(sphere)
+    for i, location in enumerate([(0.0, 0.0, 0.0), (1.2, -1.5, 0.2)]):
+        inst = bpy.data.objects.new(f"instance {i}", None)
+        inst.instance_type, inst.instance_collection = "COLLECTION", collection
+        inst.location = location
+        inst.scale = (1.0, 1.0, 1.0 + 0.5 * i)
+        scene.collection.objects.link(inst)
+    return scene
+
+
 def compare(name, scene):
     cycles, _ = common.render(scene, "CYCLES", f"{name}-cycles", 256)
     ours, _ = common.render(scene, "BOUGUER", f"{name}-bouguer", 256)
@@ -62,5 +82,9 @@ def test_orthographic_with_shift():
     compare("ortho", silhouette_scene((48, 32), "ORTHO", ortho_scale=3.5, shift_x=0.12, shift_y=0.05))
 
 
+def test_modifiers_and_instances():
+    compare("instances", with_instances(silhouette_scene((48, 32), "ORTHO", ortho_scale=5.0)))
+
+
 common.Checks().run([test_perspective_landscape_auto, test_perspective_portrait_auto, test_perspective_vertical_fit,
-                     test_perspective_horizontal_fit_portrait, test_orthographic_with_shift])
+                     test_perspective_horizontal_fit_portrait, test_orthographic_with_shift, test_modifiers_and_instances])

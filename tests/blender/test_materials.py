@@ -193,6 +193,36 @@ def diffuse_scene():
     return s
 
 
+def test_image_texture_on_uvs_is_cycles():
+    # A diffuse plane with an Image Texture (an 8-bit sRGB PNG whose colour runs with u and v) under a
+    # white world, seen from above: any flip of u or v, or a missing sRGB decoding, moves pixels by 0.1
+    # or more; both renderers filter bilinearly, so 0.01 on average is their agreement.
+    s = common.new_scene((24, 24))
+    w, h = 16, 16
+    u, v = np.meshgrid((np.arange(w) + 0.5) / w, (np.arange(h) + 0.5) / h)
+    rgba = np.stack([u, v, 0.3 + 0.5 * u * v, np.ones_like(u)], axis=-1).astype(np.float32)
+    image = bpy.data.images.new("label", w, h)
+    image.pixels.foreach_set(rgba.ravel())
+    image.filepath_raw = str(common.OUT / "label.png")
+    image.file_format = "PNG"
+    image.save()
+    m = common.diffuse("label")
+    tex = m.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.image = bpy.data.images.load(str(common.OUT / "label.png"))
+    m.node_tree.links.new(tex.outputs["Color"], m.node_tree.nodes["Diffuse BSDF"].inputs["Color"])
+    common.add_mesh("plane", m, size=2, rotation=(0, 0, 0.3))
+    bg = s.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value, bg.inputs["Strength"].default_value = (1, 1, 1, 1), 1.0
+    common.add_camera(s, (0, 0, 1), kind="ORTHO", ortho_scale=1.6)
+    s.bouguer.spectral = "hero"  # textures are lifted per texel, not read at three lines
+    cycles, _ = common.render(s, "CYCLES", "label-cycles", 64)
+    ours, _ = common.render(s, "BOUGUER", "label-bouguer", 64)
+    d = np.abs(cycles - ours).mean()
+    print(f"  image texture: Cycles mean {np.round(cycles.mean(axis=(0, 1)), 4)}, Bouguer "
+          f"{np.round(ours.mean(axis=(0, 1)), 4)}, mean difference {d:.4f}")
+    assert d < 0.01
+
+
 def test_diffuse_scene_within_delta_e_of_cycles():
     # Mean CIEDE2000 below 1 + the two renderers' seed-to-seed floors (the issue's criterion): the
     # floors are each renderer's own noise, so what is left is their difference. It catches any light's
@@ -216,4 +246,5 @@ def test_diffuse_scene_within_delta_e_of_cycles():
 common.Checks().run([test_volume_absorption_slab_is_cycles_per_channel_in_rgb3, test_volume_absorption_in_centimetres,
                      test_principled_volume_absorption_is_cycles, test_principled_bsdf_takes_the_pbr_role,
                      test_clear_slab_is_physics_for_principled_and_glass, test_library_glass_slab_is_its_closed_form,
+                     test_image_texture_on_uvs_is_cycles,
                      test_diffuse_scene_within_delta_e_of_cycles])

@@ -258,6 +258,9 @@ def principled(t, node, owner, reports, volume, medium_name, settings, pbr_suppo
             p["emission"] = [max(0.0, x) for x in emission]
             p["emission_strength"] = strength
         t.roles["pbr"] = p
+        if p["transmission"] > 0.0:  # what it transmits into: a medium of its index (and its volume)
+            t.media[medium_name] = medium_of(ior, volume)
+            t.roles["inside"] = medium_name
         return
     # The pbr role is not in this module yet: the glTF reader's untextured rules, said once.
     reports.warn(f"{owner}: this bouguer module has no 'pbr' role; the Principled BSDF is rendered as "
