@@ -46,13 +46,23 @@ class BouguerRenderSettings(bpy.types.PropertyGroup):
                                description="Also write seconds, rays, rays per second and samples as JSON")
 
 
+def library_names(self, context, edit_text):
+    """The library's names for the Medium field's search (bouguer.material_names())."""
+    from . import module
+    try:
+        names = module.load().material_names()
+    except ImportError:
+        return []
+    return [n for n in names if edit_text.lower() in n.lower()]
+
+
 class BouguerMaterialSettings(bpy.types.PropertyGroup):
     source: EnumProperty(
         name="Source", default="BLENDER",
         items=[("BLENDER", "Blender Material", "Translate the material's nodes (docs/blender.md)"),
                ("LIBRARY", "Library Medium", "A measured medium of Bouguer's library inside the object"),
                ("FILE", "Material File", "A material CSV inside the object (docs/materials.md)")])
-    library: StringProperty(name="Medium", default="red-glass",
+    library: StringProperty(name="Medium", default="red-glass", search=library_names,
                             description="A name of the library (bouguer material list)")
     concentration: FloatProperty(name="Concentration", default=1.0, min=0.0, max=1e6,
                                  description="mol/L for a molar solute, otherwise a factor on the absorption")

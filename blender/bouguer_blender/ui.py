@@ -48,8 +48,7 @@ class BOUGUER_PT_material(BouguerPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.prop(m, "source")
         if m.source == "LIBRARY":
-            layout.prop(m, "library")
-            layout.label(text="Names: bouguer material list (docs/materials.md)")
+            layout.prop(m, "library")  # searches bouguer.material_names()
         elif m.source == "FILE":
             layout.prop(m, "file")
         if m.source != "BLENDER":
