@@ -51,7 +51,7 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
         exported = export_scene(depsgraph, bouguer, settings)
         self.report_all(exported.reports.warnings)
         width, height = exported.scene["camera"]["resolution"]
-        base = bpy.path.abspath("//") or os.getcwd()
+        base = os.path.dirname(bpy.data.filepath) or os.getcwd()  # an unsaved file has no folder
         try:
             loaded = bouguer.load_dict(exported.scene, base=base, meshes=exported.meshes)
         except bouguer.Error as e:
