@@ -1,6 +1,7 @@
 """The engine as a user meets it: Esc keeps the image so far, an untranslatable node is reported once
 and rendered with its nearest constant, and a saved .blend renders headless with
-`blender -b scene.blend --addons bouguer_blender -E BOUGUER -o //out_ -f 1` from an installed add-on."""
+`blender -b scene.blend --addons bouguer_blender -E BOUGUER -o //out_ -f 1` from an installed add-on,
+and make blender-addon's zip installs with Blender's own installer."""
 import os
 import subprocess
 import sys
@@ -87,5 +88,35 @@ def test_a_saved_file_renders_headless_from_an_installed_add_on():
     assert abs(px.reshape(-1, 4)[:, :3].mean() - 0.8) < 0.05
 
 
-common.Checks().run([test_esc_keeps_the_image_so_far, test_an_untranslatable_node_is_reported_once_and_rendered,
+INSTALL = """
+import bpy, os, sys
+zip_path, build, out = sys.argv[sys.argv.index("--") + 1:]
+bpy.ops.preferences.addon_install(filepath=zip_path)
+bpy.ops.preferences.addon_enable(module="bouguer_blender")
+bpy.context.preferences.addons["bouguer_blender"].preferences.module_path = build
+s = bpy.context.scene  # Blender's default scene: a cube under a point light
+s.render.engine, s.render.resolution_percentage, s.bouguer.spp = "BOUGUER", 5, 2
+s.render.filepath = out
+bpy.ops.render.render(write_still=True)
+"""
+
+
+def test_the_zip_installs_with_blenders_installer_and_renders():
+    # make blender-addon's zip, installed as a user installs it (Preferences > Add-ons > Install), the
+    # module folder set in its preferences; Blender's default scene then renders with Bouguer.
+    folder = common.OUT / "install"
+    folder.mkdir()
+    subprocess.run([sys.executable, str(common.SOURCE / "scripts" / "make-blender-addon.py"),
+                    str(common.SOURCE / "blender" / "bouguer_blender"), str(folder / "bouguer_blender.zip")], check=True)
+    (folder / "install.py").write_text(INSTALL)
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(folder / "scripts"), BLENDER_USER_CONFIG=str(folder / "config"))
+    env.pop("BOUGUER_BUILD", None)
+    run = subprocess.run([bpy.app.binary_path, "-b", "--python-exit-code", "1", "--python", str(folder / "install.py"),
+                          "--", str(folder / "bouguer_blender.zip"), str(common.BUILD), str(folder / "out.png")],
+                         env=env, capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0 and (folder / "out.png").exists(), run.stdout[-2000:] + run.stderr[-2000:]
+    assert (folder / "scripts" / "addons" / "bouguer_blender" / "engine.py").exists()
+
+
+common.Checks().run([test_the_zip_installs_with_blenders_installer_and_renders, test_esc_keeps_the_image_so_far, test_an_untranslatable_node_is_reported_once_and_rendered,
                      test_a_saved_file_renders_headless_from_an_installed_add_on])
