@@ -118,5 +118,19 @@ def test_the_zip_installs_with_blenders_installer_and_renders():
     assert (folder / "scripts" / "addons" / "bouguer_blender" / "engine.py").exists()
 
 
-common.Checks().run([test_the_zip_installs_with_blenders_installer_and_renders, test_esc_keeps_the_image_so_far, test_an_untranslatable_node_is_reported_once_and_rendered,
+def test_the_spectral_exr_and_the_statistics_are_written():
+    import json
+    s = lit_scene()
+    s.bouguer.spectral, s.bouguer.spp = "full", 2
+    s.bouguer.spectral_exr = str(common.OUT / "spectra.exr")
+    s.bouguer.stats_json = str(common.OUT / "stats.json")
+    common.render(s, "BOUGUER", "outputs", 2)
+    stats = json.loads((common.OUT / "stats.json").read_text())
+    print(f"  stats: {stats}")
+    assert stats["spp"] == 2 and stats["rays"] > 0 and stats["resolution"] == [32, 24] and not stats["stopped"]
+    header = (common.OUT / "spectra.exr").read_bytes()[:8192]
+    assert header.count(b"nm\0") == 96, "the spectral EXR has not the full mode's 96 bins"
+
+
+common.Checks().run([test_the_spectral_exr_and_the_statistics_are_written, test_the_zip_installs_with_blenders_installer_and_renders, test_esc_keeps_the_image_so_far, test_an_untranslatable_node_is_reported_once_and_rendered,
                      test_a_saved_file_renders_headless_from_an_installed_add_on])
