@@ -31,6 +31,7 @@
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/update.h"
+#include "bouguer/spectra/rgb_to_spectrum.h"
 #include "python/module.h"
 
 namespace py = pybind11;
@@ -463,6 +464,24 @@ PYBIND11_MODULE(bouguer, m) {
       });
 
   register_tools(m);
+  m.def(
+      "reflectance_spectrum",
+      [](const std::array<double, 3>& rgb, const py::array_t<double, py::array::c_style | py::array::forcecast>& nm) {
+        // The lift every {"rgb": ...} reflectance gets (Jakob & Hanika 2019): front ends that build
+        // spectra from colours themselves (Blender's volumes) lift them the same way.
+        const bouguer::SigmoidPolynomial lift = bouguer::rgb_to_reflectance({rgb[0], rgb[1], rgb[2]});
+        py::array_t<double> out(nm.request().shape);
+        const double* in = nm.data();
+        double* o = out.mutable_data();
+        for (py::ssize_t i = 0; i < nm.size(); ++i) {
+          if (!(std::isfinite(in[i]) && in[i] > 0.0)) bouguer::fail("reflectance_spectrum: wavelengths must be positive nm");
+          o[i] = lift(in[i]);
+        }
+        return out;
+      },
+      py::arg("rgb"), py::arg("wavelength_nm"),
+      "The smooth reflectance spectrum of a linear Rec.709 colour (components clamped to [0, 1]) at wavelengths "
+      "in nm: the lift of every {\"rgb\": ...} reflectance (docs/scene-format.md)");
   m.def("load", &load, py::arg("path"), "Load and compile a scene file (JSON, docs/scene-format.md)");
   m.def("load_dict", &load_dict, py::arg("scene"), py::arg("base") = py::none(), py::arg("meshes") = py::none(),
         "Load and compile a scene from a dict with the JSON schema; relative paths against `base` (default: the "

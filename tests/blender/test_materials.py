@@ -55,7 +55,7 @@ def test_volume_absorption_slab_is_cycles_per_channel_in_rgb3():
     # glTF reading of the colour (sigma_a = -density ln(colour): 0.223 against 0.2 for colour 0.8, 10 %)
     # and a channel order reversed (factors of 2 and more here).
     colour, density = (0.8, 0.5, 0.2), 2.0
-    for t in (0.3, 0.9):
+    for t in (0.3, 0.9, 1.8):  # the lift's reference length is 1/1.6 units; 1.8 fits below the camera
         expected = np.exp(-density * (1 - np.array(colour)) * t)
         s, slab = backlit_slab(lambda: volume_absorption(colour, density), t)
         cycles = transmittance(s, slab, "CYCLES", f"absorb-{t}", 16)

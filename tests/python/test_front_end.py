@@ -216,3 +216,25 @@ def test_the_spectral_exr_is_the_command_lines(tmp_path, small_scene):
     subprocess.run([BINARY, "render", str(path), "-o", str(tmp_path / "cli.pfm"), "--spp", "2", "--quiet",
                     "--spectral", "full", "--spectral-exr", str(tmp_path / "cli.exr")], check=True)
     assert (tmp_path / "module.exr").read_bytes() == (tmp_path / "cli.exr").read_bytes()
+
+
+def test_reflectance_spectrum_is_the_lift_of_rgb_reflectances():
+    # rgb3 reads a reflectance at its three lines: a quad of {"rgb": c} under a uniform sky, over the
+    # same quad of reflectance 1, is the lift at 700.0, 546.1 and 435.8 nm (no noise: the sky is uniform).
+    def quad(reflectance):
+        return bouguer.load_dict({
+            "camera": {"type": "orthographic", "position": [0, 0, 1], "look_at": [0, 0, 0], "width": 0.5,
+                       "resolution": [4, 4]},
+            "render": {"integrator": "path", "spectral": "rgb3", "spp": 4, "max_depth": 1},
+            "objects": [{"shape": {"type": "quad", "size": [1, 1]},
+                         "material": {"type": "diffuse", "reflectance": reflectance}}],
+            "background": {"spectrum": "D65", "scale": 1}})
+
+    c = [0.8, 0.5, 0.2]
+    ratio = bouguer.render(quad({"rgb": c})).mean(axis=(0, 1)) / bouguer.render(quad(1.0)).mean(axis=(0, 1))
+    lift = bouguer.reflectance_spectrum(c, [700.0, 546.1, 435.8])
+    np.testing.assert_allclose(ratio, lift, rtol=1e-5)
+    assert abs(lift[0] - 0.8) > 0.02  # the lift is not the RGB at the lines: Blender's add-on needs both
+    assert bouguer.reflectance_spectrum(c, np.array([[500.0, 600.0]])).shape == (1, 2)
+    with pytest.raises(bouguer.Error, match="wavelengths must be positive"):
+        bouguer.reflectance_spectrum(c, [-1.0])
