@@ -25,7 +25,7 @@ if "bpy" in locals():  # a reload from Blender's add-on list
 else:
     from . import properties, engine, ui
 
-import bpy
+import bpy  # noqa: F401  (its presence in locals() marks a reload, above)
 
 
 def register():

@@ -1,7 +1,6 @@
 """The evaluated depsgraph as a Bouguer scene description: the dict bouguer.load_dict reads (the JSON
 schema of docs/scene-format.md) and the meshes it names, so every value goes through the builder's
 checks as every front end's does. Plain functions of the depsgraph: no UI, no render engine."""
-import numpy as np
 
 from . import axes, camera, lights, materials, meshes, world
 from .report import Reports
