@@ -238,3 +238,27 @@ def test_reflectance_spectrum_is_the_lift_of_rgb_reflectances():
     assert bouguer.reflectance_spectrum(c, np.array([[500.0, 600.0]])).shape == (1, 2)
     with pytest.raises(bouguer.Error, match="wavelengths must be positive"):
         bouguer.reflectance_spectrum(c, [-1.0])
+
+
+def test_light_paths_land_where_a_shifted_camera_looks():
+    # Light tracing reaches the film through Camera::film_position, the inverse of generate_ray: with a
+    # shift, a light-traced lit quad must land on the pixels the path tracer sees it on.
+    def scene(camera_type):
+        cam = {"type": camera_type, "position": [0, 0, 1], "look_at": [0, 0, 0], "resolution": [24, 16],
+               "shift": [0.3, -0.2]}
+        cam.update({"fov_deg": 40} if camera_type == "pinhole" else {"width": 0.6})
+        return bouguer.load_dict({
+            "camera": cam, "render": {"spectral": "rgb3", "seed": 4},
+            "objects": [{"shape": {"type": "quad", "size": [0.25, 0.2]}, "material": {"type": "diffuse"},
+                         "transform": [{"translate": [0.1, 0.05, 0]}]}],
+            "lights": [{"type": "point", "position": [0, 0, 0.5], "spectrum": "D65", "scale": 0.1}]})
+
+    for camera_type in ("pinhole", "orthographic"):
+        s = scene(camera_type)
+        path = bouguer.render(s, integrator="path", spp=16)[..., 1]
+        light = bouguer.render(s, integrator="light", spp=64)[..., 1]
+        lit = path > 0.5 * path.max()
+        assert 10 < lit.sum() < lit.size - 10
+        # Where the path tracer sees the quad, light tracing puts its light; nowhere else.
+        assert light[lit].mean() > 0.8 * path[lit].mean()
+        assert light[~(path > 0)].max() == 0.0 if (~(path > 0)).any() else True
