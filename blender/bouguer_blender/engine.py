@@ -2,6 +2,7 @@
 the bouguer module renders it in-process, pass by pass, into Blender's render result."""
 import json
 import os
+import traceback
 
 import bpy
 import numpy as np
@@ -48,7 +49,13 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
             return
         scene = depsgraph.scene
         settings = scene.bouguer
-        exported = export_scene(depsgraph, bouguer, settings)
+        try:
+            exported = export_scene(depsgraph, bouguer, settings)
+        except Exception as e:  # a Blender datablock the translation did not foresee: say so, no traceback dialog
+            traceback.print_exc()
+            last_reports[:] = [f"Bouguer: the scene could not be translated ({type(e).__name__}: {e}); please report it"]
+            self.report({"ERROR"}, last_reports[0])
+            return
         self.report_all(exported.reports.warnings)
         width, height = exported.scene["camera"]["resolution"]
         base = os.path.dirname(bpy.data.filepath) or os.getcwd()  # an unsaved file has no folder
