@@ -41,6 +41,8 @@ namespace bouguer::python {
 namespace {
 
 std::shared_ptr<Scene> scene_from(SceneDesc desc) {
+  for (const std::string& w : desc.warnings)  // each a UserWarning (raised where the warning filters say "error")
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) < 0) throw py::error_already_set();
   auto scene = std::make_shared<Scene>();
   scene->desc = std::move(desc);
   {

@@ -18,6 +18,7 @@
 #include "bouguer/io/output_set.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
+#include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
 #include "commands.h"
 
@@ -238,7 +239,10 @@ Resolution parse_resolution(const std::string& text) {
 
 SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
   SceneBuilder b(scene);
-  load_scene(scene, b);
+  if (!o.studio.empty() && !is_gltf_file(scene))
+    fail_usage("--studio: only for a glTF asset rendered as it is (a scene file gives its own 'background')");
+  if (!o.studio.empty()) load_gltf_scene(scene, b, o.studio == "on");
+  else load_scene(scene, b);
   if (!o.integrator.empty()) b.integrator(o.integrator, Source::option("--integrator"));
   if (!o.spectral.empty()) b.spectral_mode(o.spectral, Source::option("--spectral"));
   if (o.spp) b.spp(*o.spp, Source::option("--spp"));
@@ -248,7 +252,9 @@ SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
     const Resolution r = parse_resolution(o.resolution);
     b.resolution(r.width, r.height, Source::option("--resolution"));
   }
-  return std::move(b).build();
+  SceneDesc desc = std::move(b).build();
+  for (const std::string& w : desc.warnings) fmt::print(stderr, "bouguer: warning: {}\n", w);
+  return desc;
 }
 
 Command add_render_command(CLI::App& parent) {
@@ -274,6 +280,10 @@ Command add_render_command(CLI::App& parent) {
   app->add_option("--threads", o->threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   app->add_option("--seed", over.seed, "Random seed, 0 to 2147483647 (overrides the scene)");
   app->add_option("--max-depth", over.max_depth, "Maximum ray depth, 1 to 1000 (overrides the scene)");
+  app->add_option("--studio", over.studio,
+                  "A glTF asset's default studio, a uniform white background: on or off (default: on where the "
+                  "asset has neither lights nor emitting materials)")
+      ->check(CLI::IsMember({"on", "off"}));
   app->add_option("--time", o->time_s,
                   "Render whole passes for at most SECONDS, then write the image (with --spp: whichever ends first; "
                   "the image then depends on the machine)")

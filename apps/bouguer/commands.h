@@ -37,6 +37,7 @@ Resolution parse_resolution(const std::string& text);
 // scene file, so each passes the one check the file's value passes, its message naming the option.
 struct SceneOverrides {
   std::string integrator, spectral, resolution;
+  std::string studio;  // --studio on|off: a glTF asset's default studio (docs/assets.md)
   std::optional<std::int64_t> spp, max_depth, seed;
 };
 bouguer::SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& overrides);

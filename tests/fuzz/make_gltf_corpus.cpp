@@ -1,6 +1,6 @@
 // Writes the seed files of tests/fuzz/corpus/gltf/: a few tiny valid assets (.glb, and .gltf with
-// its buffer as a base64 data URI; a textured quad with a sampler and tangents), then truncated and
-// corrupted copies. Built beside the
+// its buffer as a base64 data URI; a textured quad with a sampler and tangents; thin-walled glass
+// with values clamped into the model; a sparse accessor and a strip), then truncated and corrupted copies. Built beside the
 // harnesses (tests/fuzz/CMakeLists.txt):
 //   build-fuzz/tests/fuzz/make_gltf_corpus tests/fuzz/corpus/gltf
 #include <cstdio>
@@ -79,6 +79,24 @@ GltfDoc sampled_quad() {
   g.node({{"mesh", mesh}, {"scale", {-1, 1, 1}}});
   return g;
 }
+// Thin-walled glass (no KHR_materials_volume: a thin dielectric sheet), an emitter, and values
+// outside what Bouguer models that load clamped with a warning (ior 0, a base colour above 1, a
+// negative strength), with the default scene's studio key.
+GltfDoc thin_and_clamped() {
+  GltfDoc g;
+  const int sheet = g.material({{"name", "Pane"},
+                                {"pbrMetallicRoughness", {{"baseColorFactor", {1.2, 0.9, 0.8, 1}}, {"roughnessFactor", 0.4}}},
+                                {"extensions",
+                                 {{"KHR_materials_transmission", {{"transmissionFactor", 0.7}}},
+                                  {"KHR_materials_ior", {{"ior", 0.0}}}}}});
+  const int glow = g.material({{"name", "Glow"}, {"emissiveFactor", {1, 0.5, 0.2}},
+                               {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", -3.0}}}}}});
+  g.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength"};
+  g.node({{"mesh", g.mesh(bouguer::test::cube_positions(), bouguer::test::cube_indices(), sheet)}});
+  g.node({{"mesh", g.mesh(bouguer::test::cube_positions(), bouguer::test::cube_indices(), glow)}, {"translation", {0, 2, 0}}});
+  g.doc["scenes"][0]["extras"] = {{"bouguer_studio", true}};
+  return g;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,5 +136,16 @@ int main(int argc, char** argv) {
   const float zero = 0.0f;
   bad_tangent.bin.replace(at + 12, 4, reinterpret_cast<const char*>(&zero), 4);  // the first tangent's w
   bad_tangent.write(dir / "bad_tangent.glb");
+  thin_and_clamped().write(dir / "thin_and_clamped.glb");
+  // A sparse POSITION accessor: vertex 0 moved by substitution, and a triangle strip.
+  GltfDoc sparse = glass_cube();
+  const std::uint16_t index = 0;
+  const float moved[3] = {-0.6f, -0.6f, -0.6f};
+  const int iv = sparse.view(&index, 2), vv = sparse.view(moved, 12);
+  sparse.doc["accessors"][0]["sparse"] = {{"count", 1}, {"indices", {{"bufferView", iv}, {"componentType", 5123}}},
+                                          {"values", {{"bufferView", vv}}}};
+  sparse.doc["accessors"][0]["min"] = {-0.6, -0.6, -0.6};
+  sparse.doc["meshes"][1]["primitives"][0]["mode"] = 5;
+  sparse.write(dir / "sparse_strip.glb");
   return 0;
 }

@@ -1,6 +1,9 @@
 """bouguer.load / load_dict / render against the command line."""
+import base64
 import json
+import struct
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -140,3 +143,35 @@ def test_many_samples_in_passes_are_the_cli_image(tmp_path, small_scene):
     expected = cli_render(path, tmp_path / "cli.pfm", "--spp", "300", "--resolution", "6x4", "--integrator", "light")
     image = bouguer.render(bouguer.load(path), spp=300, resolution=(6, 4), integrator="light", threads=2)
     np.testing.assert_array_equal(image, expected)
+
+
+def hot_triangle_gltf(tmp_path):
+    """One triangle whose material's base colour is above 1 (a .gltf with its buffer inside)."""
+    positions = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+           "materials": [{"name": "Hot", "pbrMetallicRoughness": {"baseColorFactor": [1.5, 0.5, 0.5, 1],
+                                                                  "metallicFactor": 0}}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]}],
+           "bufferViews": [{"buffer": 0, "byteLength": 36}],
+           "buffers": [{"byteLength": 36,
+                        "uri": "data:application/octet-stream;base64," + base64.b64encode(positions).decode()}]}
+    path = tmp_path / "hot.gltf"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def test_clamped_gltf_values_are_user_warnings(tmp_path, small_scene):
+    path = hot_triangle_gltf(tmp_path)
+    expected = r"hot.gltf: materials\[0\]: material 'Hot': baseColorFactor\[0\] 1.5 as 1"
+    with pytest.warns(UserWarning, match=expected) as record:
+        bouguer.load(path)
+    assert len(record) == 1
+    small_scene["objects"].append({"gltf": str(path), "name": "hot"})
+    with pytest.warns(UserWarning, match=expected):
+        bouguer.load_dict(small_scene)
+    with warnings.catch_warnings():  # where the filters make warnings errors, loading raises
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning):
+            bouguer.load(path)

@@ -286,8 +286,8 @@ TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
 // For every full path that a connection of one camera sample makes, the weights of all the
 // strategies that could have made it sum to 1, and the weight the renderer gave it equals the
 // one recomputed from the geometry (the walk's density records are right). A scene with every
-// kind of vertex: diffuse and rough dielectric surfaces, smooth glass, a scattering medium behind
-// an index-matched boundary, an area lamp, a point light and a spot.
+// kind of vertex: diffuse and rough dielectric surfaces, smooth glass, a thin dielectric pane, a
+// scattering medium behind an index-matched boundary, an area lamp, a point light and a spot.
 void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const RenderSettings&, int, int, int),
                                const char* what) {
   const std::string json = R"({
@@ -307,7 +307,10 @@ void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const R
       {"name": "haze", "shape": {"type": "box", "size": [0.1, 0.1, 0.1]}, "transform": [{"translate": [0.05, 0.05, -0.1]}],
        "inside": "haze"},
       {"name": "lamp", "shape": {"type": "quad", "size": [0.1, 0.1]},
-       "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.4, 0]}], "emission": {"spectrum": "D65", "scale": 5}}
+       "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.4, 0]}], "emission": {"spectrum": "D65", "scale": 5}},
+      {"name": "pane", "shape": {"type": "quad", "size": [0.12, 0.12]},
+       "transform": [{"rotate_deg": [-80, [1, 0, 0]]}, {"translate": [-0.03, 0.2, 0.02]}],
+       "material": {"type": "thin_dielectric", "ior": 1.5, "tint": 0.8}}
     ],
     "lights": [{"type": "point", "position": [0.2, 0.2, 0.1], "spectrum": "A", "scale": 0.01},
                {"type": "spot", "position": [-0.2, 0.3, 0], "look_at": [0, 0, 0], "spectrum": "D65", "scale": 0.02}],

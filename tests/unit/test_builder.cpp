@@ -132,6 +132,102 @@ TEST(SceneBuilder, ResolvesFrontEndValuesWithoutJson) {
                "materials[3].reflectance.rgb[1]: a reflectance must lie between 0 and 1");
 }
 
+// The checks that lived in the JSON loader or in compile are the builder's (#35): a front end that
+// hands the builder plain values (glTF, Python, Blender) meets each of them, with the same message
+// a scene file gets. Each case is a value the loader used to refuse before the builder saw it.
+TEST(SceneBuilder, RefusesWhatTheLoaderAndCompileUsedToRefuse) {
+  const Source at{"from-blender", "media.dye"};
+  auto medium_with = [&](ConcentrationField field) {
+    MediumDesc m;
+    m.name = "dye";
+    m.ior = ConstantIor{1.33};
+    m.absorbing = true;
+    m.field_absorbers.push_back({ConstantSpectrum{10.0}, std::move(field)});
+    lit_builder().medium(m, at);
+  };
+  expect_error([&] { medium_with(LinearField{{}, -1.0, 2.0}); },
+               "from-blender: media.dye.absorption.concentration.value: a concentration must not be negative (got -1)");
+  expect_error([&] { medium_with(LayersField{{}, {0.01, 0.005}, {1, 2}}); },
+               "media.dye.absorption.concentration.layers[1][0]: layer bounds must increase (0.005 m follows 0.01 m)");
+  expect_error([&] { medium_with(LayersField{{}, {0.01}, {-1}}); },
+               "media.dye.absorption.concentration.layers[0][1]: a concentration must not be negative");
+  expect_error([&] { medium_with(LayersField{{}, {}, {}}); }, "concentration.layers: needs 1 to 256 layers (got 0)");
+  expect_error([&] { medium_with(DiffusionField{{}, 1.0, 1e-12}); },
+               "media.dye.absorption.concentration.width: the diffusion width 1e-12 m is outside");
+  expect_error([&] { medium_with(ExponentialField{{}, 1.0, -0.002}); },
+               "concentration.scale_length: must be a positive length");
+  expect_error([&] { medium_with(LinearField{{{0, 0, 0}, {0, 0, 0}}, 1.0, 2.0}); },
+               "concentration.axis: must be a direction of finite, non-zero length");
+  expect_error([&] { medium_with(ConstantField{-0.5}); }, "media.dye.absorption.concentration: must not be negative (got -0.5)");
+  expect_error([&] { medium_with(GridField{nullptr, Mat3::identity(), {}, -1.0}); },
+               "media.dye.absorption.concentration.scale: must not be negative (got -1)");
+  // Eight absorbers and the scatterers' own: nine in the compiled medium.
+  expect_error(
+      [&] {
+        MediumDesc m;
+        m.name = "milky";
+        m.ior = ConstantIor{1.33};
+        m.absorbing = true;
+        for (int i = 0; i < 8; ++i) m.field_absorbers.push_back({ConstantSpectrum{1.0}, ConstantField{1.0}});
+        m.scattering = ScatteringDesc{ConstantSpectrum{10.0}, IsotropicPhase{}, std::nullopt, ConstantSpectrum{1.0}, true};
+        lit_builder().medium(m, Source{"from-blender", "media.milky"});
+      },
+      "media.milky.absorption: at most 8 absorbers in a medium, its scatterers' own included");
+  // A scattering world medium: refused by build(), before compile.
+  expect_error(
+      [&] {
+        SceneBuilder b = lit_builder();
+        MediumDesc fog;
+        fog.name = "fog";
+        fog.ior = ConstantIor{1.0};
+        fog.scattering = ScatteringDesc{ConstantSpectrum{1.0}, IsotropicPhase{}, std::nullopt, std::nullopt, true};
+        b.medium(fog, b.at("media.fog"));
+        b.world_medium("fog", b.at("world_medium"));
+        (void)std::move(b).build();
+      },
+      "built-in-code: world_medium: 'fog' scatters; the world medium cannot");
+  // Objects: a transform that collapses the shape (a zero scale, as a Blender object scaled to 0),
+  // a non-finite one, a priority beyond the range (a 64-bit value, not wrapped into an int).
+  auto object_with = [&](Transform t, std::optional<std::int64_t> priority) {
+    ObjectDesc o;
+    o.shape = tetrahedron(0.01);
+    o.inside = "glass";
+    o.transform = t;
+    o.priority = priority;
+    lit_builder().object(o, Source{"from-blender", "objects[3]"});
+  };
+  expect_error([&] { object_with(Transform::scale({1, 0, 1}), std::nullopt); },
+               "from-blender: objects[3].transform: the transform is singular (it collapses the shape)");
+  expect_error([&] { object_with(Transform::translate({0, std::nan(""), 0}), std::nullopt); },
+               "objects[3].transform: the transform is not finite");
+  expect_error([&] { object_with(Transform{}, std::int64_t{1} << 40); },
+               "objects[3].priority: must be between 0 and 1000000 (got 1099511627776)");
+  expect_error(
+      [&] {
+        CameraDesc c;
+        c.up = {0, std::nan(""), 0};
+        lit_builder().camera(c, Source{"from-blender", "camera"});
+      },
+      "from-blender: camera.up: must be a direction of finite, non-zero length");
+  // Transform steps as a front end gives them: each checked at its own place.
+  const Source steps{"from-blender", "objects[0].transform"};
+  expect_error([&] { (void)resolve_transform({ScaleStep{{1, 1, 0}}}, steps); },
+               "objects[0].transform[0].scale: a scale of zero collapses the shape");
+  expect_error([&] { (void)resolve_transform({TranslateStep{{1, 0, 0}}, RotateStep{30, {0, 0, 0}}}, steps); },
+               "objects[0].transform[1].rotate_deg[1]: the rotation axis must not be zero");
+  MatrixStep flat;
+  flat.rows = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 1}}};
+  expect_error([&] { (void)resolve_transform({flat}, steps); }, "objects[0].transform[0].matrix: the matrix is singular");
+  flat.rows[2][2] = 1;
+  flat.rows[3][3] = 2;
+  expect_error([&] { (void)resolve_transform({flat}, steps); },
+               "objects[0].transform[0].matrix[3]: the last row of an affine matrix must be [0, 0, 0, 1]");
+  // And a good one composes in order: scale, then translate.
+  const Transform t = resolve_transform({ScaleStep{{2, 2, 2}}, TranslateStep{{0, 1, 0}}}, steps);
+  EXPECT_DOUBLE_EQ(t.apply({1, 0, 0}).x, 2.0);
+  EXPECT_DOUBLE_EQ(t.apply({1, 0, 0}).y, 1.0);
+}
+
 // The command line's overrides pass the same check as a scene's values, once, naming the option.
 TEST(SceneBuilder, OverridesPassTheSameCheckNamingTheOption) {
   SceneBuilder b = lit_builder();

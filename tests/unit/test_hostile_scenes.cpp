@@ -87,6 +87,9 @@ TEST(HostileScene, NumbersThatWouldPoisonTheImageAreRefusedWithTheirPlace) {
   const std::string box = R"(
     {"name": "far", "shape": {"type": "box", "size": [1, 1, 1]}, "material": {"type": "diffuse"},
      "transform": [{"scale": 1e200}, {"scale": 1e200}]},)";
+  const std::string far_box = R"(
+    {"name": "far", "shape": {"type": "box", "size": [1, 1, 1]}, "material": {"type": "diffuse"},
+     "transform": [{"scale": 1e10}]},)";
   const struct {
     std::string json, message;
   } cases[] = {
@@ -97,7 +100,8 @@ TEST(HostileScene, NumbersThatWouldPoisonTheImageAreRefusedWithTheirPlace) {
       {scene("\"20 mm\"", "1", "1e308"),
        "s.json: media.glass.absorption: the absorption coefficient σ_a (per metre) is not finite (the product overflows)"},
       {scene("\"20 mm\"", "1", "1e10"), "media.glass.absorption: the absorption coefficient σ_a (per metre) reaches"},
-      {scene("\"20 mm\"", "1", "1", box), "s.json: object 'far': its transform puts a vertex at x = inf m, beyond the scene's extent of ±1e+07 m"},
+      {scene("\"20 mm\"", "1", "1", box), "s.json: objects[1].transform: the transform is not finite"},
+      {scene("\"20 mm\"", "1", "1", far_box), "s.json: object 'far': its transform puts a vertex at x = 5e+09 m, beyond the scene's extent of ±1e+07 m"},
       {R"({"camera": {"up": [1e300, 1e300, 0]}, "objects": []})", "s.json: camera.up: must be a direction of finite, non-zero length"},
       {R"({"objects": [], "lights": [{"type": "point", "position": [0, 1, 0], "spectrum": "D65", "scale": 1e308}]})",
        "s.json: lights[0]: the light's intensity reaches"},

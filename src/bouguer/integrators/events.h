@@ -652,6 +652,9 @@ inline Bsdf<N> opaque_bsdf(const SceneView<N>& v, const SurfaceMaterial& m, cons
   const RenderScene& s = v.scene;
   if (const auto* d = std::get_if<DiffuseMaterial>(&m))
     return DiffuseReflection<N>{reflectance_at(v, d->reflectance, d->reflectance_texture, hit, wo, w, cone_width_m)};
+  if (const auto* t = std::get_if<ThinDielectricMaterial>(&m))
+    return ThinDielectric<N>{t->ior / eta(s.media[static_cast<std::size_t>(medium)], v.tables, w),
+                             reflectance_at(v, t->tint, t->tint_texture, hit, wo, w, cone_width_m)};
   if (const auto* g = std::get_if<MetallicRoughnessMaterial>(&m)) {
     double metalness = g->metalness, roughness = g->roughness;
     if (g->metallic_roughness_texture >= 0) {

@@ -373,8 +373,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!vx.delta) {
       state.guide_dir = state.ray.direction;  // (kept only where the visitor set a guide)
       state.guide_phase_pdf = *bsdf_pdf;
-    } else if (dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) {
-      state.guide = {};
+    } else if (surface.kind != SurfaceKind::interface || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) {
+      state.guide = {};  // a reflection, or a thin sheet: the guide's connection crosses neither
     }
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)

@@ -5,7 +5,8 @@
 // conductors take direct light by shadow rays (one area light drawn by power, every delta light);
 // a shadow ray that meets any other surface, glass included, is blocked (light through glass is
 // the path tracer's job). Smooth conductors reflect like mirrors with their spectral Fresnel
-// reflectance. Rough dielectric interfaces need the path tracer.
+// reflectance; thin dielectric sheets recurse into their mirror and their straight-through
+// branch. Rough dielectric interfaces need the path tracer.
 // A branch stops at max_depth or when its weight (the largest throughput over wavelengths from the
 // camera) falls below kMinPathWeight: the light it could still add is below 1e-4 of what an
 // unattenuated path would.
@@ -89,14 +90,23 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   e.inside = inside;
   if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, false, false);
   if (depth >= v.max_depth) return {};
-  // A smooth conductor: a mirror with its spectral Fresnel reflectance.
-  const auto s = e.sample(wo, 0.0, 0.0, 0.0, TransportMode::radiance);
-  if (!s) return {};
-  const Vec3 r = s->wi;
-  const float w_reflected = weight * (tr * s->weight).max_value();
-  if (w_reflected < kMinPathWeight) return {};
-  return tr * s->weight * radiance(hit->point, {offset_ray_origin(*hit, r), r}, e.medium_towards(r), depth + 1, w_reflected,
-                                     cone_width_m, inside);
+  // A smooth conductor: a mirror with its spectral Fresnel reflectance. A thin sheet: its mirror
+  // branch (R') and its undeviated one (T' times the tint), both followed, each weighted by the
+  // probability with which sample() draws it.
+  const auto* sheet = std::get_if<ThinDielectric<N>>(&e.bsdf);
+  const double r = sheet ? thin_dielectric_reflectance(std::abs(dot(wo, e.frame.n)), sheet->eta) : 1.0;
+  SampledSpectrum<N> l;
+  for (const auto& [uc, share] : {std::pair{0.0, r}, std::pair{1.0, 1.0 - r}}) {
+    if (!(share > 0.0)) continue;
+    const auto s = e.sample(wo, uc, 0.0, 0.0, TransportMode::radiance);
+    if (!s) continue;
+    const SampledSpectrum<N> f = s->weight * static_cast<float>(share);
+    const float w_branch = weight * (tr * f).max_value();
+    if (w_branch < kMinPathWeight) continue;
+    l += tr * f * radiance(hit->point, {offset_ray_origin(*hit, s->wi), s->wi}, e.medium_towards(s->wi), depth + 1,
+                           w_branch, cone_width_m, inside);
+  }
+  return l;
 }
 
 }  // namespace

@@ -100,7 +100,24 @@ std::optional<BsdfSampleN<N>> metallic_roughness_sample(const MetallicRoughness<
   return BsdfSampleN<N>{s->wi, metallic_roughness_eval(g, wo, s->wi) * static_cast<float>(1.0 / p), p, false};
 }
 
+// ---- thin dielectric sheet -----------------------------------------------------------------------
+
+template <std::size_t N>
+std::optional<BsdfSampleN<N>> thin_dielectric_sample(const ThinDielectric<N>& t, const Vec3& wo, double uc) {
+  if (wo.z == 0.0) return std::nullopt;
+  if (uc < thin_dielectric_reflectance(std::abs(wo.z), t.eta))
+    return BsdfSampleN<N>{{-wo.x, -wo.y, wo.z}, constant<N>(1.0), 0.0, false};
+  return BsdfSampleN<N>{-wo, t.tint, 0.0, true};
+}
+
 }  // namespace
+
+double thin_dielectric_reflectance(double cos_theta, double eta) {
+  const double r = fresnel_dielectric(std::min(1.0, cos_theta), 1.0, eta);
+  if (!(r < 1.0)) return 1.0;
+  const double t = 1.0 - r;
+  return r + t * t * r / (1.0 - r * r);
+}
 
 template <std::size_t N>
 Spec<N> conductor_fresnel(double cos_theta_i, double eta, const Spec<N>& n, const Spec<N>& k) {
@@ -123,7 +140,7 @@ Spec<N> eval(const Bsdf<N>& b, const Vec3& wo, const Vec3& wi, TransportMode mod
   if (const auto* r = std::get_if<RoughDielectric>(&b))
     return constant<N>(mode == TransportMode::radiance ? rough_radiance_eval(*r, wo, wi) : rough_importance_eval(*r, wo, wi));
   if (const auto* g = std::get_if<MetallicRoughness<N>>(&b)) return metallic_roughness_eval(*g, wo, wi);  // reciprocal
-  return {};  // smooth dielectric: delta lobes only
+  return {};  // smooth dielectric, thin sheet: delta lobes only
 }
 
 template <std::size_t N>
@@ -163,6 +180,7 @@ std::optional<BsdfSampleN<N>> sample(const Bsdf<N>& b, const Vec3& wo, double uc
     return BsdfSampleN<N>{s->wi, constant<N>(weight), s->pdf, s->transmitted};
   }
   if (const auto* g = std::get_if<MetallicRoughness<N>>(&b)) return metallic_roughness_sample(*g, wo, uc, u1, u2);
+  if (const auto* t = std::get_if<ThinDielectric<N>>(&b)) return thin_dielectric_sample(*t, wo, uc);  // reciprocal
   if (wo.z == 0.0) return std::nullopt;
   const DielectricSplit d = split(std::get<SmoothDielectric>(b), wo);
   if (uc < d.reflectance) return BsdfSampleN<N>{d.reflected(), constant<N>(1.0), 0.0, false};

@@ -67,6 +67,23 @@ struct SmoothDielectric {
   double eta_front = 1.0, eta_behind = 1.5;
 };
 
+// A thin dielectric sheet with the same medium on both sides (a window pane, a bubble's film,
+// glTF's thin-walled transmission): pbrt-v4's ThinDielectricBxDF. The light that bounces between its
+// two faces is summed: with R the Fresnel reflectance of one face at the angle of incidence,
+// R' = R + T²R/(1 − R²) (T = 1 − R) is reflected specularly about the normal and T' = 1 − R' passes
+// undeviated, times `tint` (glTF's base colour; white: nothing absorbed, R' + T' = 1). Delta in
+// both lobes; reflection is drawn with probability R', so a sample's weight is 1 or the tint. The ray
+// leaves into the medium it came from, so neither transport mode has an η² factor, and the lobes are
+// symmetric in wo and wi: both modes give the same values.
+template <std::size_t N>
+struct ThinDielectric {
+  double eta = 1.5;  // the sheet's index over the surrounding medium's
+  SampledSpectrum<N> tint = SampledSpectrum<N>::constant(1.0f);
+};
+
+// R' of a thin sheet of relative index eta at |cos θ| (1 under total internal reflection).
+double thin_dielectric_reflectance(double cos_theta, double eta);
+
 // A rough boundary (GGX), energy-compensated (materials/bsdf.h).
 struct RoughDielectric {
   RoughDielectricBsdf lobe;
@@ -108,7 +125,7 @@ inline DielectricSplit split(const SmoothDielectric& d, const Vec3& wo, const Ve
 
 template <std::size_t N>
 using Bsdf = std::variant<DiffuseReflection<N>, ConductorReflection<N>, SmoothDielectric, RoughDielectric,
-                          MetallicRoughness<N>>;
+                          MetallicRoughness<N>, ThinDielectric<N>>;
 
 template <std::size_t N>
 struct BsdfSampleN {
@@ -121,7 +138,7 @@ struct BsdfSampleN {
 // Whether every lobe is a delta: such a surface is never connected to a light or the camera.
 template <std::size_t N>
 bool is_specular(const Bsdf<N>& b) {
-  if (std::holds_alternative<SmoothDielectric>(b)) return true;
+  if (std::holds_alternative<SmoothDielectric>(b) || std::holds_alternative<ThinDielectric<N>>(b)) return true;
   if (const auto* c = std::get_if<ConductorReflection<N>>(&b)) return c->alpha == 0.0;
   return false;
 }

@@ -57,10 +57,16 @@ SceneBuilder& SceneBuilder::camera(const CameraDesc& c, const Source& where) {
   for (const auto& [i, s] : {std::pair{0, c.shift_x}, std::pair{1, c.shift_y}})
     if (!(std::abs(s) <= 100.0)) (where / "shift")[static_cast<std::size_t>(i)].fail("must be between -100 and 100 image sides (got {})", s);
   check_resolution(c.width_px, c.height_px, where / "resolution");
+  auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(c.position_m)) (where / "position").fail("must be finite");
+  if (!finite(c.look_at_m)) (where / "look_at").fail("must be finite");
+  if (!(std::isfinite(length(c.up)) && length(c.up) > 0.0))
+    (where / "up").fail("must be a direction of finite, non-zero length");
   const Vec3 forward = c.look_at_m - c.position_m;
-  if (length(forward) == 0.0) where.fail("'position' and 'look_at' coincide");
-  if (length(c.up) == 0.0 || length(cross(normalize(forward), normalize(c.up))) < 1e-9)
-    (where / "up").fail("'up' must not be zero or parallel to the view direction");
+  if (!(length(forward) > 0.0)) where.fail("'position' and 'look_at' coincide");
+  if (!std::isfinite(length(forward))) where.fail("'position' and 'look_at' are too far apart");
+  if (length(cross(normalize(forward), normalize(c.up))) < 1e-9)
+    (where / "up").fail("'up' must not be parallel to the view direction");
   desc_.camera = c;
   return *this;
 }
@@ -132,6 +138,11 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const Source& where) {
     (where / "absorption").fail("{}", *problem);
   if (m.field_absorbers.size() > kMaxAbsorbersPerMedium)
     (where / "absorption").fail("at most {} absorbers per medium (got {})", kMaxAbsorbersPerMedium, m.field_absorbers.size());
+  // The scatterers' own absorption is one more absorber of the compiled medium (compile.cpp).
+  const std::size_t absorbers = std::max<std::size_t>(m.field_absorbers.size(), m.absorbing ? 1 : 0) +
+                                (m.scattering && m.scattering->sigma_a_per_m ? 1 : 0);
+  if (absorbers > kMaxAbsorbersPerMedium)
+    (where / "absorption").fail("at most {} absorbers in a medium, its scatterers' own included", kMaxAbsorbersPerMedium);
   const bool density_scales_absorption = m.scattering && m.scattering->density && m.scattering->density_scales_absorption;
   for (std::size_t i = 0; i < m.field_absorbers.size(); ++i) {
     const FieldAbsorberDesc& a = m.field_absorbers[i];
@@ -139,6 +150,7 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const Source& where) {
     if (const auto problem = beyond_limit(a.epsilon_per_m, kMaxCoefficientPerM, "σ_a per unit concentration"))
       at.fail("{}", *problem);
     if (min_value(a.epsilon_per_m) < 0.0) at.fail("σ_a must not be negative");
+    check_concentration_field(a.field, at / "concentration");
     // A linear field grows without bound; its column densities are capped (concentration_field.h).
     const double peak = max_concentration(a.field);
     if (std::isfinite(peak) && !(peak * max_value(a.epsilon_per_m) <= kMaxCoefficientPerM))
@@ -157,6 +169,9 @@ SceneBuilder& SceneBuilder::medium(MediumDesc m, const Source& where) {
     if (const auto* hg = std::get_if<HenyeyGreensteinPhase>(&m.scattering->phase); hg && !(std::abs(hg->g) < 1.0))
       (at / "phase" / "g").fail("must lie strictly between −1 and 1 (got {})", hg->g);
     if (m.scattering->density) {
+      // A library medium's `concentration` (its particles in another liquid) or a `density`.
+      check_concentration_field(*m.scattering->density,
+                                at / (m.scattering->density_scales_absorption ? "density" : "concentration"));
       const double peak = max_concentration(*m.scattering->density);
       const double sigma = std::max(max_value(m.scattering->sigma_s_per_m), max_value(m.sigma_a_per_m));
       if (std::isfinite(peak) && !(peak * sigma <= kMaxCoefficientPerM))
@@ -184,6 +199,11 @@ void check_material(const MaterialDesc& material, const Source& where) {
       (where / "reflectance").fail("a reflectance must lie between 0 and 1");
     return;
   }
+  if (const auto* t = std::get_if<ThinDielectricDesc>(&material)) {
+    if (!(t->ior >= 1.0 && t->ior < 5.0)) (where / "ior").fail("a refractive index must be between 1 and 5 (got {})", t->ior);
+    if (max_value(t->tint) > 1.0 || min_value(t->tint) < 0.0) (where / "tint").fail("a tint must lie between 0 and 1");
+    return;
+  }
   if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material)) {
     if (!(g->metalness >= 0.0 && g->metalness <= 1.0)) (where / "metalness").fail("must be between 0 and 1 (got {})", g->metalness);
     if (!(g->roughness >= 0.0 && g->roughness <= 1.0)) (where / "roughness").fail("must be between 0 and 1 (got {})", g->roughness);
@@ -203,6 +223,10 @@ SceneBuilder& SceneBuilder::object(ObjectDesc o, const Source& where) {
   if (!o.inside && (o.outside || o.contents || o.roughness != 0.0))
     where.fail("'outside', 'contents' and 'roughness' belong to interfaces ('inside')");
   check_roughness(o.roughness, where / "roughness");
+  const double det = o.transform.determinant();
+  if (!std::isfinite(det) || !std::isfinite(length(o.transform.translation)))
+    (where / "transform").fail("the transform is not finite");
+  if (det == 0.0) (where / "transform").fail("the transform is singular (it collapses the shape)");
   const bool vessel = std::holds_alternative<VesselShape>(o.shape);
   if (vessel && o.inside && !o.contents && std::get<VesselShape>(o.shape).fill > 0.0)
     where.fail("a filled vessel needs 'contents' (the liquid's medium)");
@@ -264,6 +288,11 @@ SceneBuilder& SceneBuilder::environment(const EnvironmentDesc& e, const Source& 
   return *this;
 }
 
+SceneBuilder& SceneBuilder::warn(const Source& where, const std::string& message) {
+  desc_.warnings.push_back(fmt::format("{}: {}", where.name(), message));
+  return *this;
+}
+
 SceneDesc SceneBuilder::build() && {
   std::vector<std::string> names;
   for (const MediumDesc& m : predefined_media()) names.push_back(m.name);
@@ -273,6 +302,10 @@ SceneDesc SceneBuilder::build() && {
       where.fail("unknown medium '{}'{}", name, suggestion(name, names));
   if (!is_predefined(desc_.world_medium) && !desc_.media.contains(desc_.world_medium))
     at("world_medium").fail("unknown medium '{}'{}", desc_.world_medium, suggestion(desc_.world_medium, names));
+  if (const auto world = desc_.media.find(desc_.world_medium); world != desc_.media.end() && world->second.scattering)
+    at("world_medium").fail("'{}' scatters; the world medium cannot (an unbounded scattering medium has no end to track "
+                            "to): put the scattering medium inside an object",
+                            desc_.world_medium);
   return std::move(desc_);
 }
 

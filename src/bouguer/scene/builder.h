@@ -53,6 +53,11 @@ class SceneBuilder {
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 
+  // A value the front end let through but changed (an asset's value clamped into what Bouguer
+  // models): one line, "file: place: message", kept in SceneDesc::warnings. Never for a mistake in
+  // a scene written by hand: that is an Error.
+  SceneBuilder& warn(const Source& where, const std::string& message);
+
   // The checked description; an Error naming the place of a medium name that does not exist.
   SceneDesc build() &&;
 

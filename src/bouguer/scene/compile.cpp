@@ -168,7 +168,7 @@ void add_lights_distributions(RenderScene& s) {
 
 // A scattering medium: its density scales the absorption too, each absorber's field becoming
 // its concentration times the density (the builder requires numbers for those concentrations).
-ScatteringMedium lower_scattering(RenderScene& s, const MediumDesc& m, const std::filesystem::path& file) {
+ScatteringMedium lower_scattering(RenderScene& s, const MediumDesc& m) {
   ScatteringMedium sc;
   const ConcentrationField density = m.scattering->density.value_or(ConcentrationField{ConstantField{1.0}});
   auto absorber = [&](const Spectrum& epsilon, double concentration) {
@@ -187,20 +187,18 @@ ScatteringMedium lower_scattering(RenderScene& s, const MediumDesc& m, const std
     }
   }
   if (m.scattering->sigma_a_per_m) absorber(*m.scattering->sigma_a_per_m, 1.0);
-  if (sc.absorbers.size() > kMaxAbsorbersPerMedium)
-    fail("{}: media.{}: at most {} absorbers in a medium, its scatterers' own included", file.string(), m.name,
-         kMaxAbsorbersPerMedium);
+  assert(sc.absorbers.size() <= kMaxAbsorbersPerMedium);  // SceneBuilder::medium counts them
   sc.sigma_s = add_spectrum(s, m.scattering->sigma_s_per_m, SpectrumRole::coefficient);
   sc.density = density;
   sc.phase = m.scattering->phase;
   return sc;
 }
 
-SceneMedium lower_medium(RenderScene& s, const MediumDesc& m, const std::filesystem::path& file) {
+SceneMedium lower_medium(RenderScene& s, const MediumDesc& m) {
   SceneMedium sm;
   sm.name = m.name;
   if (m.scattering) {
-    sm.medium = lower_scattering(s, m, file);
+    sm.medium = lower_scattering(s, m);
     s.scatters = true;
   } else if (m.field_absorbers.empty()) {
     sm.medium = HomogeneousMedium{add_spectrum(s, m.sigma_a_per_m, SpectrumRole::absorption), m.absorbing};
@@ -220,13 +218,10 @@ SceneMedium lower_medium(RenderScene& s, const MediumDesc& m, const std::filesys
 // Every medium, the predefined ones first (unless the scene redefines them), then the world's.
 void lower_media(RenderScene& s, const SceneDesc& desc) {
   for (const MediumDesc& m : predefined_media())
-    if (!desc.media.contains(m.name)) s.media.push_back(lower_medium(s, m, desc.file));
-  for (const auto& [name, m] : desc.media) s.media.push_back(lower_medium(s, m, desc.file));
+    if (!desc.media.contains(m.name)) s.media.push_back(lower_medium(s, m));
+  for (const auto& [name, m] : desc.media) s.media.push_back(lower_medium(s, m));
   s.world_medium = medium_index(s, desc.world_medium);
-  if (scattering(s.media[static_cast<std::size_t>(s.world_medium)].medium))
-    fail("{}: world_medium: '{}' scatters; the world medium cannot (an unbounded scattering medium has no end to "
-         "track to): put the scattering medium inside an object",
-         desc.file.string(), desc.world_medium);
+  assert(!scattering(s.media[static_cast<std::size_t>(s.world_medium)].medium));  // SceneBuilder::build refuses it
 }
 
 // The scene's objects, and a disk emitter for each spot light with a radius.
@@ -269,6 +264,9 @@ SurfaceMaterial surface_material(RenderScene& s, const MaterialDesc& material, c
   if (const auto* d = std::get_if<DiffuseDesc>(&material))
     return DiffuseMaterial{add_spectrum(s, d->reflectance, SpectrumRole::reflectance),
                            material_texture(s, d->reflectance_texture, TextureUse::reflectance, o, parts, desc)};
+  if (const auto* t = std::get_if<ThinDielectricDesc>(&material))
+    return ThinDielectricMaterial{t->ior, add_spectrum(s, t->tint, SpectrumRole::reflectance),
+                                  material_texture(s, t->tint_texture, TextureUse::reflectance, o, parts, desc)};
   if (const auto* g = std::get_if<MetallicRoughnessDesc>(&material))
     return MetallicRoughnessMaterial{
         add_spectrum(s, g->base_colour, SpectrumRole::reflectance),
@@ -359,7 +357,7 @@ std::vector<int> order_nested(RenderScene& s, const std::vector<ObjectDesc>& obj
   for (const std::size_t i : with) {
     const ObjectDesc& o = objects[i];
     k_of[i] = static_cast<int>(s.nested.size());
-    s.nested.push_back({*o.priority, medium_index(s, *o.inside), medium_index(s, o.outside.value_or(desc.world_medium))});
+    s.nested.push_back({static_cast<int>(*o.priority), medium_index(s, *o.inside), medium_index(s, o.outside.value_or(desc.world_medium))});
   }
   return k_of;
 }
@@ -443,8 +441,6 @@ std::optional<AnalyticShape> analytic_shape(const ObjectDesc& o, const SceneDesc
   if (o.emission || o.normal_map) return std::nullopt;  // a normal map needs the triangles' tangents
   const auto surface = analytic_surface(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
   if (!surface) return std::nullopt;
-  if (!(std::abs(o.transform.determinant()) > 0.0))
-    fail("{}: object '{}': its transform is singular", desc.file.string(), o.name);
   return AnalyticShape{*surface, o.transform};
 }
 

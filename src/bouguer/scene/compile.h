@@ -59,7 +59,12 @@ struct MetallicRoughnessMaterial {
   double metalness = 1.0, roughness = 1.0;
   int metallic_roughness_texture = -1;  // B: metalness, G: roughness
 };
-using SurfaceMaterial = std::variant<DiffuseMaterial, ConductorMaterial, MetallicRoughnessMaterial>;
+// A thin dielectric sheet (ThinDielectricDesc): its index over vacuum, its tint.
+struct ThinDielectricMaterial {
+  double ior = 1.5;
+  int tint = -1, tint_texture = -1;
+};
+using SurfaceMaterial = std::variant<DiffuseMaterial, ConductorMaterial, MetallicRoughnessMaterial, ThinDielectricMaterial>;
 
 struct RenderScene {
   std::filesystem::path file;

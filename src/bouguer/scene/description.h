@@ -131,7 +131,17 @@ struct MetallicRoughnessDesc {
   std::optional<TextureDesc> metallic_roughness_texture;
 };
 
-using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc, MetallicRoughnessDesc>;
+// A thin dielectric sheet (materials/surface_bsdf.h, ThinDielectric): both faces' reflections summed,
+// the transmitted light undeviated and tinted. `ior` is the sheet's index (constant; at a hit it is
+// taken over the index of the medium around it); the tint a reflectance spectrum, or a reflectance
+// texture read instead (glTF's thin-walled transmission: the base colour).
+struct ThinDielectricDesc {
+  double ior = 1.5;
+  Spectrum tint = ConstantSpectrum{1.0};
+  std::optional<TextureDesc> tint_texture;
+};
+
+using MaterialDesc = std::variant<DiffuseDesc, ConductorDesc, MetallicRoughnessDesc, ThinDielectricDesc>;
 
 // A tangent-space normal map (scene/normal_map.h): a data texture, glTF's scale on its x and y.
 struct NormalMapDesc {
@@ -150,7 +160,7 @@ struct ObjectDesc {
   double roughness = 0.0;  // interfaces: GGX alpha of the dielectric boundary (0: smooth)
   // Interfaces: where objects with priorities overlap, the higher one's medium fills the overlap
   // (scene/nested.h). None: the object's surfaces keep the media of its two sides, as always.
-  std::optional<int> priority;
+  std::optional<std::int64_t> priority;  // checked by the builder: 0 to kMaxPriority
   std::optional<NormalMapDesc> normal_map;  // any surface kind; a shape with one is always meshed
 };
 
@@ -180,6 +190,9 @@ struct SceneDesc {
   EmissionDesc background;                     // used when there is no environment map
   std::optional<EnvironmentDesc> environment;  // "background": {"environment": "sky.exr", ...}
   std::shared_ptr<const EnvironmentMap> environment_map;  // that map, read by the builder
+  // What a front end let through but changed (a glTF value clamped into what Bouguer models), one
+  // line each, "file: place: what", for the command line and Python to show (SceneBuilder::warn).
+  std::vector<std::string> warnings;
 };
 
 }  // namespace bouguer

@@ -9,6 +9,7 @@
 #define TINYGLTF_NOEXCEPTION
 #include <draco/compression/decode.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
@@ -25,7 +26,7 @@
 #include "bouguer/core/csv.h"
 #include "bouguer/core/limits.h"
 #include "bouguer/io/texture_image.h"
-#include "bouguer/spectra/rgb_to_spectrum.h"
+#include "bouguer/scene/pbr_material.h"
 
 namespace bouguer {
 namespace {
@@ -296,8 +297,49 @@ double component(const unsigned char* p, int type, bool normalized) {
   }
 }
 
+// `bytes` bytes from `offset` into buffer view `view`, checked to lie inside the view and its buffer.
+const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint64_t bytes, const Place& at) {
+  const std::size_t vi = checked_index(view, m.bufferViews.size(), at / "bufferView", "bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[vi];
+  const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
+  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), pv / "buffer", "buffer");
+  const std::size_t buffer_bytes = m.buffers[bi].data.size();
+  if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
+    pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
+            bi, buffer_bytes);
+  if (offset < 0 || std::uint64_t(offset) > v.byteLength || bytes > v.byteLength - std::uint64_t(offset))
+    at.fail("{} bytes from offset {} do not fit in bufferView {} ({} bytes)", bytes, offset, vi, v.byteLength);
+  return m.buffers[bi].data.data() + v.byteOffset + std::size_t(offset);
+}
+
+// A sparse accessor's substitutions (glTF 3.6.2.3): `count` strictly increasing indices below the
+// accessor's count, each replacing its element by one of the tightly packed values.
+void apply_sparse(const Model& m, const tinygltf::Accessor& a, int components, std::vector<double>& out, const Place& pa) {
+  const auto& sp = a.sparse;
+  const Place ps = pa / "sparse";
+  if (sp.count < 1 || std::size_t(sp.count) > a.count)
+    (ps / "count").fail("{} is not between 1 and the accessor's count {}", sp.count, a.count);
+  const int itype = sp.indices.componentType;
+  if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    (ps / "indices" / "componentType").fail("{} is not an index type (5121, 5123, 5125)", itype);
+  const std::size_t n = std::size_t(sp.count), isize = component_bytes(itype), csize = component_bytes(a.componentType);
+  const std::size_t element = csize * std::size_t(components);
+  const unsigned char* indices = view_bytes(m, sp.indices.bufferView, sp.indices.byteOffset, std::uint64_t(n) * isize, ps / "indices");
+  const unsigned char* values = view_bytes(m, sp.values.bufferView, sp.values.byteOffset, std::uint64_t(n) * element, ps / "values");
+  double previous = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double index = component(indices + i * isize, itype, false);
+    if (!(index > previous && index < double(a.count)))
+      (ps / "indices").fail("index {} at {} is not increasing or not below the accessor's count {}", index, i, a.count);
+    previous = index;
+    for (std::size_t c = 0; c < std::size_t(components); ++c)
+      out[std::size_t(index) * std::size_t(components) + c] = component(values + i * element + c * csize, a.componentType, a.normalized);
+  }
+}
+
 // The accessor's elements as `components` numbers each, of one of the allowed component types,
-// every byte they read inside its buffer view and buffer.
+// every byte they read inside its buffer view and buffer; a sparse accessor's substitutions applied.
 std::vector<double> read_accessor(const Model& m, int index, int components, std::initializer_list<int> types,
                                   const Place& at) {
   const Place where = Place{at.file, ""} / "accessors";
@@ -308,14 +350,14 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     pa.fail("type {} where {} components are needed ({})", a.type, components, at.path);
   if (std::find(types.begin(), types.end(), a.componentType) == types.end())
     (pa / "componentType").fail("{} is not accepted here ({})", a.componentType, at.path);
-  if (a.sparse.isSparse) (pa / "sparse").fail("sparse accessors are not supported");
   if (a.count == 0) (pa / "count").fail("must be at least 1");
   if (a.count > kMaxMeshVertices * 3) (pa / "count").fail("{} exceeds the limit of {}", a.count, kMaxMeshVertices * 3);
   const std::size_t csize = component_bytes(a.componentType);
   const std::size_t element = csize * std::size_t(components);
   std::vector<double> out;
-  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2)
+  if (a.bufferView < 0) {  // no buffer view: all zeros (glTF 3.6.2.2), unless sparse says otherwise
     out.assign(a.count * std::size_t(components), 0.0);
+    if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
     return out;
   }
   const std::size_t vi = checked_index(a.bufferView, m.bufferViews.size(), pa / "bufferView", "bufferView");
@@ -341,6 +383,7 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     for (int c = 0; c < components; ++c)
       out[i * std::size_t(components) + std::size_t(c)] =
           component(base + i * stride + std::size_t(c) * csize, a.componentType, a.normalized);
+  if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
   return out;
 }
 
@@ -373,7 +416,6 @@ Transform node_transform(const tinygltf::Node& n, const Place& at) {
     t.linear = r * Mat3::diagonal(s);
     t.translation = vec3(n.translation, at / "translation", {0, 0, 0});
   }
-  if (!(std::abs(t.determinant()) > 1e-300)) at.fail("a singular transform collapses what the node holds");
   return t;
 }
 
@@ -498,17 +540,32 @@ std::vector<Tangent> vertex_tangents(const std::vector<double>& v, std::size_t n
   return out;
 }
 
+// A strip's or a fan's indices as a triangle list (glTF 3.7.2.1): strip triangle i is
+// (v_i, v_{i+1+i%2}, v_{i+2−i%2}), keeping every triangle's winding; fan triangle i is (v_{i+1}, v_{i+2}, v_0).
+std::vector<double> triangle_list(const std::vector<double>& v, bool fan) {
+  std::vector<double> out;
+  out.reserve(3 * (v.size() - 2));
+  for (std::size_t i = 0; i + 2 < v.size(); ++i) {
+    if (fan) out.insert(out.end(), {v[i + 1], v[i + 2], v[0]});
+    else out.insert(out.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+  }
+  return out;
+}
+
 // The primitive's triangles with the node's transform applied (normals by its inverse transpose).
+// Its mode is triangles (4, the default), a strip (5) or a fan (6).
 GltfPrimitive make_primitive(const Model& m, const tinygltf::Primitive& p, const Transform& to_asset,
                              const Place& at) {
-  if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES)
-    (at / "mode").fail("mode {} is not supported (only triangles, 4)", p.mode);
   Attributes a = primitive_attributes(m, p, at);
   const std::size_t n = a.positions.size() / 3;
   if (n > kMaxMeshVertices) at.fail("{} vertices exceed the limit of {}", n, kMaxMeshVertices);
   if (!a.has_indices) {
     a.indices.resize(n);
     for (std::size_t i = 0; i < n; ++i) a.indices[i] = double(i);
+  }
+  if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    if (a.indices.size() < 3) (at / "indices").fail("{} indices make no triangle", a.indices.size());
+    a.indices = triangle_list(a.indices, p.mode == TINYGLTF_MODE_TRIANGLE_FAN);
   }
   if (a.indices.size() % 3 != 0) (at / "indices").fail("{} indices are not whole triangles", a.indices.size());
   GltfPrimitive out;
@@ -565,7 +622,7 @@ struct TextureSources {
   const fs::path& file;
 };
 
-// KHR_texture_transform of a texture reference (texCoord must stay 0: only TEXCOORD_0 is read).
+// KHR_texture_transform of a texture reference (its texCoord is read by texture_coordinates).
 UvTransform texture_transform(const tinygltf::ExtensionMap& extensions, const Place& at) {
   UvTransform t;
   const Value* e = member(extensions, "KHR_texture_transform");
@@ -581,7 +638,6 @@ UvTransform texture_transform(const tinygltf::ExtensionMap& extensions, const Pl
   pair("offset", t.offset);
   pair("scale", t.scale);
   t.rotation_rad = number(*e, "rotation", pt).value_or(0.0);
-  if (number(*e, "texCoord", pt).value_or(0.0) != 0.0) (pt / "texCoord").fail("only TEXCOORD_0 is read");
   return t;
 }
 
@@ -625,10 +681,22 @@ void read_sampler(const Model& m, int index, GltfTexture& out, const Place& at) 
 
 // A texture's texels times per-channel factors, clamped to [0, 1]: sRGB-decoded first for colour
 // (baseColorTexture), as stored for data (metallicRoughnessTexture).
+// The texture coordinate set a texture reference reads: its texCoord, or its KHR_texture_transform's.
+double texture_coordinates(const tinygltf::TextureInfo& info, const Place& at) {
+  const Value* e = member(info.extensions, "KHR_texture_transform");
+  if (!e) return info.texCoord;
+  return number(*e, "texCoord", at / "extensions" / "KHR_texture_transform").value_or(info.texCoord);
+}
+
+// A texture on another coordinate set than TEXCOORD_0 (the only one read) is left out, and noted.
 std::optional<GltfTexture> scaled_texture(const TextureSources& src, const tinygltf::TextureInfo& info,
-                                          const Vec3& factor, bool colour, const Place& at) {
+                                          const Vec3& factor, bool colour, const Place& at,
+                                          std::vector<std::string>& notes) {
   if (info.index < 0) return std::nullopt;
-  if (info.texCoord != 0) (at / "texCoord").fail("only TEXCOORD_0 is read (got {})", info.texCoord);
+  if (const double set = texture_coordinates(info, at); set != 0.0) {
+    notes.push_back(fmt::format("{} on TEXCOORD_{:g} left out (only TEXCOORD_0 is read)", at.path.substr(at.path.rfind('.') + 1), set));
+    return std::nullopt;
+  }
   const auto image = texture_image(src, info.index, at);
   auto linear = std::make_shared<TextureImage>(*image);
   linear->srgb = false;
@@ -641,6 +709,73 @@ std::optional<GltfTexture> scaled_texture(const TextureSources& src, const tinyg
   return t;
 }
 
+// ---- values outside what Bouguer models -----------------------------------------------------------
+// An asset is someone else's file: a finite value its specification or extensions allow (or that
+// glTF's reference viewers clamp silently) is clamped into what Bouguer models and noted, and the
+// material's notes become one warning (docs/assets.md, "Values outside the model"). Structure
+// (counts, indices, types, non-finite numbers) stays refused.
+
+// The smallest attenuationColor channel: it keeps 10⁻⁶ over attenuationDistance (0 keeps nothing).
+constexpr double kMinAttenuationColour = 1e-6;
+// The largest index Bouguer models (media/ior.h: below 5), for ior 0 (infinite) and above.
+constexpr double kMaxGltfIor = 4.99;
+// A hundredth of the emission limit (core/limits.h), room for a saturated colour's spectrum.
+constexpr double kMaxEmissiveStrength = kMaxEmission / 100.0;  // also a light's candela or lux
+// A camera's yfov within (0, π), and an aspect ratio that keeps both sides of 480 pixels within 16384.
+constexpr double kMinYfovRad = 1e-4, kMaxYfovRad = 3.1, kMinAspect = 480.0 / 16384.0;
+constexpr double kMinConeRad = 1e-4;  // a spot light's outer cone
+
+bool emits(const GltfMaterial& m) { return std::max({m.emissive.x, m.emissive.y, m.emissive.z}) * m.emissive_strength > 0.0; }
+
+double clamp_noted(double v, double lo, double hi, const std::string& name, std::vector<std::string>& notes) {
+  const double c = std::clamp(v, lo, hi);
+  if (c != v) notes.push_back(fmt::format("{} {:g} as {:g}", name, v, c));
+  return c;
+}
+
+Vec3 clamp_noted(const Vec3& v, double lo, double hi, const std::string& name, std::vector<std::string>& notes) {
+  return {clamp_noted(v.x, lo, hi, name + "[0]", notes), clamp_noted(v.y, lo, hi, name + "[1]", notes),
+          clamp_noted(v.z, lo, hi, name + "[2]", notes)};
+}
+
+// The core factors, before they scale the textures.
+void clamp_factors(GltfMaterial& m) {
+  m.base_color = clamp_noted(m.base_color, 0.0, 1.0, "baseColorFactor", m.clamped);
+  m.metallic = clamp_noted(m.metallic, 0.0, 1.0, "metallicFactor", m.clamped);
+  m.roughness = clamp_noted(m.roughness, 0.0, 1.0, "roughnessFactor", m.clamped);
+  m.emissive = clamp_noted(m.emissive, 0.0, kMaxEmissiveStrength, "emissiveFactor", m.clamped);
+}
+
+// The extensions' values, each where the material's mapping uses it (docs/assets.md).
+void clamp_extensions(GltfMaterial& m) {
+  auto& notes = m.clamped;
+  const double peak = std::max({m.emissive.x, m.emissive.y, m.emissive.z, 1.0});  // factor × strength within the limit
+  m.emissive_strength = clamp_noted(m.emissive_strength, 0.0, kMaxEmissiveStrength / peak, "emissiveStrength", notes);
+  if (emits(m)) return;  // an emitter: nothing else of it is used
+  m.transmission = clamp_noted(m.transmission, 0.0, 1.0, "transmissionFactor", notes);
+  if (!(m.transmission > 0.0)) return;
+  if (m.transmission < 1.0) notes.push_back(fmt::format("transmissionFactor {:g} as 1 (no blend with a diffuse base)", m.transmission));
+  m.thickness = clamp_noted(m.thickness, 0.0, std::numeric_limits<double>::max(), "thicknessFactor", notes);
+  if (m.ior == 0.0) {  // KHR_materials_ior: 0 stands for an infinite index
+    notes.push_back(fmt::format("ior 0 (infinite) as {:g}", kMaxGltfIor));
+    m.ior = kMaxGltfIor;
+  }
+  m.ior = clamp_noted(m.ior, 1.0, kMaxGltfIor, "ior", notes);
+  if (m.thickness == 0.0) {  // thin-walled: a smooth sheet, no volume
+    if (m.roughness > 0.0) notes.push_back(fmt::format("roughnessFactor {:g} as 0 (the thin sheet is smooth)", m.roughness));
+    m.roughness = 0.0;
+    return;
+  }
+  // V_d = 20/D within Bouguer's Abbe range [5, 200]; with ior 1 there is nothing to disperse.
+  m.dispersion = clamp_noted(m.dispersion, 0.0, std::numeric_limits<double>::max(), "dispersion", notes);
+  if (m.ior == 1.0) m.dispersion = 0.0;
+  else if (m.dispersion > 0.0) m.dispersion = clamp_noted(m.dispersion, 20.0 / 200.0, 20.0 / 5.0, "dispersion", notes);
+  if (!m.attenuation_distance_m) return;
+  m.attenuation_color = clamp_noted(m.attenuation_color, kMinAttenuationColour, 1.0, "attenuationColor", notes);
+  m.attenuation_distance_m =
+      clamp_noted(*m.attenuation_distance_m, kMinSceneLengthM, std::numeric_limits<double>::max(), "attenuationDistance", notes);
+}
+
 GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, const Place& at) {
   GltfMaterial mat;
   mat.name = g.name;
@@ -649,17 +784,18 @@ GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, co
   if (!pbr.baseColorFactor.empty()) mat.base_color = vec3(pbr.baseColorFactor, pp / "baseColorFactor", {1, 1, 1});
   mat.metallic = finite(pbr.metallicFactor, pp / "metallicFactor");
   mat.roughness = finite(pbr.roughnessFactor, pp / "roughnessFactor");
-  mat.base_color_texture = scaled_texture(src, pbr.baseColorTexture, mat.base_color, true, pp / "baseColorTexture");
+  mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
+  clamp_factors(mat);
+  mat.base_color_texture = scaled_texture(src, pbr.baseColorTexture, mat.base_color, true, pp / "baseColorTexture", mat.clamped);
   // glTF's layout: G roughness, B metalness (R is occlusion in packed textures, unused).
   mat.metallic_roughness_texture = scaled_texture(src, pbr.metallicRoughnessTexture, {1.0, mat.roughness, mat.metallic},
-                                                  false, pp / "metallicRoughnessTexture");
-  mat.emissive = vec3(g.emissiveFactor, at / "emissiveFactor", {0, 0, 0});
-  mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture");
+                                                  false, pp / "metallicRoughnessTexture", mat.clamped);
+  mat.emissive_texture = scaled_texture(src, g.emissiveTexture, mat.emissive, true, at / "emissiveTexture", mat.clamped);
   tinygltf::TextureInfo normal;  // the same fields as a TextureInfo, and a scale
   normal.index = g.normalTexture.index;
   normal.texCoord = g.normalTexture.texCoord;
   normal.extensions = g.normalTexture.extensions;
-  mat.normal_texture = scaled_texture(src, normal, {1.0, 1.0, 1.0}, false, at / "normalTexture");
+  mat.normal_texture = scaled_texture(src, normal, {1.0, 1.0, 1.0}, false, at / "normalTexture", mat.clamped);
   mat.normal_scale = finite(g.normalTexture.scale, at / "normalTexture" / "scale");
   const Place pe = at / "extensions";
   if (const Value* e = member(g.extensions, "KHR_materials_emissive_strength"))
@@ -675,6 +811,7 @@ GltfMaterial material(const TextureSources& src, const tinygltf::Material& g, co
     mat.attenuation_color = number3(*e, "attenuationColor", pv).value_or(Vec3{1, 1, 1});
     mat.attenuation_distance_m = number(*e, "attenuationDistance", pv);
   }
+  clamp_extensions(mat);
   return mat;
 }
 
@@ -698,6 +835,10 @@ struct Walker {
     visited[index] = true;
     const tinygltf::Node& n = m.nodes[index];
     const Transform to_asset = node_transform(n, at).then(parent);
+    if (!(std::abs(to_asset.determinant()) > 1e-300)) {  // a scale of 0 (glTF allows it: a hidden node)
+      out.notes.push_back({at.path, "a singular transform (a scale of 0) collapses the node and its children: left out"});
+      return;
+    }
     if (n.mesh >= 0) mesh(checked_index(n.mesh, m.meshes.size(), at / "mesh", "mesh"), to_asset, at);
     if (n.camera >= 0) camera(checked_index(n.camera, m.cameras.size(), at / "camera", "camera"), to_asset);
     if (const Value* l = member(n.extensions, "KHR_lights_punctual")) light(*l, to_asset, at);
@@ -709,6 +850,14 @@ struct Walker {
     const tinygltf::Mesh& mesh = m.meshes[index];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
       const Place at = (place("meshes", index) / "primitives")[p];
+      const int mode = mesh.primitives[p].mode;
+      if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {  // 0 to 3: glTF allows them
+        out.notes.push_back({at.path, fmt::format("mode {} (points or lines) has no surface to render: left out", mode)});
+        continue;
+      }
+      if (mode != -1 && mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        (at / "mode").fail("{} is not a primitive mode (0 to 6)", mode);
       GltfPrimitive prim = make_primitive(m, mesh.primitives[p], to_asset, at);
       if (prim.material >= 0) checked_index(prim.material, m.materials.size(), at / "material", "material");
       triangles += prim.shape.mesh.triangles.size();
@@ -726,10 +875,11 @@ struct Walker {
     cam.position_m = to_asset.translation;
     cam.forward = normalize(to_asset.linear * Vec3{0, 0, -1});
     cam.up = normalize(to_asset.linear * Vec3{0, 1, 0});
-    cam.yfov_rad = finite(c.perspective.yfov, at / "yfov");
-    if (!(cam.yfov_rad > 0.0 && cam.yfov_rad < 3.1)) (at / "yfov").fail("must lie between 0 and π (got {})", cam.yfov_rad);
+    cam.place = at.path;
+    cam.yfov_rad = clamp_noted(finite(c.perspective.yfov, at / "yfov"), kMinYfovRad, kMaxYfovRad, "yfov", cam.clamped);
     cam.aspect = finite(c.perspective.aspectRatio, at / "aspectRatio");
-    if (cam.aspect < 0.0 || cam.aspect > 100.0) (at / "aspectRatio").fail("must be positive (got {})", cam.aspect);
+    if (cam.aspect != 0.0)  // 0: not given
+      cam.aspect = clamp_noted(cam.aspect, kMinAspect, 1.0 / kMinAspect, "aspectRatio", cam.clamped);
     out.cameras.push_back(cam);
   }
 
@@ -747,10 +897,15 @@ struct Walker {
     else (at / "type").fail("unknown light type '{}' (point, spot, directional)", l.type);
     g.position_m = to_asset.translation;
     g.direction = normalize(to_asset.linear * Vec3{0, 0, -1});
-    g.color = vec3(l.color, at / "color", {1, 1, 1});
-    g.intensity = finite(l.intensity, at / "intensity");
+    g.color = clamp_noted(vec3(l.color, at / "color", {1, 1, 1}), 0.0, kMaxEmissiveStrength, "color", g.clamped);
+    const double peak = std::max({g.color.x, g.color.y, g.color.z, 1.0});  // colour × intensity within the limit
+    g.intensity = clamp_noted(finite(l.intensity, at / "intensity"), 0.0, kMaxEmissiveStrength / peak, "intensity", g.clamped);
     g.inner_cone_rad = finite(l.spot.innerConeAngle, at / "spot" / "innerConeAngle");
     g.outer_cone_rad = finite(l.spot.outerConeAngle, at / "spot" / "outerConeAngle");
+    if (g.type == DeltaLightType::spot) {  // 0 ≤ inner < outer ≤ π/2
+      g.outer_cone_rad = clamp_noted(g.outer_cone_rad, kMinConeRad, std::numbers::pi / 2, "spot.outerConeAngle", g.clamped);
+      g.inner_cone_rad = clamp_noted(g.inner_cone_rad, 0.0, g.outer_cone_rad, "spot.innerConeAngle", g.clamped);
+    }
     out.lights.push_back(g);
   }
 };
@@ -763,97 +918,42 @@ TextureInput texture_input(const GltfTexture& t) {
 
 std::string asset_name(const fs::path& file) { return file.filename().string(); }
 
-// A metal's F0 = base colour at normal incidence, as a conductor of n = 1: F0 = k²/(4 + k²).
-ConductorInput metal(const GltfMaterial& g) {
-  const Vec3 f0{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
-                std::clamp(g.base_color.z, 0.0, 1.0)};
-  const SigmoidPolynomial lifted = rgb_to_reflectance(f0);
-  TableInput k;
-  for (double nm = 360.0; nm <= 830.0; nm += 5.0) {
-    const double r = std::min(lifted(nm), 0.999);
-    k.wavelength_nm.push_back(nm);
-    k.value.push_back(2.0 * std::sqrt(r / (1.0 - r)));
-  }
-  return {1.0, k, g.roughness * g.roughness, std::nullopt};
-}
-
-// glTF's metallic-roughness BRDF itself (materials/surface_bsdf.h), for materials whose metalness
-// is textured or fractional: the base colour texture (times its factor) or the factor, and the
-// metallicRoughness texture (times the factors) or the factors.
-MetallicRoughnessInput metallic_roughness(const GltfMaterial& g) {
-  MetallicRoughnessInput in;
-  if (const auto& t = g.base_color_texture) in.base_colour = texture_input(*t);
-  else in.base_colour = RgbInput{{std::clamp(g.base_color.x, 0.0, 1.0), std::clamp(g.base_color.y, 0.0, 1.0),
-                                  std::clamp(g.base_color.z, 0.0, 1.0)}};
-  in.metalness = std::clamp(g.metallic, 0.0, 1.0);
-  in.roughness = std::clamp(g.roughness, 0.0, 1.0);
-  if (const auto& t = g.metallic_roughness_texture) in.metallic_roughness_texture = texture_input(*t);
-  return in;
-}
-
-// σ_a(λ) of an attenuation colour c at distance d: the transmittance over d is the smooth
-// reflectance-like lift of c (a sigmoid in (0, 1), so σ_a ≥ 0 and its colour under D65 is c),
-// plus narrow Gaussians (2 nm wide) at the rgb3 lines (700.0, 546.1, 435.8 nm) sized to make it
-// exactly c there, so the paper's RGB mode gives c per channel; they move the full-mode colour by
-// well under 1 % (docs/assets.md). Tabulated at 1 nm and at the lines.
-TableInput volume_sigma_a(const Vec3& c, double d) {
-  constexpr std::array<double, 3> lines_nm{700.0, 546.1, 435.8};
-  constexpr double width_nm = 2.0;
-  const SigmoidPolynomial lifted = rgb_to_reflectance(c);
-  const std::array<double, 3> want{c.x, c.y, c.z};
-  auto bump = [&](std::size_t i, double nm) {
-    const double x = (nm - lines_nm[i]) / width_nm;
-    return std::exp(-0.5 * x * x);
-  };
-  // Solve Σ_j a_j bump_j(λ_i) = residual_i (optical depth over d); the matrix is the identity
-  // to 1e-300 at these spacings, so one pass suffices, and a second makes it exact to rounding.
-  std::array<double, 3> residual{}, a{};
-  for (std::size_t i = 0; i < 3; ++i) residual[i] = std::log(lifted(lines_nm[i])) - std::log(want[i]);
-  for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t i = 0; i < 3; ++i) {
-      double others = 0.0;
-      for (std::size_t j = 0; j < 3; ++j)
-        if (j != i) others += a[j] * bump(j, lines_nm[i]);
-      a[i] = residual[i] - others;
-    }
-  TableInput t;
-  for (int nm = 360; nm <= 830; ++nm) {
-    if (nm == 436) t.wavelength_nm.push_back(435.8);
-    if (nm == 547) t.wavelength_nm.push_back(546.1);
-    t.wavelength_nm.push_back(nm);
-  }
-  for (double nm : t.wavelength_nm) {
-    double depth = -std::log(lifted(nm));
-    for (std::size_t i = 0; i < 3; ++i) depth += a[i] * bump(i, nm);
-    t.value.push_back(std::max(0.0, depth) / d);
-  }
-  return t;
-}
-
-// A transmissive material with a volume: its medium, σ_a = −ln(c)/d lifted as the internal
-// transmittance c at thickness d (docs/assets.md).
-MediumInput volume_medium(const GltfMaterial& g, const Place& at) {
-  const Place pv = at / "extensions" / "KHR_materials_volume";
-  MediumInput m;
-  if (g.dispersion > 0.0) m.ior = AbbeInput{g.ior, 20.0 / g.dispersion};
-  else m.ior = g.ior;
-  if (g.dispersion < 0.0) (at / "extensions" / "KHR_materials_dispersion" / "dispersion").fail("must not be negative");
-  if (g.attenuation_distance_m) {
-    if (!(*g.attenuation_distance_m > 0.0))
-      (pv / "attenuationDistance").fail("must be positive (got {}; leave it out for no absorption)", *g.attenuation_distance_m);
-    const std::array<double, 3> c{g.attenuation_color.x, g.attenuation_color.y, g.attenuation_color.z};
-    for (std::size_t i = 0; i < 3; ++i)
-      if (!(c[i] > 0.0 && c[i] <= 1.0))
-        (pv / "attenuationColor")[i].fail("must lie in (0, 1] (got {}; 0 would absorb everything)", c[i]);
-    m.absorption.push_back({AbsorptionValuesInput{volume_sigma_a(g.attenuation_color, *g.attenuation_distance_m), "attenuation_per_m", std::nullopt}, std::nullopt});
-  }
+// The material as the one mapping shared with a scene's "pbr" objects takes it (scene/pbr_material.h):
+// its values come clamped into the model (clamp_extensions), its textures with the factors applied.
+PbrMaterialInput pbr_input(const GltfMaterial& g) {
+  PbrMaterialInput m;
+  m.base_color = g.base_color;
+  if (const auto& t = g.base_color_texture) m.base_color_texture = texture_input(*t);
+  m.metallic = g.metallic;
+  m.roughness = g.roughness;
+  if (const auto& t = g.metallic_roughness_texture) m.metallic_roughness_texture = texture_input(*t);
+  m.emissive = g.emissive;
+  m.emissive_strength = g.emissive_strength;
+  if (const auto& t = g.emissive_texture) m.emissive_texture = texture_input(*t);
+  m.transmission = g.transmission;
+  m.thin_walled = g.thickness == 0.0;
+  m.ior = g.ior;
+  m.dispersion = g.dispersion;
+  m.attenuation_color = g.attenuation_color;
+  m.attenuation_distance_m = g.attenuation_distance_m;
   return m;
 }
 
+std::string clamped_warning(const std::vector<std::string>& notes) {
+  return fmt::format("{} (clamped into what Bouguer models, docs/assets.md)", fmt::join(notes, ", "));
+}
+
+// What adding an asset's primitives keeps track of: the media made of its volumes, and the
+// materials whose clamped values were warned about (once each).
+struct AddedSoFar {
+  std::set<std::string> media;
+  std::set<int> warned;
+};
+
 void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive& p, const GltfObjectInput& in,
-                   const Source& where, std::set<std::string>& declared) {
+                   const Source& where, AddedSoFar& added) {
   ObjectDesc o;
-  o.name = fmt::format("{}: {}", asset_name(in.file), p.place);
+  o.name = fmt::format("{}: {}", in.name.empty() ? asset_name(in.file) : in.name, p.place);
   o.shape = p.shape;
   o.transform = in.transform;
   const Source ws = where / "gltf" / p.place;
@@ -875,32 +975,28 @@ void add_primitive(SceneBuilder& b, const GltfAsset& asset, const GltfPrimitive&
     b.object(std::move(o), wo);
     return;
   }
-  if (std::max({g.emissive.x, g.emissive.y, g.emissive.z}) * g.emissive_strength > 0.0) {
-    if (const auto& t = g.emissive_texture)  // factor × texel (in the texture) × strength
-      o.emission = resolve_emission(EmissionInput{texture_input(*t), g.emissive_strength},
-                                    at.source() / "emissiveTexture");
-    else
-      o.emission = resolve_emission(EmissionInput{RgbInput{g.emissive}, g.emissive_strength}, at.source() / "emissiveFactor");
-  } else if (g.transmission > 0.0) {
-    if (g.thickness == 0.0) return;  // thin-walled: index-matched, nothing to render (docs/assets.md)
+  if (!g.clamped.empty() && added.warned.insert(p.material).second)
+    b.warn(at.source(), fmt::format("material '{}': {}", g.name, clamped_warning(g.clamped)));
+  PbrRole role = pbr_role(pbr_input(g), at.source());
+  o.emission = std::move(role.emission);
+  o.material = std::move(role.material);
+  if (role.volume) {
     // One medium per material and placement: primitives and instances share it.
     const std::string medium = fmt::format("{}{}: materials[{}] {}", where.path.empty() ? "" : where.path + " ",
                                            asset_name(in.file), p.material, g.name);
-    if (declared.insert(medium).second) b.medium(medium, volume_medium(g, at), at.source());
+    if (added.media.insert(medium).second) b.medium(medium, *role.volume, at.source());
     o.inside = medium;
-    o.roughness = g.roughness * g.roughness;
-  } else if (g.metallic_roughness_texture || (g.metallic > 0.0 && g.metallic < 1.0)) {
-    o.material = resolve_surface_material(metallic_roughness(g), at.source() / "pbrMetallicRoughness");
-  } else if (g.metallic >= 0.5) {
-    o.material = resolve_surface_material(metal(g), at.source() / "pbrMetallicRoughness");
-  } else {
-    const Source wp = at.source() / "pbrMetallicRoughness";
-    if (const auto& t = g.base_color_texture)
-      o.material = resolve_surface_material(DiffuseInput{texture_input(*t)}, wp);
-    else
-      o.material = resolve_surface_material(DiffuseInput{RgbInput{g.base_color}}, wp);
+    o.roughness = role.interface_roughness;
   }
   b.object(std::move(o), ws);
+}
+
+// The default scene's extras.bouguer_studio: true or false, or 1 or 0 (Blender 3.4's exporter writes
+// a boolean custom property of the scene as 1 or 0).
+bool studio_key(const Value& v, const Place& at) {
+  if (v.IsBool()) return v.Get<bool>();
+  if (v.IsNumber() && (v.GetNumberAsDouble() == 0.0 || v.GetNumberAsDouble() == 1.0)) return v.GetNumberAsDouble() == 1.0;
+  at.fail("expected true or false (or 1 or 0)");
 }
 
 }  // namespace
@@ -919,6 +1015,8 @@ GltfAsset read_gltf(const fs::path& path) {
   if (!m.scenes.empty()) {
     const std::size_t s = m.defaultScene < 0 ? 0 : checked_index(m.defaultScene, m.scenes.size(), Place{&path, "scene"}, "scene");
     roots = m.scenes[s].nodes;
+    if (const Value& x = m.scenes[s].extras; x.IsObject() && x.Has("bouguer_studio"))
+      out.studio = studio_key(x.Get("bouguer_studio"), Place{&path, "scenes"}[s] / "extras" / "bouguer_studio");
   } else {  // no scenes: every node that is no node's child
     std::vector<bool> child(m.nodes.size(), false);
     for (const auto& n : m.nodes)
@@ -941,8 +1039,9 @@ void add_asset_objects(SceneBuilder& b, const GltfAsset& asset, const GltfObject
   for (const auto& [name, ov] : in.materials)
     if (std::find(names.begin(), names.end(), name) == names.end())
       (where / "materials" / name).fail("{} has no material '{}'{}", in.file.filename().string(), name, suggestion(name, names));
-  std::set<std::string> declared;  // the media made of the asset's volumes
-  for (const GltfPrimitive& p : asset.primitives) add_primitive(b, asset, p, in, where, declared);
+  for (const auto& [place, note] : asset.notes) b.warn(Source{in.file, place}, note);
+  AddedSoFar added;
+  for (const GltfPrimitive& p : asset.primitives) add_primitive(b, asset, p, in, where, added);
 }
 
 }  // namespace
@@ -958,6 +1057,12 @@ void add_gltf_objects(SceneBuilder& b, const GltfObjectInput& in, const Source& 
 }
 
 namespace {
+
+bool has_emitters(const GltfAsset& asset) {
+  for (const GltfPrimitive& p : asset.primitives)
+    if (p.material >= 0 && emits(asset.materials[std::size_t(p.material)])) return true;
+  return false;
+}
 
 void frame_asset(SceneBuilder& b, const GltfAsset& asset, const Source& where) {
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -978,11 +1083,12 @@ void frame_asset(SceneBuilder& b, const GltfAsset& asset, const Source& where) {
 
 }  // namespace
 
-void load_gltf_scene(const fs::path& path, SceneBuilder& b) {
+void load_gltf_scene(const fs::path& path, SceneBuilder& b, std::optional<bool> studio) {
   const GltfAsset asset = read_gltf(path);
   const Source top{path, ""};
   if (!asset.cameras.empty()) {
     const GltfCamera& g = asset.cameras.front();
+    if (!g.clamped.empty()) b.warn(top / g.place, clamped_warning(g.clamped));
     CameraDesc c;
     c.position_m = g.position_m;
     c.look_at_m = g.position_m + g.forward;
@@ -996,6 +1102,7 @@ void load_gltf_scene(const fs::path& path, SceneBuilder& b) {
     frame_asset(b, asset, top);
   }
   for (const GltfLight& g : asset.lights) {
+    if (!g.clamped.empty()) b.warn(top / g.place, clamped_warning(g.clamped));
     DeltaLightDesc l;
     l.type = g.type;
     l.position_m = g.position_m;
@@ -1006,10 +1113,11 @@ void load_gltf_scene(const fs::path& path, SceneBuilder& b) {
     l.intensity = resolve_emission(EmissionInput{RgbInput{g.color}, g.intensity}, top / g.place).radiance;
     b.light(l, top / g.place);
   }
-  if (asset.lights.empty())  // the default studio: a uniform white (D65) background of luminance 1
+  // The default studio: a uniform white (D65) background of luminance 1, where nothing else lights the asset.
+  if (studio.value_or(asset.studio.value_or(asset.lights.empty() && !has_emitters(asset))))
     b.background(resolve_emission(EmissionInput{RgbInput{{1, 1, 1}}, 1.0}, top), top);
   b.integrator("path", top);
-  add_asset_objects(b, asset, GltfObjectInput{path, Transform{}, {}}, top);
+  add_asset_objects(b, asset, GltfObjectInput{path, Transform{}, {}, {}}, top);
 }
 
 }  // namespace bouguer

@@ -56,6 +56,9 @@ struct GltfMaterial {
   std::optional<double> attenuation_distance_m;  // none: no absorption
   double ior = 1.5;         // KHR_materials_ior
   double dispersion = 0.0;  // KHR_materials_dispersion: 20 / V_d
+  // The values clamped into what Bouguer models ("baseColorFactor[0] 1.2 as 1"), for the one
+  // warning of the material (docs/assets.md).
+  std::vector<std::string> clamped;
 };
 
 // One triangle primitive under one node, in the asset's frame (the node's world transform applied).
@@ -69,6 +72,8 @@ struct GltfCamera {
   Vec3 position_m, forward, up;  // the node's −z and +y in the asset's frame
   double yfov_rad = 0.8;
   double aspect = 0.0;  // width / height; 0 when the asset does not say
+  std::string place;    // "cameras[0].perspective"
+  std::vector<std::string> clamped;  // as GltfMaterial's
 };
 
 struct GltfLight {
@@ -78,6 +83,7 @@ struct GltfLight {
   double intensity = 1.0;  // candela (point, spot) or lux (directional)
   double inner_cone_rad = 0.0, outer_cone_rad = 0.785398163397448;
   std::string place;  // "extensions.KHR_lights_punctual.lights[0]"
+  std::vector<std::string> clamped;  // as GltfMaterial's
 };
 
 struct GltfAsset {
@@ -85,6 +91,9 @@ struct GltfAsset {
   std::vector<GltfPrimitive> primitives;
   std::vector<GltfCamera> cameras;  // in node order
   std::vector<GltfLight> lights;    // in node order
+  std::optional<bool> studio;       // the default scene's extras.bouguer_studio, where it is a boolean
+  // What was left out, with its place ("nodes[3]": a node of scale 0), one warning each.
+  std::vector<std::pair<std::string, std::string>> notes;
 };
 
 bool is_gltf_file(const std::filesystem::path& path);  // by extension: .gltf or .glb
@@ -99,13 +108,14 @@ struct GltfMaterialOverride {
   std::optional<MaterialDesc> material;  // resolved by the front end (resolve_surface_material)
   std::optional<EmissionDesc> emission;
   double roughness = 0.0;
-  std::optional<int> priority;  // nested media (scene/nested.h)
+  std::optional<std::int64_t> priority;  // nested media (scene/nested.h); checked by the builder
 };
 
 struct GltfObjectInput {
   std::filesystem::path file;  // resolved against the scene's folder
   Transform transform;         // after the asset's own node transforms
   std::map<std::string, GltfMaterialOverride> materials;
+  std::string name;  // the objects' prefix ("<name>: nodes[2] meshes[0].primitives[1]"); empty: the file's name
 };
 
 // The asset's primitives as objects (and the media its transmissive materials need), each
@@ -113,8 +123,9 @@ struct GltfObjectInput {
 void add_gltf_objects(SceneBuilder& b, const GltfObjectInput& in, const Source& where);
 
 // The asset as a whole scene (bouguer render asset.glb): its objects, its first camera (or one
-// framing its bounds), its lights (or the default studio: a uniform white background), the path
-// tracer.
-void load_gltf_scene(const std::filesystem::path& path, SceneBuilder& b);
+// framing its bounds), its lights, the path tracer; and the default studio, a uniform white
+// background, where the asset has neither punctual lights nor emitting materials. `studio` (the
+// command line's --studio) says on or off instead, over the asset's own extras.bouguer_studio.
+void load_gltf_scene(const std::filesystem::path& path, SceneBuilder& b, std::optional<bool> studio = std::nullopt);
 
 }  // namespace bouguer

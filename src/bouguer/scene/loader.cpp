@@ -1,6 +1,7 @@
 #include "bouguer/scene/loader.h"
 
 #include "bouguer/scene/gltf.h"
+#include "bouguer/scene/pbr_material.h"
 
 #include <fmt/ranges.h>
 
@@ -14,7 +15,6 @@
 #include "bouguer/core/csv.h"
 #include "bouguer/io/json.h"
 #include "bouguer/core/limits.h"
-#include "bouguer/io/vdb.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/scene/builder.h"
 #include "bouguer/scene/nested.h"
@@ -256,47 +256,23 @@ IorInput ior_input(const json& j, const Where& w) {
 Transform transform(const json& j, const Where& w);
 
 // {"field": "grid", "file": "dye.vdb", "grid": "density", "scale": 1, "transform": [...]}: an
-// OpenVDB float grid (io/vdb.h), placed by its own index-to-world map and then the transform.
+// OpenVDB float grid (io/vdb.h), placed by its own index-to-world map and then the transform;
+// read and checked by the builder's resolve_grid_field.
 GridField grid_field(const json& j, const Where& w) {
   expect_keys(j, w, {"field", "file", "grid", "scale", "transform"});
   if (!j.contains("file")) w.fail("a grid field needs 'file' (an OpenVDB .vdb file)");
-  const fs::path file = w.resolve(text(j["file"], w / "file"));
-  const std::string name = j.contains("grid") ? text(j["grid"], w / "grid") : "density";
-  const double scale = j.contains("scale") ? number(j["scale"], w / "scale") : 1.0;
-  if (scale < 0.0) (w / "scale").fail("must not be negative (got {})", scale);
-  const Transform placement = j.contains("transform") ? transform(j["transform"], w / "transform") : Transform{};
-  VdbGrid g;
-  try {
-    g = read_vdb_grid(file, name);
-  } catch (const VdbError& e) {
-    (w / (e.in_grid ? "grid" : "file")).fail("{}", e.what());
-  }
-  const Transform to_world = Transform{g.world_per_index, g.node_origin_m}.then(placement);
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 node{corner & 1 ? g.values.nodes[0] - 1.0 : 0.0, corner & 2 ? g.values.nodes[1] - 1.0 : 0.0,
-                    corner & 4 ? g.values.nodes[2] - 1.0 : 0.0};
-    const Vec3 x = to_world.apply(node);
-    if (!(std::abs(x.x) <= kMaxSceneCoordinateM && std::abs(x.y) <= kMaxSceneCoordinateM &&
-          std::abs(x.z) <= kMaxSceneCoordinateM))
-      (w / "grid").fail("{}: the grid reaches ({:g}, {:g}, {:g}) m, beyond the scene's extent of ±{:g} m",
-                        file.string(), x.x, x.y, x.z, kMaxSceneCoordinateM);
-  }
-  const double det = to_world.determinant();
-  if (!(std::isfinite(det) && std::abs(det) > 0.0))
-    (w / "grid").fail("{}: the grid's index-to-world map is singular", file.string());
-  const Mat3 index_per_m = inverse(to_world.linear);
-  GridField f{std::make_shared<const GridValues>(std::move(g.values)), index_per_m,
-              -(index_per_m * to_world.translation), scale};
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      if (!std::isfinite(f.index_per_m.m[r][c]))
-        (w / "grid").fail("{}: the grid's voxels are too small to invert their map", file.string());
-  return f;
+  GridFieldInput in;
+  in.file = text(j["file"], w / "file");
+  if (j.contains("grid")) in.grid = text(j["grid"], w / "grid");
+  if (j.contains("scale")) in.scale = number(j["scale"], w / "scale");
+  if (j.contains("transform")) in.placement = transform(j["transform"], w / "transform");
+  return resolve_grid_field(in, w);
 }
 
 // {"field": "linear" | "exponential" | "diffusion" | "layers", "origin": [...], "axis": [...], ...}:
 // a concentration that varies along an axis (media/concentration_field.h, docs/scene-format.md),
-// or {"field": "grid", ...}, a voxel grid.
+// or {"field": "grid", ...}, a voxel grid. Its values are the builder's to check
+// (check_concentration_field), as for every front end.
 ConcentrationField concentration_field(const json& j, const Where& w) {
   static const std::vector<std::string> kinds = {"linear", "exponential", "diffusion", "layers", "grid"};
   if (!j.is_object() || !j.contains("field")) w.fail("a concentration field needs 'field' ({})", fmt::join(kinds, ", "));
@@ -312,14 +288,9 @@ ConcentrationField concentration_field(const json& j, const Where& w) {
     if (j.contains("axis")) a.axis = normalize(direction(j["axis"], w / "axis"));
     return a;
   };
-  auto concentration = [&](const json& v, const Where& wv) {
-    const double c = number(v, wv);
-    if (c < 0.0) wv.fail("a concentration must not be negative (got {})", c);
-    return c;
-  };
   auto value = [&] {
     if (!j.contains("value")) w.fail("a {} field needs 'value' (the concentration at the origin)", kind);
-    return concentration(j["value"], w / "value");
+    return number(j["value"], w / "value");
   };
   if (kind == "linear") {
     keys({"value", "slope_per_m"});
@@ -329,44 +300,33 @@ ConcentrationField concentration_field(const json& j, const Where& w) {
   if (kind == "exponential") {
     keys({"value", "scale_length"});
     if (!j.contains("scale_length")) w.fail("an exponential field needs 'scale_length' (H in c0·exp(−s/H))");
-    return ExponentialField{frame(), value(), positive_length_m(j["scale_length"], w / "scale_length")};
+    return ExponentialField{frame(), value(), length_m(j["scale_length"], w / "scale_length")};
   }
   if (kind == "diffusion") {
     keys({"value", "width", "diffusivity_m2_per_s", "time_s"});
     const bool by_time = j.contains("diffusivity_m2_per_s") || j.contains("time_s");
     if (j.contains("width") == by_time)
       w.fail("a diffusion field needs either 'width' (w in erfc(s/w)) or 'diffusivity_m2_per_s' and 'time_s'");
-    double width = 0.0;
-    if (by_time) {
-      if (!j.contains("diffusivity_m2_per_s") || !j.contains("time_s"))
-        w.fail("give both 'diffusivity_m2_per_s' and 'time_s' (w = 2·sqrt(D·t))");
-      const double d = number(j["diffusivity_m2_per_s"], w / "diffusivity_m2_per_s");
-      const double t = number(j["time_s"], w / "time_s");
-      if (!(d > 0.0)) (w / "diffusivity_m2_per_s").fail("must be positive (got {})", d);
-      if (!(t > 0.0)) (w / "time_s").fail("must be positive (got {})", t);
-      width = 2.0 * std::sqrt(d * t);
-      if (!(width >= kMinSceneLengthM && width <= kMaxSceneCoordinateM))
-        w.fail("the diffusion width 2·sqrt(D·t) = {:g} m is outside {:g} to {:g} m", width, kMinSceneLengthM,
-               kMaxSceneCoordinateM);
-    } else {
-      width = positive_length_m(j["width"], w / "width");
-    }
-    return DiffusionField{frame(), value(), width};
+    if (!by_time) return DiffusionField{frame(), value(), length_m(j["width"], w / "width")};
+    // The scene file's own way of giving the width, w = 2·sqrt(D·t); the width is the builder's to check.
+    if (!j.contains("diffusivity_m2_per_s") || !j.contains("time_s"))
+      w.fail("give both 'diffusivity_m2_per_s' and 'time_s' (w = 2·sqrt(D·t))");
+    const double d = number(j["diffusivity_m2_per_s"], w / "diffusivity_m2_per_s");
+    const double t = number(j["time_s"], w / "time_s");
+    if (!(d > 0.0)) (w / "diffusivity_m2_per_s").fail("must be positive (got {})", d);
+    if (!(t > 0.0)) (w / "time_s").fail("must be positive (got {})", t);
+    return DiffusionField{frame(), value(), 2.0 * std::sqrt(d * t)};
   }
   if (kind == "layers") {
     keys({"layers"});
     if (!j.contains("layers")) w.fail("a layers field needs 'layers' [[upper bound, concentration], ...]");
     const Where wl = w / "layers";
     const json& layers = array(j["layers"], wl);
-    if (layers.empty() || layers.size() > kMaxLayers) wl.fail("needs 1 to {} layers (got {})", kMaxLayers, layers.size());
     LayersField f{frame(), {}, {}};
     for (std::size_t i = 0; i < layers.size(); ++i) {
       array(layers[i], wl[i], 2);
-      const double upper = length_m(layers[i][0], wl[i][0]);
-      if (!f.upper_s_m.empty() && !(upper > f.upper_s_m.back()))
-        wl[i][0].fail("layer bounds must increase ({:g} m follows {:g} m)", upper, f.upper_s_m.back());
-      f.upper_s_m.push_back(upper);
-      f.value.push_back(concentration(layers[i][1], wl[i][1]));
+      f.upper_s_m.push_back(length_m(layers[i][0], wl[i][0]));
+      f.value.push_back(number(layers[i][1], wl[i][1]));
     }
     return f;
   }
@@ -476,27 +436,32 @@ SpectralInput spectral_input(const json& j, const Where& w) {
   return table_input(j, w, {});
 }
 
+// A reflectance (a diffuse one, a thin sheet's tint): a number, {"rgb": ...}, a texture or a table.
+std::variant<double, TableInput, RgbInput, TextureInput> reflectance_input(const json& r, const Where& wr) {
+  if (r.is_object() && r.contains("rgb")) {
+    expect_keys(r, wr, {"rgb"});
+    return rgb_input(r, wr);
+  }
+  if (r.is_object() && r.contains("texture")) return texture_input(r, wr);
+  if (r.is_number()) return number(r, wr);
+  return table_input(r, wr, {});
+}
+
 MaterialDesc material(const json& j, const Where& w) {
-  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type' (diffuse or conductor)");
+  if (!j.is_object() || !j.contains("type")) w.fail("needs 'type' (diffuse, conductor or thin_dielectric)");
   const std::string type = text(j["type"], w / "type");
   if (type == "diffuse") {
     expect_keys(j, w, {"type", "reflectance"});
     DiffuseInput d;
-    if (j.contains("reflectance")) {
-      const json& r = j["reflectance"];
-      const Where wr = w / "reflectance";
-      if (r.is_object() && r.contains("rgb")) {
-        expect_keys(r, wr, {"rgb"});
-        d.reflectance = rgb_input(r, wr);
-      } else if (r.is_object() && r.contains("texture")) {
-        d.reflectance = texture_input(r, wr);
-      } else if (r.is_number()) {
-        d.reflectance = number(r, wr);
-      } else {
-        d.reflectance = table_input(r, wr, {});
-      }
-    }
+    if (j.contains("reflectance")) d.reflectance = reflectance_input(j["reflectance"], w / "reflectance");
     return resolve_surface_material(d, w);
+  }
+  if (type == "thin_dielectric") {
+    expect_keys(j, w, {"type", "ior", "tint"});
+    ThinDielectricInput t;
+    if (j.contains("ior")) t.ior = number(j["ior"], w / "ior");
+    if (j.contains("tint")) t.tint = reflectance_input(j["tint"], w / "tint");
+    return resolve_surface_material(t, w);  // its ranges checked by the builder
   }
   if (type == "conductor") {
     expect_keys(j, w, {"type", "n", "k", "roughness"});
@@ -509,7 +474,7 @@ MaterialDesc material(const json& j, const Where& w) {
     }
     return resolve_surface_material(c, w);  // its ranges checked by the builder
   }
-  (w / "type").fail("unknown material '{}' (diffuse, conductor)", type);
+  (w / "type").fail("unknown material '{}' (diffuse, conductor, thin_dielectric)", type);
 }
 
 // "normal_map": "bumps.png", or {"texture": "bumps.png", "scale": 1, "transform": {...}}.
@@ -619,9 +584,11 @@ Shape shape(const json& j, const Where& w, const MeshArrays* arrays) {
   (w / "type").fail("unknown shape '{}'{}", type, suggestion(type, types));
 }
 
+// The steps as the file gives them; their checks and composition are the builder's
+// (resolve_transform).
 Transform transform(const json& j, const Where& w) {
   array(j, w);
-  Transform t;
+  std::vector<TransformStep> steps;
   for (std::size_t i = 0; i < j.size(); ++i) {
     const Where wi = w[i];
     expect_keys(j[i], wi, {"scale", "rotate_deg", "translate", "matrix"});
@@ -630,33 +597,24 @@ Transform transform(const json& j, const Where& w) {
     const std::string key = step_it.key();
     const json& v = step_it.value();
     const Where wv = wi / key;
-    Transform step;
     if (key == "scale") {
-      const Vec3 s = v.is_number() ? Vec3{1, 1, 1} * number(v, wv) : vec3(v, wv);
-      if (s.x == 0.0 || s.y == 0.0 || s.z == 0.0) wv.fail("a scale of zero collapses the shape");
-      step = Transform::scale(s);
+      steps.emplace_back(ScaleStep{v.is_number() ? Vec3{1, 1, 1} * number(v, wv) : vec3(v, wv)});
     } else if (key == "rotate_deg") {
       array(v, wv, 2);
-      const Vec3 axis = vec3(v[1], wv[1]);
-      if (length(axis) == 0.0) wv[1].fail("the rotation axis must not be zero");
-      step = Transform::rotate_deg(number(v[0], wv[0]), axis);
+      steps.emplace_back(RotateStep{number(v[0], wv[0]), vec3(v[1], wv[1])});
     } else if (key == "translate") {
-      step = Transform::translate(length_vec3(v, wv));
+      steps.emplace_back(TranslateStep{length_vec3(v, wv)});
     } else {
       array(v, wv, 4);
-      for (std::size_t r = 0; r < 4; ++r) array(v[r], wv[r], 4);
-      for (std::size_t r = 0; r < 3; ++r) {
-        for (std::size_t c = 0; c < 3; ++c) step.linear.m[r][c] = number(v[r][c], wv[r][c]);
-        step.translation[r] = number(v[r][3], wv[r][3]);
+      MatrixStep m;
+      for (std::size_t r = 0; r < 4; ++r) {
+        array(v[r], wv[r], 4);
+        for (std::size_t c = 0; c < 4; ++c) m.rows[r][c] = number(v[r][c], wv[r][c]);
       }
-      if (number(v[3][0], wv[3]) != 0 || number(v[3][1], wv[3]) != 0 || number(v[3][2], wv[3]) != 0 ||
-          number(v[3][3], wv[3]) != 1)
-        wv[3].fail("the last row of an affine matrix must be [0, 0, 0, 1]");
-      if (step.determinant() == 0.0) wv.fail("the matrix is singular");
+      steps.emplace_back(m);
     }
-    t = t.then(step);
   }
-  return t;
+  return resolve_transform(steps, w);
 }
 
 // ---- top level ---------------------------------------------------------------------------------
@@ -672,7 +630,7 @@ void read_camera(const json& j, const Where& w, SceneBuilder& b) {
   }
   if (j.contains("position")) c.position_m = length_vec3(j["position"], w / "position");
   if (j.contains("look_at")) c.look_at_m = length_vec3(j["look_at"], w / "look_at");
-  if (j.contains("up")) c.up = direction(j["up"], w / "up");
+  if (j.contains("up")) c.up = vec3(j["up"], w / "up");  // checked by the builder
   if (j.contains("fov_deg")) c.fov_deg = number(j["fov_deg"], w / "fov_deg");
   if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
   if (j.contains("shift")) {
@@ -760,16 +718,77 @@ ObjectDesc object(const json& j, const Where& w, std::size_t index, const MeshAr
     }
   }
   if (j.contains("roughness")) o.roughness = number(j["roughness"], w / "roughness");
-  if (j.contains("priority")) o.priority = integer(j["priority"], w / "priority", 0, kMaxPriority);
+  if (j.contains("priority")) o.priority = whole_number(j["priority"], w / "priority");
   return o;  // its roles and media are checked by the builder
 }
 
-// {"gltf": "bottle.glb", "transform": [...], "materials": {"Glass": {"inside": "glass"}}}: an asset's
-// primitives as objects, its materials overridden by name with an object's roles.
+// "pbr": glTF's metallic-roughness material with its extensions' values (docs/scene-format.md), the
+// role the glTF reader gives an asset's materials, through the same mapping (scene/pbr_material.h).
+PbrMaterialInput pbr_input(const json& j, const Where& w) {
+  if (!j.is_object()) w.fail("expected an object of material values (base_color, metallic, roughness, ...)");
+  expect_keys(j, w,
+              {"base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture", "emission",
+               "emission_strength", "emission_texture", "transmission", "thin_walled", "ior", "dispersion",
+               "attenuation_color", "attenuation_distance"});
+  PbrMaterialInput m;
+  auto num = [&](const char* key, double& out) {
+    if (j.contains(key)) out = number(j[key], w / key);
+  };
+  auto colour = [&](const char* key, Vec3& out) {
+    if (j.contains(key)) out = vec3(j[key], w / key);
+  };
+  auto texture = [&](const char* key, std::optional<TextureInput>& out) {
+    if (j.contains(key)) out = texture_input(j[key], w / key);
+  };
+  colour("base_color", m.base_color);
+  texture("base_color_texture", m.base_color_texture);
+  num("metallic", m.metallic);
+  num("roughness", m.roughness);
+  texture("metallic_roughness_texture", m.metallic_roughness_texture);
+  colour("emission", m.emissive);
+  num("emission_strength", m.emissive_strength);
+  texture("emission_texture", m.emissive_texture);
+  num("transmission", m.transmission);
+  if (j.contains("thin_walled")) m.thin_walled = boolean(j["thin_walled"], w / "thin_walled");
+  num("ior", m.ior);
+  num("dispersion", m.dispersion);
+  colour("attenuation_color", m.attenuation_color);
+  if (j.contains("attenuation_distance")) m.attenuation_distance_m = length_m(j["attenuation_distance"], w / "attenuation_distance");
+  return m;
+}
+
+// An object whose role is a "pbr" material. A transmissive solid bounds the medium `inside` names
+// (a scene's measured medium: a Blender material's volume), or else one made of the material's
+// own ior and attenuation, named "<object> (pbr)".
+void add_pbr_object(SceneBuilder& b, const json& j, const Where& w, std::size_t index) {
+  if (j.contains("material") || j.contains("emission")) w.fail("give either 'pbr' or 'material'/'emission', not both");
+  json rest = j;
+  rest.erase("pbr");
+  ObjectDesc o = object(rest, w, index);
+  const Where wp = w / "pbr";
+  PbrRole role = pbr_role(pbr_input(j["pbr"], wp), wp);
+  o.emission = std::move(role.emission);
+  o.material = std::move(role.material);
+  if (role.volume) {
+    if (!j.contains("roughness")) o.roughness = role.interface_roughness;
+    if (!o.inside) {
+      o.inside = fmt::format("{} (pbr)", o.name);
+      b.medium(*o.inside, *role.volume, wp);
+    }
+  } else if (o.inside) {
+    (w / "inside").fail("belongs to a transmissive 'pbr' material (transmission above 0, not thin-walled)");
+  }
+  b.object(std::move(o), w);
+}
+
+// {"gltf": "bottle.glb", "name": "bottle", "transform": [...], "materials": {"Glass": {"inside": "glass"}}}:
+// an asset's primitives as objects (named "bottle: nodes[2] meshes[0].primitives[1]"), its materials
+// overridden by name with an object's roles.
 GltfObjectInput gltf_object(const json& j, const Where& w) {
-  expect_keys(j, w, {"gltf", "transform", "materials"});
+  expect_keys(j, w, {"gltf", "name", "transform", "materials"});
   GltfObjectInput in;
   in.file = w.resolve(text(j["gltf"], w / "gltf"));
+  if (j.contains("name")) in.name = text(j["name"], w / "name");
   if (j.contains("transform")) in.transform = transform(j["transform"], w / "transform");
   if (j.contains("materials")) {
     const Where wm = w / "materials";
@@ -783,7 +802,7 @@ GltfObjectInput gltf_object(const json& j, const Where& w) {
       if (m.contains("material")) ov.material = material(m["material"], wn / "material");
       if (m.contains("emission")) ov.emission = emission(m["emission"], wn / "emission", true);
       if (m.contains("roughness")) ov.roughness = number(m["roughness"], wn / "roughness");
-      if (m.contains("priority")) ov.priority = integer(m["priority"], wn / "priority", 0, kMaxPriority);
+      if (m.contains("priority")) ov.priority = whole_number(m["priority"], wn / "priority");
       in.materials[name] = ov;
     }
   }
@@ -812,6 +831,8 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
     const json& o = root["objects"][i];
     if (o.is_object() && o.contains("gltf")) {
       add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
+    } else if (o.is_object() && o.contains("pbr")) {
+      add_pbr_object(b, o, wo[i], i);
     } else if (o.is_object() && o.contains("material") && o["material"] == "mtl") {
       for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i, arrays), wo[i] / "material"))
         b.object(std::move(part), wo[i]);

@@ -14,6 +14,7 @@
 #include "bouguer/core/limits.h"
 #include "bouguer/spectra/spectrum_csv.h"
 #include "bouguer/io/texture_image.h"
+#include "bouguer/io/vdb.h"
 #include "bouguer/media/absorption.h"
 #include "bouguer/media/ior_library.h"
 #include "bouguer/media/library.h"
@@ -451,6 +452,15 @@ Spectrum reflectance_rgb(const RgbInput& c, const Source& wr) {
   return Spectrum{rgb_to_reflectance(rgb)};
 }
 
+// A reflectance as a number, table, RGB or texture: into `spectrum`, or `texture` read instead.
+void resolve_reflectance(const std::variant<double, TableInput, RgbInput, TextureInput>& in, const Source& wr,
+                         Spectrum& spectrum, std::optional<TextureDesc>& texture) {
+  if (const auto* c = std::get_if<RgbInput>(&in)) spectrum = reflectance_rgb(*c, wr);
+  else if (const auto* v = std::get_if<double>(&in)) spectrum = ConstantSpectrum{*v};
+  else if (const auto* t = std::get_if<TextureInput>(&in)) texture = resolve_texture(*t, wr, TextureUse::reflectance);
+  else spectrum = resolve_table(std::get<TableInput>(in), wr);
+}
+
 MetallicRoughnessDesc resolve_metallic_roughness(const MetallicRoughnessInput& in, const Source& where) {
   MetallicRoughnessDesc d;
   const Source wb = where / "base_colour";
@@ -481,20 +491,143 @@ MaterialDesc resolve_surface_material(const MaterialInput& in, const Source& whe
     return d;
   }
   if (const auto* g = std::get_if<MetallicRoughnessInput>(&in)) return resolve_metallic_roughness(*g, where);
+  if (const auto* t = std::get_if<ThinDielectricInput>(&in)) {
+    ThinDielectricDesc d;
+    d.ior = t->ior;  // its range checked by the builder
+    if (t->tint) resolve_reflectance(*t->tint, where / "tint", d.tint, d.tint_texture);
+    return d;
+  }
   DiffuseDesc d;
   const auto& reflectance = std::get<DiffuseInput>(in).reflectance;
-  if (!reflectance) return d;
-  const Source wr = where / "reflectance";
-  if (const auto* c = std::get_if<RgbInput>(&*reflectance)) {
-    d.reflectance = reflectance_rgb(*c, wr);
-  } else if (const auto* v = std::get_if<double>(&*reflectance)) {
-    d.reflectance = ConstantSpectrum{*v};
-  } else if (const auto* t = std::get_if<TextureInput>(&*reflectance)) {
-    d.reflectance_texture = resolve_texture(*t, wr, TextureUse::reflectance);
-  } else {
-    d.reflectance = resolve_table(std::get<TableInput>(*reflectance), wr);
-  }
+  if (reflectance) resolve_reflectance(*reflectance, where / "reflectance", d.reflectance, d.reflectance_texture);
   return d;
+}
+
+namespace {
+
+Transform transform_step(const TransformStep& step, const Source& where) {
+  if (const auto* s = std::get_if<ScaleStep>(&step)) {
+    const Source ws = where / "scale";
+    const Vec3 f = s->factor;
+    if (!(std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z))) ws.fail("must be finite");
+    if (f.x == 0.0 || f.y == 0.0 || f.z == 0.0) ws.fail("a scale of zero collapses the shape");
+    return Transform::scale(f);
+  }
+  if (const auto* r = std::get_if<RotateStep>(&step)) {
+    const Source wr = where / "rotate_deg";
+    if (!std::isfinite(r->angle_deg)) wr[0].fail("must be finite");
+    if (!(std::isfinite(length(r->axis)) && length(r->axis) > 0.0)) wr[1].fail("the rotation axis must not be zero");
+    return Transform::rotate_deg(r->angle_deg, r->axis);
+  }
+  if (const auto* t = std::get_if<TranslateStep>(&step)) {
+    const Vec3 o = t->offset_m;
+    if (!(std::abs(o.x) <= kMaxSceneCoordinateM && std::abs(o.y) <= kMaxSceneCoordinateM &&
+          std::abs(o.z) <= kMaxSceneCoordinateM))
+      (where / "translate").fail("must lie within the scene's extent of ±{:g} m", kMaxSceneCoordinateM);
+    return Transform::translate(o);
+  }
+  const auto& rows = std::get<MatrixStep>(step).rows;
+  const Source wm = where / "matrix";
+  for (std::size_t r = 0; r < 4; ++r)
+    for (std::size_t c = 0; c < 4; ++c)
+      if (!std::isfinite(rows[r][c])) wm[r][c].fail("must be finite");
+  if (rows[3][0] != 0.0 || rows[3][1] != 0.0 || rows[3][2] != 0.0 || rows[3][3] != 1.0)
+    wm[3].fail("the last row of an affine matrix must be [0, 0, 0, 1]");
+  Transform m;
+  for (std::size_t r = 0; r < 3; ++r) {
+    for (std::size_t c = 0; c < 3; ++c) m.linear.m[r][c] = rows[r][c];
+    m.translation[r] = rows[r][3];
+  }
+  if (m.determinant() == 0.0) wm.fail("the matrix is singular");
+  return m;
+}
+
+void check_concentration(double c, const Source& where) {
+  if (!(c >= 0.0) || !std::isfinite(c)) where.fail("a concentration must not be negative (got {})", c);
+}
+
+void check_axis(const FieldAxis& a, const Source& where) {
+  if (!(std::abs(length(a.axis) - 1.0) <= 1e-9)) (where / "axis").fail("must be a direction of finite, non-zero length");
+  if (!(std::isfinite(length(a.origin_m)))) (where / "origin").fail("must be finite");
+}
+
+}  // namespace
+
+Transform resolve_transform(const std::vector<TransformStep>& steps, const Source& where) {
+  Transform t;
+  for (std::size_t i = 0; i < steps.size(); ++i) t = t.then(transform_step(steps[i], where[i]));
+  return t;
+}
+
+GridField resolve_grid_field(const GridFieldInput& in, const Source& where) {
+  const std::filesystem::path file = where.resolve(in.file);
+  VdbGrid g;
+  try {
+    g = read_vdb_grid(file, in.grid);
+  } catch (const VdbError& e) {
+    (where / (e.in_grid ? "grid" : "file")).fail("{}", e.what());
+  }
+  const Transform to_world = Transform{g.world_per_index, g.node_origin_m}.then(in.placement);
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 node{corner & 1 ? g.values.nodes[0] - 1.0 : 0.0, corner & 2 ? g.values.nodes[1] - 1.0 : 0.0,
+                    corner & 4 ? g.values.nodes[2] - 1.0 : 0.0};
+    const Vec3 x = to_world.apply(node);
+    if (!(std::abs(x.x) <= kMaxSceneCoordinateM && std::abs(x.y) <= kMaxSceneCoordinateM &&
+          std::abs(x.z) <= kMaxSceneCoordinateM))
+      (where / "grid").fail("{}: the grid reaches ({:g}, {:g}, {:g}) m, beyond the scene's extent of ±{:g} m",
+                            file.string(), x.x, x.y, x.z, kMaxSceneCoordinateM);
+  }
+  const double det = to_world.determinant();
+  if (!(std::isfinite(det) && std::abs(det) > 0.0))
+    (where / "grid").fail("{}: the grid's index-to-world map is singular", file.string());
+  const Mat3 index_per_m = inverse(to_world.linear);
+  GridField f{std::make_shared<const GridValues>(std::move(g.values)), index_per_m,
+              -(index_per_m * to_world.translation), in.scale};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(f.index_per_m.m[r][c]))
+        (where / "grid").fail("{}: the grid's voxels are too small to invert their map", file.string());
+  return f;
+}
+
+void check_concentration_field(const ConcentrationField& field, const Source& where) {
+  std::visit(
+      [&](const auto& f) {
+        using T = std::decay_t<decltype(f)>;
+        if constexpr (std::is_same_v<T, ConstantField>) {
+          if (!(f.value >= 0.0) || !std::isfinite(f.value)) where.fail("must not be negative (got {})", f.value);
+        } else if constexpr (std::is_same_v<T, GridField>) {
+          if (!(f.scale >= 0.0) || !std::isfinite(f.scale)) (where / "scale").fail("must not be negative (got {})", f.scale);
+          if (!f.values) where.fail("a grid field needs its values (resolve_grid_field reads them)");
+        } else if constexpr (std::is_same_v<T, LayersField>) {
+          check_axis(f.frame, where);
+          const Source wl = where / "layers";
+          if (f.upper_s_m.empty() || f.upper_s_m.size() > kMaxLayers || f.value.size() != f.upper_s_m.size())
+            wl.fail("needs 1 to {} layers (got {})", kMaxLayers, f.upper_s_m.size());
+          for (std::size_t i = 0; i < f.upper_s_m.size(); ++i) {
+            if (!(std::abs(f.upper_s_m[i]) <= kMaxSceneCoordinateM))
+              wl[i][0].fail("{:g} m is beyond the scene's extent of ±{:g} m", f.upper_s_m[i], kMaxSceneCoordinateM);
+            if (i > 0 && !(f.upper_s_m[i] > f.upper_s_m[i - 1]))
+              wl[i][0].fail("layer bounds must increase ({:g} m follows {:g} m)", f.upper_s_m[i], f.upper_s_m[i - 1]);
+            check_concentration(f.value[i], wl[i][1]);
+          }
+        } else {
+          check_axis(f.frame, where);
+          check_concentration(f.value, where / "value");
+          if constexpr (std::is_same_v<T, LinearField>) {
+            if (!std::isfinite(f.slope_per_m)) (where / "slope_per_m").fail("must be finite");
+          } else if constexpr (std::is_same_v<T, ExponentialField>) {
+            if (!(f.scale_length_m >= kMinSceneLengthM && f.scale_length_m <= kMaxSceneCoordinateM))
+              (where / "scale_length").fail("must be a positive length of at most {:g} m (got {:g} m)",
+                                            kMaxSceneCoordinateM, f.scale_length_m);
+          } else {
+            if (!(f.width_m >= kMinSceneLengthM && f.width_m <= kMaxSceneCoordinateM))
+              (where / "width").fail("the diffusion width {:g} m is outside {:g} to {:g} m", f.width_m, kMinSceneLengthM,
+                                     kMaxSceneCoordinateM);
+          }
+        }
+      },
+      field);
 }
 
 }  // namespace bouguer

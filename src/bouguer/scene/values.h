@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bouguer/core/math.h"
+#include "bouguer/geometry/transform.h"
 #include "bouguer/media/concentration_field.h"
 #include "bouguer/media/ior.h"
 #include "bouguer/media/phase.h"
@@ -86,7 +87,36 @@ struct AbbeInput {
 using IorInput = std::variant<double, IorLibraryInput, AbbeInput, SellmeierIor, CauchyIor, TableInput>;
 
 // A concentration or density: a number, or a field varying in space (media/concentration_field.h).
+// A field's values are checked by the builder (SceneBuilder::medium), whatever front end made it.
 using ConcentrationInput = std::variant<double, ConcentrationField>;
+
+// A voxel grid as a front end names it: an OpenVDB file (relative to the source's folder), the
+// grid's name, a factor on its values, and a placement applied after the grid's own index-to-world
+// map.
+struct GridFieldInput {
+  std::string file;
+  std::string grid = "density";
+  double scale = 1.0;
+  Transform placement;
+};
+
+// One step of an object's (or a grid's) placement, applied in order: a scale (per axis), a
+// rotation by an angle about an axis, a translation in metres, or an affine matrix given by its
+// four rows (the last [0, 0, 0, 1]).
+struct ScaleStep {
+  Vec3 factor{1, 1, 1};
+};
+struct RotateStep {
+  double angle_deg = 0.0;
+  Vec3 axis{0, 1, 0};
+};
+struct TranslateStep {
+  Vec3 offset_m{};
+};
+struct MatrixStep {
+  std::array<std::array<double, 4>, 4> rows{};
+};
+using TransformStep = std::variant<ScaleStep, RotateStep, TranslateStep, MatrixStep>;
 
 // One absorber: a library material, a material file that names its own unit
 // (scene/material_file.h), or values (a table, or RGB where only RGB data exist) in a unit
@@ -160,7 +190,13 @@ struct MetallicRoughnessInput {
   double metalness = 1.0, roughness = 1.0;
   std::optional<TextureInput> metallic_roughness_texture;
 };
-using MaterialInput = std::variant<DiffuseInput, ConductorInput, MetallicRoughnessInput>;
+// A thin dielectric sheet (ThinDielectricDesc): its index and the tint of what it transmits (as a
+// diffuse reflectance is given; white when not given).
+struct ThinDielectricInput {
+  double ior = 1.5;
+  std::optional<std::variant<double, TableInput, RgbInput, TextureInput>> tint;
+};
+using MaterialInput = std::variant<DiffuseInput, ConductorInput, MetallicRoughnessInput, ThinDielectricInput>;
 
 // ---- what they mean ----------------------------------------------------------------------------
 
@@ -193,5 +229,18 @@ std::vector<ObjectDesc> resolve_obj_materials(const ObjectDesc& base, const Sour
 
 MaterialDesc resolve_surface_material(const MaterialInput& material, const Source& where);
 NormalMapDesc resolve_normal_map(const NormalMapInput& normal_map, const Source& where);
+
+// The steps composed in order, each checked (a scale of zero, a zero rotation axis, a matrix whose
+// last row is not [0, 0, 0, 1] or that is singular); `where` is the list, step i is where[i].
+Transform resolve_transform(const std::vector<TransformStep>& steps, const Source& where);
+// The grid read (io/vdb.h; an Error on where / "file" or where / "grid") and placed: every corner
+// within the scene's extent, its index-to-world map invertible. Its scale is checked with the
+// other fields' values (check_concentration_field).
+GridField resolve_grid_field(const GridFieldInput& grid, const Source& where);
+// A field's values, whatever front end made it: concentrations not negative, an axis of unit
+// length, a positive scale length, a diffusion width within the scene's lengths, 1 to kMaxLayers
+// layers with increasing bounds, a grid's scale not negative. `where` names the field; its keys
+// follow the JSON schema's ("value", "layers[1][0]", ...).
+void check_concentration_field(const ConcentrationField& field, const Source& where);
 
 }  // namespace bouguer
