@@ -760,11 +760,11 @@ PbrMaterialInput pbr_input(const json& j, const Where& w) {
 // An object whose role is a "pbr" material. A transmissive solid bounds the medium `inside` names
 // (a scene's measured medium: a Blender material's volume), or else one made of the material's
 // own ior and attenuation, named "<object> (pbr)".
-void add_pbr_object(SceneBuilder& b, const json& j, const Where& w, std::size_t index) {
+void add_pbr_object(SceneBuilder& b, const json& j, const Where& w, std::size_t index, const MeshArrays* arrays) {
   if (j.contains("material") || j.contains("emission")) w.fail("give either 'pbr' or 'material'/'emission', not both");
   json rest = j;
   rest.erase("pbr");
-  ObjectDesc o = object(rest, w, index);
+  ObjectDesc o = object(rest, w, index, arrays);
   const Where wp = w / "pbr";
   PbrRole role = pbr_role(pbr_input(j["pbr"], wp), wp);
   o.emission = std::move(role.emission);
@@ -832,7 +832,7 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
     if (o.is_object() && o.contains("gltf")) {
       add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
     } else if (o.is_object() && o.contains("pbr")) {
-      add_pbr_object(b, o, wo[i], i);
+      add_pbr_object(b, o, wo[i], i, arrays);
     } else if (o.is_object() && o.contains("material") && o["material"] == "mtl") {
       for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i, arrays), wo[i] / "material"))
         b.object(std::move(part), wo[i]);
