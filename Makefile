@@ -6,7 +6,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 180
 FUZZ_TARGETS ?=
 
-.PHONY: all deps configure build demo test bench convergence estimators fuzz clean
+.PHONY: all deps configure build demo test bench convergence estimators fuzz clean blender-addon
 
 all: build
 
@@ -41,6 +41,11 @@ estimators: build
 # its corpus, one after another; FUZZ_TARGETS picks some (e.g. FUZZ_TARGETS="ply_ascii exr").
 fuzz:
 	@bash scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# The Blender add-on as a zip for Blender's Preferences > Add-ons > Install (docs/blender.md).
+blender-addon:
+	@mkdir -p $(BUILD)
+	@/usr/bin/python3 scripts/make-blender-addon.py blender/bouguer_blender $(BUILD)/bouguer_blender.zip
 
 clean:
 	rm -rf $(BUILD) $(FUZZ_BUILD) out

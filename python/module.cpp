@@ -10,6 +10,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <exception>
 #include <filesystem>
@@ -23,10 +24,14 @@
 #include <vector>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/limits.h"
+#include "bouguer/core/strings.h"
 #include "bouguer/integrators/render_into.h"
+#include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/update.h"
+#include "bouguer/spectra/rgb_to_spectrum.h"
 #include "python/module.h"
 
 namespace py = pybind11;
@@ -52,19 +57,106 @@ std::shared_ptr<Scene> load(const fs::path& path) { return scene_from(load_scene
 // The dict goes through Python's json module, so it is read by the same loader as a file: the
 // same keys, checks and messages. Relative paths in it are against `base` (the working directory
 // when not given); messages name it as "<dict>" in that folder.
-std::shared_ptr<Scene> load_dict(const py::dict& d, const std::optional<fs::path>& base) {
+// One mesh of load_dict(meshes=...): numpy arrays (anything numpy converts) into the shape the
+// loader resolves {"type": "mesh", "arrays": name} to, each count and value checked here so that
+// a message names the dict's place: "<dict>: meshes['cup'].triangles[3]: ...".
+template <typename T>
+py::array_t<T, py::array::c_style | py::array::forcecast> rows_of(const py::handle& value, const Source& w,
+                                                                   py::ssize_t columns, std::size_t max_rows) {
+  py::array_t<T, py::array::c_style | py::array::forcecast> a;
+  try {
+    a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(value);
+  } catch (const py::error_already_set&) {
+  }
+  if (!a) w.fail("expected an array of numbers");
+  if (a.ndim() != 2 || a.shape(1) != columns) w.fail("expected an array of shape (N, {})", columns);
+  if (static_cast<std::size_t>(a.shape(0)) > max_rows) w.fail("{} rows, more than the limit of {}", a.shape(0), max_rows);
+  return a;
+}
+
+TriangleMeshShape mesh_arrays(const py::dict& m, const Source& w) {
+  for (const auto& [key, value] : m) {
+    const std::string k = py::str(key);
+    if (k != "positions" && k != "triangles" && k != "normals" && k != "uvs")
+      (w / k).fail("unknown key{}", suggestion(k, {"positions", "triangles", "normals", "uvs"}));
+  }
+  if (!m.contains("positions") || !m.contains("triangles")) w.fail("a mesh needs 'positions' and 'triangles'");
+  TriangleMeshShape s;
+  const auto p = rows_of<double>(m["positions"], w / "positions", 3, kMaxMeshVertices);
+  const auto n = static_cast<std::size_t>(p.shape(0));
+  const auto point = [](const double* v) { return Vec3{v[0], v[1], v[2]}; };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 v = point(p.data() + 3 * i);
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(v[c]) || std::abs(v[c]) > kMaxMeshCoordinate)
+        (w / "positions")[i].fail("expected finite coordinates within ±{} m (got {})", kMaxMeshCoordinate, v[c]);
+    s.mesh.positions.push_back(v);
+  }
+  const auto t = rows_of<std::int64_t>(m["triangles"], w / "triangles", 3, kMaxMeshTriangles);
+  if (t.shape(0) == 0) (w / "triangles").fail("the mesh has no triangles");
+  for (py::ssize_t i = 0; i < t.shape(0); ++i) {
+    std::array<std::uint32_t, 3> tri{};
+    for (py::ssize_t c = 0; c < 3; ++c) {
+      const std::int64_t v = t.at(i, c);
+      if (v < 0 || static_cast<std::uint64_t>(v) >= n)
+        (w / "triangles")[static_cast<std::size_t>(i)].fail("vertex {} is not one of the {} positions", v, n);
+      tri[static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(v);
+    }
+    s.mesh.triangles.push_back(tri);
+  }
+  if (m.contains("normals")) {
+    const auto a = rows_of<double>(m["normals"], w / "normals", 3, kMaxMeshVertices);
+    if (static_cast<std::size_t>(a.shape(0)) != n) (w / "normals").fail("{} normals for {} positions", a.shape(0), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 v = point(a.data() + 3 * i);
+      const double l = length(v);
+      if (!std::isfinite(l) || l == 0.0) (w / "normals")[i].fail("expected a finite, non-zero vector");
+      s.normals.push_back(v);
+    }
+  }
+  if (m.contains("uvs")) {
+    const auto a = rows_of<double>(m["uvs"], w / "uvs", 2, kMaxMeshVertices);
+    if (static_cast<std::size_t>(a.shape(0)) != n) (w / "uvs").fail("{} UVs for {} positions", a.shape(0), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::array<double, 2> uv{a.at(static_cast<py::ssize_t>(i), 0), a.at(static_cast<py::ssize_t>(i), 1)};
+      if (!std::isfinite(uv[0]) || !std::isfinite(uv[1])) (w / "uvs")[i].fail("expected finite numbers");
+      s.uvs.push_back(uv);
+    }
+  }
+  return s;
+}
+
+// The dict goes through Python's json module, so it is read by the same loader as a file: the
+// same keys, checks and messages. Relative paths in it are against `base` (the working directory
+// when not given); messages name it as "<dict>" in that folder. `meshes` are triangles held in
+// memory, named by shapes {"type": "mesh", "arrays": name}.
+std::shared_ptr<Scene> load_dict(const py::dict& d, const std::optional<fs::path>& base,
+                                 const std::optional<py::dict>& meshes) {
   const std::string text = py::module_::import("json").attr("dumps")(d, py::arg("allow_nan") = false).cast<std::string>();
   const fs::path folder = base ? fs::absolute(*base) : fs::current_path();
-  return scene_from(parse_scene(text, folder / "<dict>"));
+  const fs::path file = folder / "<dict>";
+  MeshArrays arrays;
+  if (meshes) {
+    const Source w{file, "meshes"};
+    for (const auto& [key, value] : *meshes) {
+      const std::string name = py::str(key);
+      const Source wn{file, fmt::format("meshes['{}']", name)};
+      if (!py::isinstance<py::dict>(value)) wn.fail("expected a dict with 'positions' and 'triangles'");
+      arrays.emplace(name, mesh_arrays(value.cast<py::dict>(), wn));
+    }
+  }
+  return scene_from(parse_scene(text, file, meshes ? &arrays : nullptr));
 }
 
 struct RenderArgs {
   std::optional<std::int64_t> spp, seed, max_depth;
   std::optional<std::string> integrator, spectral;
   std::optional<std::pair<std::int64_t, std::int64_t>> resolution;
+  std::optional<double> time_s;
+  std::optional<fs::path> spectral_exr;  // the command line's --spectral-exr
   int threads = 0;
   bool spectra = false;
-  py::object progress;
+  py::object progress, on_pass, should_stop;
 };
 
 // The scene's settings with the keyword arguments over them, each checked by the SceneBuilder's
@@ -80,6 +172,9 @@ RenderSettings settings_with(const Scene& scene, const RenderArgs& a, CameraDesc
     check.spectral_mode(*a.spectral, Source::option("spectral"));
     s.spectral = find_spectral_mode(*a.spectral)->mode;
   }
+  // A budget of seconds without spp: as many samples as the budget allows (as the command line's --time).
+  constexpr int kTimedSpp = 1 << 20;
+  if (a.time_s && !a.spp) s.spp = kTimedSpp;
   if (a.spp) check.spp(*a.spp, Source::option("spp")), s.spp = static_cast<int>(*a.spp);
   if (a.max_depth) check.max_depth(*a.max_depth, Source::option("max_depth")), s.max_depth = static_cast<int>(*a.max_depth);
   if (a.seed) check.seed(*a.seed, Source::option("seed")), s.seed = static_cast<std::uint64_t>(*a.seed);
@@ -91,67 +186,150 @@ RenderSettings settings_with(const Scene& scene, const RenderArgs& a, CameraDesc
   return s;
 }
 
-// The render runs on a worker thread without the GIL; the calling thread waits for it, and every
-// few tens of milliseconds takes the GIL to look for a signal (Ctrl-C: KeyboardInterrupt) and to
-// call the progress callback, so Python code runs on one thread only. An interrupt sets the
-// renderer's cancel flag: the tiles in flight finish, the rest are skipped, and the exception is
-// raised once the worker has stopped.
-void render_waiting(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, const RenderArgs& a,
-                    RenderStats& stats) {
-  std::atomic<bool> cancel{false};
-  std::atomic<double> fraction{0.0};
+// What the worker and the calling thread share. The worker renders passes of sample ranges (any
+// split gives the same image, render/film.h), 1, 1, 2, 4, ... up to kMaxPassSpp per pixel, so that a
+// stop waits for the tiles of one pass at most. After each pass, when the caller wants the image so
+// far, it waits until the calling thread has resolved the film (a copy, milliseconds), so that the
+// film is never read while it is written.
+struct PassState {
   std::mutex mutex;
-  std::condition_variable done_cv;
-  bool done = false;
+  std::condition_variable cv;
+  bool done = false, pass_waiting = false;
+  std::atomic<bool> cancel{false};
+  std::atomic<double> fraction{0.0}, pass_fraction{0.0};
+  int complete = 0, partial = 0;  // samples every pixel has; those the stopped pass added where it reached
+  double partial_fraction = 0.0;  // of the stopped pass's tiles that finished
   std::exception_ptr failure;
+};
+
+constexpr int kMaxPassSpp = 64;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// With a budget of seconds, a pass that would not end within it is cut to the samples that will at
+// the rate measured so far, and none is begun when not one more would (apps/bouguer/cmd_render.cpp).
+void render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, const RenderArgs& a,
+                   RenderStats& stats, PassState& st) {
+  const int spp = settings.spp;
+  const double budget_s = a.time_s.value_or(0.0);
+  const bool hand_over = !a.on_pass.is_none();
+  const auto start = std::chrono::steady_clock::now();
   RenderControl control;
   control.threads = a.threads;
-  control.cancel = &cancel;
+  control.cancel = &st.cancel;
+  for (int begin = 0; begin < spp && !st.cancel;) {
+    int end = std::min(spp, begin + std::clamp(begin, 1, kMaxPassSpp));
+    if (budget_s > 0.0 && begin > 0) {
+      const double elapsed = seconds_since(start);
+      const double affordable = (budget_s - elapsed) / (elapsed / begin);  // samples per pixel still in time
+      if (affordable < 1.0) return;
+      end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
+    }
+    control.progress = [&, begin, end](double f) {
+      st.pass_fraction.store(f);
+      const double by_samples = (begin + f * (end - begin)) / spp;
+      st.fraction.store(budget_s > 0.0 ? std::min(1.0, std::max(by_samples, seconds_since(start) / budget_s)) : by_samples);
+    };
+    st.pass_fraction.store(0.0);
+    render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, control, stats);
+    std::unique_lock lock(st.mutex);
+    if (st.cancel) {
+      if (st.pass_fraction.load() >= 1.0) st.complete = end;
+      else st.partial = end - begin, st.partial_fraction = st.pass_fraction.load();
+      return;
+    }
+    st.complete = begin = end;
+    if (hand_over) {
+      st.pass_waiting = true;
+      st.cv.notify_all();
+      st.cv.wait(lock, [&] { return !st.pass_waiting; });
+    }
+  }
+}
+
+// The image of the samples done so far. Light paths splat anywhere: their scale is the light
+// paths traced per pixel (as the command line's).
+Film resolved(const FilmBuffer& buffer, const PassState& st) {
+  const double splat_spp = st.complete + st.partial * st.partial_fraction;
+  return buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
+}
+
+py::array_t<float> rgb_array(const Film& film) {
+  py::array_t<float> rgb({static_cast<py::ssize_t>(film.height), static_cast<py::ssize_t>(film.width), py::ssize_t{3}});
+  std::copy(film.rgb.begin(), film.rgb.end(), rgb.mutable_data());
+  return rgb;
+}
+
+void note_stats(Scene& scene, const RenderStats& stats, const PassState& st, int spp, bool stopped) {
+  scene.stats = RenderReport{stats.seconds, stats.rays, st.complete, spp, stopped};
+}
+
+// Calls a Python callback; an exception in it stops the render and is raised once the worker has
+// stopped.
+template <typename F>
+bool call_python(F&& f, std::optional<py::error_already_set>& error, PassState& st) {
+  try {
+    f();
+    return true;
+  } catch (py::error_already_set& e) {
+    error.emplace(std::move(e));
+    st.cancel = true;
+    return false;
+  }
+}
+
+// The render runs on a worker thread without the GIL; the calling thread waits for it, and every
+// few tens of milliseconds takes the GIL to look for a signal (Ctrl-C: KeyboardInterrupt), to ask
+// should_stop() and to call progress(); after each pass it hands on_pass the image so far. So
+// Python code runs on one thread only. Ctrl-C and should_stop() both set the renderer's cancel
+// flag: the tiles in flight finish, the rest are skipped. Ctrl-C then raises KeyboardInterrupt;
+// should_stop() keeps the samples done, and the render returns their image. Returns whether it was
+// stopped.
+bool render_waiting(Scene& scene, const RenderScene& compiled, const RenderSettings& settings, FilmBuffer& film,
+                    const RenderArgs& a, RenderStats& stats, PassState& st) {
   std::thread worker;
   {
     const py::gil_scoped_release release;
     worker = std::thread([&] {
       try {
-        // In passes of sample ranges (any split gives the same image, render/film.h), so that an
-        // interrupt waits for the tiles of one pass at most: 1, 1, 2, 4, ... up to kMaxPassSpp.
-        constexpr int kMaxPassSpp = 64;
-        const int spp = settings.spp;
-        for (int begin = 0; begin < spp && !cancel;) {
-          const int end = std::min(spp, begin + std::clamp(begin, 1, kMaxPassSpp));
-          control.progress = [&, begin, end](double f) { fraction.store((begin + f * (end - begin)) / spp); };
-          render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, control, stats);
-          begin = end;
-        }
+        render_passes(compiled, settings, film, a, stats, st);
       } catch (...) {
-        failure = std::current_exception();
+        st.failure = std::current_exception();
       }
-      const std::lock_guard lock(mutex);
-      done = true;
-      done_cv.notify_all();
+      const std::lock_guard lock(st.mutex);
+      st.done = true;
+      st.cv.notify_all();
     });
   }
   double reported = -1.0;
-  bool interrupted = false;
+  bool interrupted = false, stopped = false;
   std::optional<py::error_already_set> callback_error;
   for (;;) {
     bool finished = false;
+    std::optional<Film> so_far;
     {
       const py::gil_scoped_release release;
-      std::unique_lock lock(mutex);
-      finished = done_cv.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; });
-    }
-    if (!interrupted && PyErr_CheckSignals() != 0) interrupted = true, cancel = true;
-    if (!interrupted && !a.progress.is_none()) {
-      const double f = finished ? 1.0 : fraction.load();
-      if (f != reported) {
-        reported = f;
-        try {
-          a.progress(f);
-        } catch (py::error_already_set& e) {  // an exception in the callback stops the render too
-          callback_error.emplace(std::move(e));
-          interrupted = true, cancel = true;
-        }
+      std::unique_lock lock(st.mutex);
+      st.cv.wait_for(lock, std::chrono::milliseconds(50), [&] { return st.done || st.pass_waiting; });
+      finished = st.done;
+      if (st.pass_waiting) {
+        so_far = resolved(film, st);
+        note_stats(scene, stats, st, settings.spp, false);
+        st.pass_waiting = false;
+        st.cv.notify_all();
       }
+    }
+    const bool quiet = interrupted || stopped || callback_error;
+    if (!quiet && PyErr_CheckSignals() != 0) interrupted = true, st.cancel = true;
+    if (!quiet && !interrupted && !a.should_stop.is_none())
+      call_python([&] { if (py::bool_(a.should_stop())) stopped = true, st.cancel = true; }, callback_error, st);
+    if (so_far && !interrupted && !callback_error)
+      call_python([&] { a.on_pass(rgb_array(*so_far), scene.stats.spp_done, settings.spp); }, callback_error, st);
+    if (!interrupted && !callback_error && !a.progress.is_none()) {
+      const double f = finished && !stopped ? 1.0 : st.fraction.load();
+      if (f != reported) reported = f, call_python([&] { a.progress(f); }, callback_error, st);
     }
     if (finished) break;
   }
@@ -161,7 +339,8 @@ void render_waiting(const RenderScene& scene, const RenderSettings& settings, Fi
   }
   if (callback_error) throw std::move(*callback_error);
   if (interrupted) throw py::error_already_set();  // the KeyboardInterrupt PyErr_CheckSignals set
-  if (failure) std::rethrow_exception(failure);
+  if (st.failure) std::rethrow_exception(st.failure);
+  return stopped;
 }
 
 py::object render(Scene& scene, const RenderArgs& a) {
@@ -175,12 +354,14 @@ py::object render(Scene& scene, const RenderArgs& a) {
   } restore{*scene.compiled, scene.compiled->camera};
   scene.compiled->camera = camera;
   const RenderScene& compiled = *scene.compiled;
-  check_settings(compiled, settings, a.spectra);
-  FilmBuffer buffer = make_film(compiled, settings, a.spectra);
+  const bool keep_spectra = a.spectra || a.spectral_exr;
+  check_settings(compiled, settings, keep_spectra);
+  FilmBuffer buffer = make_film(compiled, settings, keep_spectra);
   RenderStats stats;
-  render_waiting(compiled, settings, buffer, a, stats);
-  // Light paths splat anywhere: their scale is the light paths traced per pixel (as the CLI).
-  const Film film = buffer.resolve(1.0 / settings.spp);
+  PassState st;
+  const bool stopped = render_waiting(scene, compiled, settings, buffer, a, stats, st);
+  note_stats(scene, stats, st, settings.spp, stopped);
+  const Film film = resolved(buffer, st);
   if (const NonFinitePixels bad = find_non_finite(film); bad.count > 0)
     fail("{}: {} of {} pixels came out not finite (the first at ({}, {}))", scene.desc.file.string(), bad.count,
          static_cast<std::size_t>(film.width) * static_cast<std::size_t>(film.height), bad.first_x, bad.first_y);
@@ -190,10 +371,10 @@ py::object render(Scene& scene, const RenderArgs& a) {
                              buffer.saturated_splats())
                      .c_str(),
                  1);
-  const auto h = static_cast<py::ssize_t>(film.height), w = static_cast<py::ssize_t>(film.width);
-  py::array_t<float> rgb({h, w, py::ssize_t{3}});
-  std::copy(film.rgb.begin(), film.rgb.end(), rgb.mutable_data());
+  if (a.spectral_exr) write_spectral_exr(*a.spectral_exr, film);
+  py::array_t<float> rgb = rgb_array(film);
   if (!a.spectra) return rgb;
+  const auto h = static_cast<py::ssize_t>(film.height), w = static_cast<py::ssize_t>(film.width);
   const auto n = static_cast<py::ssize_t>(film.wavelengths_nm.size());
   py::array_t<float> spectral({h, w, n});
   std::copy(film.spectral.begin(), film.spectral.end(), spectral.mutable_data());
@@ -267,32 +448,72 @@ PYBIND11_MODULE(bouguer, m) {
           py::kw_only(), py::arg("position_m") = py::none(), py::arg("look_at_m") = py::none(),
           py::arg("up") = py::none(), py::arg("fov_deg") = py::none(),
           "Move the camera (metres, degrees) for the next renders; the geometry is not compiled again")
+      .def_property_readonly("stats",
+                             [](const Scene& s) {
+                               const RenderReport& r = s.stats;
+                               py::dict d;
+                               d["seconds"] = r.seconds;
+                               d["rays"] = r.rays;
+                               d["rays_per_second"] = r.seconds > 0 ? static_cast<double>(r.rays) / r.seconds : 0.0;
+                               d["spp"] = r.spp_done;
+                               d["spp_requested"] = r.spp_requested;
+                               d["stopped"] = r.stopped;
+                               return d;
+                             })
       .def("__repr__", [](const Scene& s) {
         return fmt::format("<bouguer.Scene {} {}x{}>", s.desc.file.string(), s.compiled->camera.width_px,
                            s.compiled->camera.height_px);
       });
 
   register_tools(m);
+  m.def(
+      "reflectance_spectrum",
+      [](const std::array<double, 3>& rgb, const py::array_t<double, py::array::c_style | py::array::forcecast>& nm) {
+        // The lift every {"rgb": ...} reflectance gets (Jakob & Hanika 2019): front ends that build
+        // spectra from colours themselves (Blender's volumes) lift them the same way.
+        const bouguer::SigmoidPolynomial lift = bouguer::rgb_to_reflectance({rgb[0], rgb[1], rgb[2]});
+        py::array_t<double> out(nm.request().shape);
+        const double* in = nm.data();
+        double* o = out.mutable_data();
+        for (py::ssize_t i = 0; i < nm.size(); ++i) {
+          if (!(std::isfinite(in[i]) && in[i] > 0.0)) bouguer::fail("reflectance_spectrum: wavelengths must be positive nm");
+          o[i] = lift(in[i]);
+        }
+        return out;
+      },
+      py::arg("rgb"), py::arg("wavelength_nm"),
+      "The smooth reflectance spectrum of a linear Rec.709 colour (components clamped to [0, 1]) at wavelengths "
+      "in nm: the lift of every {\"rgb\": ...} reflectance (docs/scene-format.md)");
   m.def("load", &load, py::arg("path"), "Load and compile a scene file (JSON, docs/scene-format.md)");
-  m.def("load_dict", &load_dict, py::arg("scene"), py::arg("base") = py::none(),
+  m.def("load_dict", &load_dict, py::arg("scene"), py::arg("base") = py::none(), py::arg("meshes") = py::none(),
         "Load and compile a scene from a dict with the JSON schema; relative paths against `base` (default: the "
-        "working directory)");
+        "working directory); meshes={name: {'positions': (N, 3), 'triangles': (M, 3), 'normals': (N, 3), 'uvs': "
+        "(N, 2)}} for shapes {'type': 'mesh', 'arrays': name}");
   m.def(
       "render",
       [](Scene& scene, std::optional<std::int64_t> spp, std::optional<std::string> integrator,
          std::optional<std::string> spectral, std::optional<std::int64_t> seed, int threads,
          std::optional<std::pair<std::int64_t, std::int64_t>> resolution, std::optional<std::int64_t> max_depth,
-         bool spectra, py::object progress) {
+         bool spectra, py::object progress, std::optional<double> time_s, py::object on_pass, py::object should_stop,
+         std::optional<fs::path> spectral_exr) {
         if (threads < 0 || threads > 1024) bouguer::fail_usage("threads: must be between 0 and 1024 (got {})", threads);
-        RenderArgs a{spp, seed, max_depth, std::move(integrator), std::move(spectral), resolution, threads, spectra,
-                     std::move(progress)};
+        if (time_s && !(std::isfinite(*time_s) && *time_s > 0.0))
+          bouguer::fail_usage("time_s: must be a positive number of seconds (got {})", *time_s);
+        RenderArgs a{spp,      seed,    max_depth,           std::move(integrator), std::move(spectral),
+                     resolution, time_s, {},      threads,               spectra,               std::move(progress),
+                     std::move(on_pass), std::move(should_stop)};
+        a.spectral_exr = std::move(spectral_exr);
         return render(scene, a);
       },
       py::arg("scene"), py::kw_only(), py::arg("spp") = py::none(), py::arg("integrator") = py::none(),
       py::arg("spectral") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = 0,
       py::arg("resolution") = py::none(), py::arg("max_depth") = py::none(), py::arg("spectra") = false,
-      py::arg("progress") = py::none(),
+      py::arg("progress") = py::none(), py::arg("time_s") = py::none(), py::arg("on_pass") = py::none(),
+      py::arg("should_stop") = py::none(), py::arg("spectral_exr") = py::none(),
       "Render: a float32 (H, W, 3) array, linear Rec.709, row 0 at the top; with spectra=True a tuple (rgb, "
       "spectra (H, W, N), wavelengths_nm (N,)). Keyword arguments override the scene's settings (the command "
-      "line's names). progress(fraction) is called now and then; Ctrl-C stops the render (KeyboardInterrupt).");
+      "line's names). progress(fraction) is called now and then; Ctrl-C stops the render (KeyboardInterrupt). "
+      "time_s: a budget of seconds (the command line's --time). on_pass(rgb_so_far, samples_done, spp) after each "
+      "pass; should_stop() polled every 50 ms: True ends the render and returns the image of the samples done. "
+      "spectral_exr: a path, the command line's --spectral-exr. Scene.stats describes the render (also during on_pass).");
 }

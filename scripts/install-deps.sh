@@ -32,6 +32,7 @@ packages=(
   python3-numpy        # its arrays
   python3-pytest       # its tests (tests/python)
   python3-matplotlib   # the Python examples (examples/python), run by the tests
+  blender              # the Blender add-on (blender/): its tests render in Blender against Cycles
 )
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang libclang-rt-14-dev)  # libFuzzer, ASan, UBSan (make fuzz only)

@@ -17,8 +17,8 @@ Camera::Camera(const CameraDesc& d) : desc(d) {
 
 Ray Camera::generate_ray(double film_x, double film_y) const {
   const double shorter = std::min(desc.width_px, desc.height_px);
-  const double sx = (2.0 * film_x - desc.width_px) / shorter * half_extent;
-  const double sy = (desc.height_px - 2.0 * film_y) / shorter * half_extent;
+  const double sx = ((2.0 * film_x - desc.width_px) / shorter + 2.0 * desc.shift_x) * half_extent;
+  const double sy = ((desc.height_px - 2.0 * film_y) / shorter + 2.0 * desc.shift_y) * half_extent;
   if (desc.type == CameraType::orthographic) return {desc.position_m + right * sx + up * sy, forward};
   return {desc.position_m, normalize(forward + right * sx + up * sy)};
 }
@@ -31,8 +31,8 @@ std::optional<std::array<double, 2>> Camera::film_position(const Vec3& point_m) 
   const double scale = desc.type == CameraType::pinhole ? 1.0 / depth : 1.0;
   const double sx = dot(d, right) * scale, sy = dot(d, up) * scale;
   const double shorter = std::min(desc.width_px, desc.height_px);
-  const double x = (sx / half_extent * shorter + desc.width_px) / 2.0;
-  const double y = (desc.height_px - sy / half_extent * shorter) / 2.0;
+  const double x = ((sx / half_extent - 2.0 * desc.shift_x) * shorter + desc.width_px) / 2.0;
+  const double y = (desc.height_px - (sy / half_extent - 2.0 * desc.shift_y) * shorter) / 2.0;
   if (!(x >= 0.0 && x < desc.width_px && y >= 0.0 && y < desc.height_px)) return std::nullopt;
   return std::array{x, y};
 }

@@ -53,6 +53,9 @@ SceneBuilder& SceneBuilder::camera(const CameraDesc& c, const Source& where) {
   if (c.type == CameraType::pinhole && !(c.fov_deg > 0.0 && c.fov_deg < 180.0))
     (where / "fov_deg").fail("must be between 0 and 180 degrees");
   if (c.type == CameraType::orthographic && !(c.width_m > 0.0)) (where / "width").fail("must be a positive length");
+  // Beyond a hundred image sides the window sees nothing the lens would: a mistake to point at.
+  for (const auto& [i, s] : {std::pair{0, c.shift_x}, std::pair{1, c.shift_y}})
+    if (!(std::abs(s) <= 100.0)) (where / "shift")[static_cast<std::size_t>(i)].fail("must be between -100 and 100 image sides (got {})", s);
   check_resolution(c.width_px, c.height_px, where / "resolution");
   auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   if (!finite(c.position_m)) (where / "position").fail("must be finite");

@@ -37,6 +37,9 @@ struct CameraDesc {
   Vec3 up{0, 1, 0};
   double fov_deg = 40.0;    // pinhole: full angle across the shorter image side
   double width_m = 1.0;     // orthographic: extent across the shorter image side
+  // Lens shift: the image window moved across the film plane, in units of the shorter image side
+  // (+x right, +y up), as a view camera's or Blender's shift (its verticals stay vertical).
+  double shift_x = 0.0, shift_y = 0.0;
   int width_px = 640;
   int height_px = 480;
 };

@@ -498,7 +498,7 @@ std::vector<std::array<double, 2>> profile(const json& j, const Where& w) {
   return p;
 }
 
-Shape shape(const json& j, const Where& w) {
+Shape shape(const json& j, const Where& w, const MeshArrays* arrays) {
   if (!j.is_object() || !j.contains("type")) w.fail("needs 'type'");
   const std::string type = text(j["type"], w / "type");
   auto get_len = [&](const char* k, double def) { return j.contains(k) ? positive_length_m(j[k], w / k) : def; };
@@ -564,9 +564,20 @@ Shape shape(const json& j, const Where& w) {
                        get_int("segments", 128, 3, 4096), get_num("crease_angle_deg", kDefaultCreaseAngleDeg)};
   }
   if (type == "mesh") {
-    expect_keys(j, w, {"type", "file"});
-    if (!j.contains("file")) w.fail("a mesh needs 'file' (.obj or .ply)");
-    return MeshShape{w.resolve(text(j["file"], w / "file"))};
+    expect_keys(j, w, {"type", "file", "arrays"});
+    if (j.contains("file") == j.contains("arrays"))
+      w.fail("a mesh needs either 'file' (.obj or .ply) or 'arrays' (a mesh given to load_dict)");
+    if (j.contains("file")) return MeshShape{w.resolve(text(j["file"], w / "file"))};
+    // Triangles a front end handed over in memory (Python's load_dict(meshes=...)), checked there.
+    const std::string name = text(j["arrays"], w / "arrays");
+    if (arrays == nullptr) (w / "arrays").fail("meshes given as arrays exist only in Python's load_dict(meshes=...)");
+    const auto it = arrays->find(name);
+    if (it == arrays->end()) {
+      std::vector<std::string> names;
+      for (const auto& [n, m] : *arrays) names.push_back(n);
+      (w / "arrays").fail("no mesh '{}' was given{}", name, suggestion(name, names));
+    }
+    return it->second;
   }
   const std::vector<std::string> types = {"quad", "disk", "box", "sphere", "cylinder", "prism", "pyramid",
                                           "truncated_cube", "brilliant", "lathe", "vessel", "mesh"};
@@ -609,7 +620,7 @@ Transform transform(const json& j, const Where& w) {
 // ---- top level ---------------------------------------------------------------------------------
 
 void read_camera(const json& j, const Where& w, SceneBuilder& b) {
-  expect_keys(j, w, {"type", "position", "look_at", "up", "fov_deg", "width", "resolution"});
+  expect_keys(j, w, {"type", "position", "look_at", "up", "fov_deg", "width", "shift", "resolution"});
   CameraDesc c;
   if (j.contains("type")) {
     const std::string t = text(j["type"], w / "type");
@@ -622,6 +633,11 @@ void read_camera(const json& j, const Where& w, SceneBuilder& b) {
   if (j.contains("up")) c.up = vec3(j["up"], w / "up");  // checked by the builder
   if (j.contains("fov_deg")) c.fov_deg = number(j["fov_deg"], w / "fov_deg");
   if (j.contains("width")) c.width_m = positive_length_m(j["width"], w / "width");
+  if (j.contains("shift")) {
+    const Where ws = w / "shift";
+    array(j["shift"], ws, 2);
+    c.shift_x = number(j["shift"][0], ws[0]), c.shift_y = number(j["shift"][1], ws[1]);
+  }
   b.camera(c, w);
   if (j.contains("resolution")) {
     const Where wr = w / "resolution";
@@ -699,14 +715,14 @@ DeltaLightDesc delta_light(const json& j, const Where& w) {
   return l;
 }
 
-ObjectDesc object(const json& j, const Where& w, std::size_t index) {
+ObjectDesc object(const json& j, const Where& w, std::size_t index, const MeshArrays* arrays) {
   expect_keys(j, w,
               {"name", "shape", "transform", "inside", "outside", "contents", "emission", "material", "roughness",
                "priority"});
   ObjectDesc o;
   o.name = j.contains("name") ? text(j["name"], w / "name") : fmt::format("object {}", index);
   if (!j.contains("shape")) w.fail("needs 'shape'");
-  o.shape = shape(j["shape"], w / "shape");
+  o.shape = shape(j["shape"], w / "shape", arrays);
   if (j.contains("transform")) o.transform = transform(j["transform"], w / "transform");
   if (j.contains("inside")) o.inside = text(j["inside"], w / "inside");
   if (j.contains("outside")) o.outside = text(j["outside"], w / "outside");
@@ -768,11 +784,11 @@ PbrMaterialInput pbr_input(const json& j, const Where& w) {
 // An object whose role is a "pbr" material. A transmissive solid bounds the medium `inside` names
 // (a scene's measured medium: a Blender material's volume), or else one made of the material's
 // own ior and attenuation, named "<object> (pbr)".
-void add_pbr_object(SceneBuilder& b, const json& j, const Where& w, std::size_t index) {
+void add_pbr_object(SceneBuilder& b, const json& j, const Where& w, std::size_t index, const MeshArrays* arrays) {
   if (j.contains("material") || j.contains("emission")) w.fail("give either 'pbr' or 'material'/'emission', not both");
   json rest = j;
   rest.erase("pbr");
-  ObjectDesc o = object(rest, w, index);
+  ObjectDesc o = object(rest, w, index, arrays);
   const Where wp = w / "pbr";
   PbrRole role = pbr_role(pbr_input(j["pbr"], wp), wp);
   o.emission = std::move(role.emission);
@@ -819,7 +835,8 @@ GltfObjectInput gltf_object(const json& j, const Where& w) {
 
 }  // namespace
 
-static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b) {
+static void read_scene(const std::string& json_text, const fs::path& path, SceneBuilder& b,
+                       const MeshArrays* arrays = nullptr) {
   const json root = parse_json(json_text, path);
   const Where top{path, ""};
   expect_keys(root, top, {"camera", "render", "display", "world_medium", "media", "objects", "lights", "background"});
@@ -840,12 +857,12 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
     if (o.is_object() && o.contains("gltf")) {
       add_gltf_objects(b, gltf_object(o, wo[i]), wo[i]);
     } else if (o.is_object() && o.contains("pbr")) {
-      add_pbr_object(b, o, wo[i], i);
+      add_pbr_object(b, o, wo[i], i, arrays);
     } else if (o.is_object() && o.contains("material") && o["material"] == "mtl") {
-      for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i), wo[i] / "material"))
+      for (ObjectDesc& part : resolve_obj_materials(object(o, wo[i], i, arrays), wo[i] / "material"))
         b.object(std::move(part), wo[i]);
     } else {
-      b.object(object(o, wo[i], i), wo[i]);
+      b.object(object(o, wo[i], i, arrays), wo[i]);
     }
   }
   if (root.contains("lights")) {
@@ -862,9 +879,9 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
   }
 }
 
-SceneDesc parse_scene(const std::string& json_text, const fs::path& path) {
+SceneDesc parse_scene(const std::string& json_text, const fs::path& path, const MeshArrays* arrays) {
   SceneBuilder b(path);
-  read_scene(json_text, path, b);
+  read_scene(json_text, path, b, arrays);
   return std::move(b).build();
 }
 

@@ -6,6 +6,7 @@
 // ("scene.json: objects[2].shape.radius: ..."); unknown keys are errors with the nearest known
 // key suggested.
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include "bouguer/scene/builder.h"
@@ -17,6 +18,10 @@ namespace bouguer {
 SceneDesc load_scene(const std::filesystem::path& path);
 // Into a builder that the caller builds, after setting what overrides the file (the command line).
 void load_scene(const std::filesystem::path& path, SceneBuilder& builder);
-SceneDesc parse_scene(const std::string& json_text, const std::filesystem::path& path);
+// Triangle meshes a front end holds in memory, by name, for shapes {"type": "mesh", "arrays": name}
+// (Python's load_dict(meshes=...)); a scene file cannot name them.
+using MeshArrays = std::map<std::string, TriangleMeshShape>;
+SceneDesc parse_scene(const std::string& json_text, const std::filesystem::path& path,
+                      const MeshArrays* arrays = nullptr);
 
 }  // namespace bouguer
