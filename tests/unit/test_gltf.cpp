@@ -376,7 +376,7 @@ TEST(Gltf, AnAssetRendersDirectlyWithItsCameraAndLights) {
 SceneDesc with_asset(const fs::path& file) { return parse_scene(backlit(gltf_object(file), "rgb3"), file.parent_path() / "s.json"); }
 
 TEST(Gltf, ValuesOutsideTheModelAreClampedWithOneWarningPerMaterial) {
-  const fs::path dir = test::scratch_dir("gltf_clamped");
+  const fs::path dir = test::scratch_dir("gltf_bad_clamped");  // values outside the specification on purpose
   GltfDoc g = volume_slab(0.01, {{"thicknessFactor", 0.01}, {"attenuationColor", {0.0, 1.3, 0.5}}, {"attenuationDistance", 0.0}});
   g.doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = 0.0;  // KHR_materials_ior: infinite
   g.doc["materials"][0]["extensions"]["KHR_materials_dispersion"] = {{"dispersion", -1.0}};
@@ -425,7 +425,7 @@ TEST(Gltf, ValuesOutsideTheModelAreClampedWithOneWarningPerMaterial) {
 // Beyond materials: a camera, a light, a node of scale 0 (a hidden node) and a texture on another
 // coordinate set load too, each with its warning, when the asset is rendered as it is.
 TEST(Gltf, CamerasLightsNodesAndTexturesOutsideTheModelLoadWithAWarning) {
-  const fs::path dir = test::scratch_dir("gltf_clamped_rest");
+  const fs::path dir = test::scratch_dir("gltf_bad_clamped_rest");  // as above
   GltfDoc g = volume_slab(0.01);
   g.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 3.5}, {"aspectRatio", 200.0}, {"znear", 0.01}}}}};
   g.node({{"camera", 0}, {"translation", {0, 0.05, 0.5}}});
@@ -496,7 +496,8 @@ TEST(Gltf, StripsAndFansAreTrianglesAndPointsAreLeftOut) {
 // (an index out of order or past the count, values past their view) refused with one line.
 TEST(Gltf, SparseAccessorsAreRead) {
   const fs::path dir = test::scratch_dir("gltf_sparse");
-  auto asset = [&](const std::vector<std::uint16_t>& indices, int value_bytes = 36) {
+  // The malformed ones are written as bad_sparse.glb (scripts/validate-gltf.sh leaves out "bad" paths).
+  auto asset = [&](const std::vector<std::uint16_t>& indices, int value_bytes = 36, const char* name = "sparse.glb") {
     GltfDoc g;
     const int mesh = g.mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
     const std::vector<float> values{0, 0, 0, 2, 0, 0, 0, 3, 0};
@@ -508,7 +509,7 @@ TEST(Gltf, SparseAccessorsAreRead) {
     g.doc["accessors"].push_back(zeros);
     g.doc["meshes"][std::size_t(mesh)]["primitives"][0]["attributes"]["POSITION"] = g.doc["accessors"].size() - 1;
     g.node({{"mesh", mesh}});
-    g.write(dir / "sparse.glb");
+    g.write(dir / name);
   };
   asset({0, 1, 2});
   const GltfAsset a = read_gltf(dir / "sparse.glb");
@@ -535,9 +536,9 @@ TEST(Gltf, SparseAccessorsAreRead) {
        {std::tuple{std::vector<std::uint16_t>{0, 2, 1}, 36, "sparse.indices: index 1 at 2 is not increasing"},
         std::tuple{std::vector<std::uint16_t>{0, 1, 3}, 36, "not below the accessor's count 3"},
         std::tuple{std::vector<std::uint16_t>{0, 1, 2}, 24, "sparse.values: 36 bytes from offset 0 do not fit in bufferView"}}) {
-    asset(indices, bytes);
+    asset(indices, bytes, "bad_sparse.glb");
     try {
-      read_gltf(dir / "sparse.glb");
+      read_gltf(dir / "bad_sparse.glb");
       ADD_FAILURE() << expected;
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
@@ -554,6 +555,7 @@ TEST(Gltf, EveryDispersionTheExtensionAllowsLoads) {
     GltfDoc g = volume_slab(0.01);
     g.doc["materials"][0]["extensions"]["KHR_materials_ior"]["ior"] = ior;
     g.doc["materials"][0]["extensions"]["KHR_materials_dispersion"] = {{"dispersion", 5.0}};
+    g.doc["extensionsUsed"].push_back("KHR_materials_dispersion");
     g.write(dir / "dispersion.glb");
     const SceneDesc d = with_asset(dir / "dispersion.glb");
     const IorModel& n = d.media.at(*d.objects[0].inside).ior;
@@ -603,6 +605,7 @@ TEST(Gltf, ThinWalledTransmissionIsAThinSheetTintedByTheBaseColour) {
   const fs::path dir = test::scratch_dir("gltf_thin");
   GltfDoc g;
   add_sphere(g, 0.1, g.material(thin_glass({{"baseColorFactor", {0.2, 0.6, 0.9, 1}}, {"roughnessFactor", 0.5}})), {0, 0, 0});
+  g.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior"};
   g.write(dir / "thin.glb");
   const SceneDesc d = with_asset(dir / "thin.glb");
   ASSERT_EQ(d.objects.size(), 2u);
@@ -633,6 +636,7 @@ TEST(Gltf, AThinWalledSheetFaceOnTransmitsOneMinusROverOnePlusR) {
   square(1.0, -0.5, g.material({{"name", "Panel"}, {"emissiveFactor", {1, 1, 1}}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}}));
   g.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.05}, {"aspectRatio", 1.0}, {"znear", 0.01}}}}};
   g.node({{"camera", 0}, {"translation", {0, 0, 1}}});
+  g.doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_ior"};
   g.write(dir / "sheet.glb");
   SceneDesc d = load_scene(dir / "sheet.glb");
   EXPECT_TRUE(d.warnings.empty());
