@@ -292,7 +292,7 @@ void add_display_options(CLI::App& app, SceneOverrides& o, bool float_outputs) {
                  "Camera exposure: f-number N; luminance L is shown as L/(1.2*2^EV100), "
                  "EV100 = log2(N^2/t) - log2(S/100)");
   app.add_option("--auto-exposure", o.auto_exposure,
-                 "on|off: expose the finished film so that the 97th percentile of its lit pixels' luminance "
+                 "on|off: expose the finished film so that the 97th percentile of its lit pixels' largest channel "
                  "shows at 0.8 (default: on for glTF assets, off for JSON scenes)");
   app.add_option("--white-balance", o.white_balance,
                  "Adapt this white to the display's D65 (Bradford): an illuminant (D65, D50, A, E, F2, F7, F11, "

@@ -18,13 +18,14 @@ double camera_exposure_scale(const CameraExposure& c) { return 1.0 / (1.2 * std:
 double compensation_scale(double ev) { return std::exp2(ev); }
 
 double auto_exposure_scale(std::span<const float> rgb, const Mat3& m) {
-  // Y of linear Rec.709: the middle row of its RGB→XYZ matrix, after the white balance.
-  const Mat3 to_y = rgb_to_xyz_matrix(kRec709) * m;
+  // The largest channel after the white balance, not the luminance: a lit red floor metered by its
+  // luminance (a quarter of its red) would clip in red; for a neutral pixel the two are the same.
   std::vector<double> lit;
   lit.reserve(rgb.size() / 3);
   for (std::size_t i = 0; i + 2 < rgb.size(); i += 3) {
-    const double y = to_y.m[1][0] * rgb[i] + to_y.m[1][1] * rgb[i + 1] + to_y.m[1][2] * rgb[i + 2];
-    if (y > 0.0) lit.push_back(y);
+    const Vec3 v = m * Vec3{rgb[i], rgb[i + 1], rgb[i + 2]};
+    const double peak = std::max({v.x, v.y, v.z});
+    if (peak > 0.0) lit.push_back(peak);
   }
   if (lit.empty()) return 1.0;
   // The nearest-rank percentile: the smallest value with at least that fraction of the lit pixels at or below it.

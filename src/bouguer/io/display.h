@@ -73,8 +73,8 @@ double camera_exposure_scale(const CameraExposure& c);
 double compensation_scale(double ev);
 
 // The automatic exposure of a film's linear rgb (as the white balance `m` makes it): the factor
-// that puts the kAutoPercentile-th percentile of the luminance of the pixels that are not black
-// at kAutoTarget, so that the lit surfaces are bright and the brightest of them below white (up
+// that puts the kAutoPercentile-th percentile of the largest channel, max(R, G, B), of the pixels
+// that are not black at kAutoTarget, so that the lit surfaces are bright and the brightest of them below white (up
 // to 1/0.8 = 1.25 times that percentile), while the few brightest pixels (highlights, noise, a
 // lamp seen directly) may clip. 1 for a black film. Why this statistic: docs/colour.md.
 inline constexpr double kAutoPercentile = 0.97, kAutoTarget = 0.8;
