@@ -297,8 +297,14 @@ double component(const unsigned char* p, int type, bool normalized) {
   }
 }
 
-// `bytes` bytes from `offset` into buffer view `view`, checked to lie inside the view and its buffer.
-const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint64_t bytes, const Place& at) {
+// A buffer view that `at` names by its "bufferView", checked to lie inside its buffer.
+struct CheckedView {
+  const tinygltf::BufferView& view;
+  std::size_t index;           // into bufferViews
+  const unsigned char* bytes;  // its first byte in the buffer
+  Place place;                 // bufferViews[index]
+};
+CheckedView checked_view(const Model& m, int view, const Place& at) {
   const std::size_t vi = checked_index(view, m.bufferViews.size(), at / "bufferView", "bufferView");
   const tinygltf::BufferView& v = m.bufferViews[vi];
   const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
@@ -307,9 +313,15 @@ const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint6
   if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
     pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
             bi, buffer_bytes);
-  if (offset < 0 || std::uint64_t(offset) > v.byteLength || bytes > v.byteLength - std::uint64_t(offset))
-    at.fail("{} bytes from offset {} do not fit in bufferView {} ({} bytes)", bytes, offset, vi, v.byteLength);
-  return m.buffers[bi].data.data() + v.byteOffset + std::size_t(offset);
+  return {v, vi, m.buffers[bi].data.data() + v.byteOffset, pv};
+}
+
+// `bytes` bytes from `offset` into buffer view `view`, checked to lie inside the view and its buffer.
+const unsigned char* view_bytes(const Model& m, int view, int offset, std::uint64_t bytes, const Place& at) {
+  const CheckedView c = checked_view(m, view, at);
+  if (offset < 0 || std::uint64_t(offset) > c.view.byteLength || bytes > c.view.byteLength - std::uint64_t(offset))
+    at.fail("{} bytes from offset {} do not fit in bufferView {} ({} bytes)", bytes, offset, c.index, c.view.byteLength);
+  return c.bytes + std::size_t(offset);
 }
 
 // A sparse accessor's substitutions (glTF 3.6.2.3): `count` strictly increasing indices below the
@@ -360,14 +372,10 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
     if (a.sparse.isSparse) apply_sparse(m, a, components, out, pa);
     return out;
   }
-  const std::size_t vi = checked_index(a.bufferView, m.bufferViews.size(), pa / "bufferView", "bufferView");
-  const tinygltf::BufferView& v = m.bufferViews[vi];
-  const Place pv = (Place{at.file, ""} / "bufferViews")[vi];
-  const std::size_t bi = checked_index(v.buffer, m.buffers.size(), pv / "buffer", "buffer");
-  const std::size_t buffer_bytes = m.buffers[bi].data.size();
-  if (v.byteOffset > buffer_bytes || v.byteLength > buffer_bytes - v.byteOffset)
-    pv.fail("bytes {} to {} lie beyond buffer {} ({} bytes)", v.byteOffset, std::uint64_t(v.byteOffset) + v.byteLength,
-            bi, buffer_bytes);
+  const CheckedView checked = checked_view(m, a.bufferView, pa);
+  const tinygltf::BufferView& v = checked.view;
+  const std::size_t vi = checked.index;
+  const Place& pv = checked.place;
   const std::size_t stride = v.byteStride == 0 ? element : v.byteStride;
   if (stride < element) (pv / "byteStride").fail("{} is less than accessors[{}]'s element of {} bytes", stride, ai, element);
   if (a.byteOffset % csize != 0) (pa / "byteOffset").fail("{} is not a multiple of {}", a.byteOffset, csize);
@@ -377,7 +385,7 @@ std::vector<double> read_accessor(const Model& m, int index, int components, std
         .fail("{} exceeds bufferView {} ({} bytes from offset {} hold {} of stride {})", a.count, vi, v.byteLength,
               a.byteOffset, v.byteLength < a.byteOffset + element ? 0 : (v.byteLength - a.byteOffset - element) / stride + 1,
               stride);
-  const unsigned char* base = m.buffers[bi].data.data() + v.byteOffset + a.byteOffset;
+  const unsigned char* base = checked.bytes + a.byteOffset;
   out.resize(a.count * std::size_t(components));
   for (std::size_t i = 0; i < a.count; ++i)
     for (int c = 0; c < components; ++c)
