@@ -92,6 +92,10 @@ TriangleMeshShape mesh_arrays(const py::dict& m, const Source& w) {
         (w / "positions")[i].fail("expected finite coordinates within ±{} m (got {})", kMaxMeshCoordinate, v[c]);
     s.mesh.positions.push_back(v);
   }
+  // Indices are whole numbers: a float array (2.7) is refused rather than truncated by forcecast.
+  if (const py::array given = py::array::ensure(m["triangles"]);
+      given && given.dtype().kind() != 'i' && given.dtype().kind() != 'u' && given.size() > 0)
+    (w / "triangles").fail("expected whole numbers (an integer array), found dtype {}", py::str(given.dtype()).cast<std::string>());
   const auto t = rows_of<std::int64_t>(m["triangles"], w / "triangles", 3, kMaxMeshTriangles);
   if (t.shape(0) == 0) (w / "triangles").fail("the mesh has no triangles");
   for (py::ssize_t i = 0; i < t.shape(0); ++i) {

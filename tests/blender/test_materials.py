@@ -102,19 +102,17 @@ def test_principled_volume_absorption_is_cycles():
 
 
 def test_principled_bsdf_takes_the_pbr_role():
-    # The pbr role is the coordinator's (one mapping with the glTF reader); until the module has it,
-    # the add-on renders Principled's base colour as diffuse and says so, and this test skips.
+    # The pbr role: one mapping with the glTF reader (scene/pbr_material.h). A module without it would
+    # render Principled's base colour as diffuse; this build has it, so its absence is a failure.
     from bouguer_blender.export import export_scene, pbr_supported
-    if not pbr_supported(bouguer):
-        print("  SKIP: this bouguer module's loader refuses the key 'pbr' (not merged yet)")
-        return
+    assert pbr_supported(bouguer), "the module refuses the 'pbr' role"
     s = common.new_scene()
     m = common.material("painted", "ShaderNodeBsdfPrincipled", Metallic=0.25, Roughness=0.4, IOR=1.45,
                         **{"Base Color": (0.6, 0.2, 0.1, 1)})
     common.add_mesh("plane", m, size=4)
     common.add_camera(s, (0, 0, 2), kind="ORTHO", ortho_scale=1.0)
     role = export_scene(bpy.context.evaluated_depsgraph_get(), bouguer, s.bouguer).scene["objects"][0]["pbr"]
-    assert role["metallic"] == 0.25 and abs(role["roughness"] - 0.4) < 1e-6 and abs(role["ior"] - 1.45) < 1e-6
+    assert role["metallic"] == 0.25 and abs(role["roughness"] - 0.4) < 1e-6 and role["transmission"] == 0.0
     assert np.allclose(role["base_color"], (0.6, 0.2, 0.1))
     bg = s.world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value, bg.inputs["Strength"].default_value = (1, 1, 1, 1), 1.0
@@ -126,6 +124,37 @@ def test_principled_bsdf_takes_the_pbr_role():
     # Two models of one material (glTF's against Cycles' Principled): alike, not equal; 10 % catches a
     # lost base colour or metallic (the base colour alone moves green by a factor of 3).
     assert np.all(np.abs(ratio - 1) < 0.1)
+
+
+def test_principled_cases_that_are_not_glass_load_with_a_report():
+    # Principled BSDFs that would have stopped the render or turned into clear glass (a second reading
+    # of the add-on): glowing glass is an emitter (no medium inside an emitter), a little transmission
+    # or a transmitting metal stay opaque as Cycles weights them, and a Glass IOR below 1 (Cycles' air
+    # bubble) is clamped to 1. Each loads through load_dict and says what it changed.
+    from bouguer_blender.export import export_scene
+    cases = {
+        "glowing-glass": dict(Transmission=1.0, Emission=(1, 0.5, 0.2, 1), **{"Emission Strength": 2.0}),
+        "hazy": dict(Transmission=0.1, Metallic=0.0),
+        "metal-glass": dict(Transmission=1.0, Metallic=1.0),
+    }
+    for name, inputs in cases.items():
+        s = common.new_scene()
+        common.add_mesh("cube", common.material(name, "ShaderNodeBsdfPrincipled", **inputs), size=1)
+        common.add_camera(s, (0, 0, 4), kind="ORTHO", ortho_scale=3.0)
+        out = export_scene(bpy.context.evaluated_depsgraph_get(), bouguer, s.bouguer)
+        obj = out.scene["objects"][0]
+        assert "inside" not in obj and "pbr" in obj, (name, obj.keys())
+        if name == "glowing-glass":
+            assert obj["pbr"]["emission_strength"] == 2.0
+        else:
+            assert any("transmission" in w for w in out.reports.warnings), (name, out.reports.warnings)
+        bouguer.load_dict(out.scene, meshes=out.meshes)  # the scene loads: the render would not stop
+    s = common.new_scene()
+    common.add_mesh("cube", common.material("bubble", "ShaderNodeBsdfGlass", IOR=0.75), size=1)
+    common.add_camera(s, (0, 0, 4), kind="ORTHO", ortho_scale=3.0)
+    out = export_scene(bpy.context.evaluated_depsgraph_get(), bouguer, s.bouguer)
+    assert out.scene["media"]["bubble"]["ior"] == 1.0 and any("IOR 0.75" in w for w in out.reports.warnings)
+    bouguer.load_dict(out.scene, meshes=out.meshes)
 
 
 def clear_slab(kind):
@@ -253,6 +282,7 @@ def test_diffuse_scene_within_delta_e_of_cycles():
 
 common.Checks().run([test_volume_absorption_slab_is_cycles_per_channel_in_rgb3, test_volume_absorption_in_centimetres,
                      test_principled_volume_absorption_is_cycles, test_principled_bsdf_takes_the_pbr_role,
+                     test_principled_cases_that_are_not_glass_load_with_a_report,
                      test_clear_slab_is_physics_for_principled_and_glass, test_library_glass_slab_is_its_closed_form,
                      test_image_texture_on_uvs_is_cycles,
                      test_diffuse_scene_within_delta_e_of_cycles])

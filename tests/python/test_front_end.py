@@ -86,6 +86,8 @@ def test_normals_and_uvs_arrive_as_the_obj_files_vn_and_vt(tmp_path):
     ({"positions": CUBE_POSITIONS, "triangles": CUBE_TRIANGLES, "uv": CUBE_POSITIONS}, "meshes['cube'].uv: unknown key (did you mean 'uvs'?)"),
     ({"positions": CUBE_POSITIONS, "triangles": np.zeros((0, 3), int)}, "meshes['cube'].triangles: the mesh has no triangles"),
     ({"positions": "abc", "triangles": CUBE_TRIANGLES}, "meshes['cube'].positions: expected an array of numbers"),
+    ({"positions": CUBE_POSITIONS, "triangles": CUBE_TRIANGLES + 0.7},
+     "meshes['cube'].triangles: expected whole numbers (an integer array), found dtype float64"),
 ])
 def test_bad_mesh_arrays_name_their_place(mesh, message):
     with pytest.raises(bouguer.Error, match="<dict>: " + re.escape(message)):
@@ -262,3 +264,34 @@ def test_light_paths_land_where_a_shifted_camera_looks():
         # Where the path tracer sees the quad, light tracing puts its light; nowhere else.
         assert light[lit].mean() > 0.8 * path[lit].mean()
         assert light[~(path > 0)].max() == 0.0 if (~(path > 0)).any() else True
+
+
+def test_many_instances_of_a_large_mesh_are_refused_before_memory_runs_out():
+    # Blender hands one object per instance, each a copy of the arrays (a SceneDesc holds its meshes
+    # by value). The builder counts the copies as they are added and refuses them, in one line, once
+    # twice their bytes exceed the memory this process may take: here a data limit of 1 GiB against
+    # 1000 copies of a 100 000-triangle mesh (3.6 GB). Without the count the copies run into the
+    # limit as a MemoryError or an abort, after gigabytes.
+    import subprocess
+    import sys
+    import textwrap
+    script = textwrap.dedent("""
+        import resource, sys
+        resource.setrlimit(resource.RLIMIT_DATA, (1 << 30, 1 << 30))
+        import numpy as np, bouguer
+        n = 100_000
+        p = np.random.default_rng(1).random((n + 2, 3))
+        t = np.stack([np.arange(n), np.arange(1, n + 1), np.arange(2, n + 2)], axis=1)
+        objects = [{"shape": {"type": "mesh", "arrays": "m"}, "material": {"type": "diffuse"},
+                    "transform": [{"translate": [i * 2.0, 0, 0]}]} for i in range(1000)]
+        try:
+            bouguer.load_dict({"objects": objects}, meshes={"m": {"positions": p, "triangles": t}})
+        except bouguer.Error as e:
+            print("REFUSED", e)
+            sys.exit(0)
+        print("LOADED")
+        sys.exit(1)
+    """)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and "REFUSED" in done.stdout, (done.stdout, done.stderr[-2000:])
+    assert "memory" in done.stdout and "objects[" in done.stdout, done.stdout

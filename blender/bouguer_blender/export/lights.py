@@ -84,6 +84,9 @@ def export(obj, matrix_world, metres_per_unit, reports, objects, lights):
         steps.append({"matrix": axes.matrix(matrix_world, metres_per_unit)})
         # The object's scale scales the light (Cycles takes its axes from the object's matrix).
         area *= matrix_world.col[0].xyz.length * matrix_world.col[1].xyz.length
+        if not area > 0.0:
+            reports.warn(f"Light '{name}': an area light of size 0 emits nothing; left out")
+            return
         objects.append(dict({"name": name, "shape": shape, "transform": steps},
                             emission=spectrum(colour, light.energy / (4.0 * area))))
     else:

@@ -138,6 +138,20 @@ def volume_coefficients(node, owner, reports, per_m):
     return None
 
 
+# The indices Bouguer models (media/ior.h); Blender allows 0 to 1000.
+MIN_IOR, MAX_IOR = 1.0, 4.99
+
+
+def checked_ior(ior, owner, reports):
+    """An IOR within what Bouguer models, clamped with a report (an IOR below 1, Cycles' trick for an
+    air bubble in a liquid, is an object of air inside the liquid with a priority here)."""
+    clamped = min(MAX_IOR, max(MIN_IOR, ior))
+    if clamped != ior:
+        reports.warn(f"{owner}: IOR {ior:.4g} is rendered as {clamped:.4g} (Bouguer models 1 to 5; an air bubble "
+                     "in a liquid is an object of air inside it with a priority, docs/blender.md)")
+    return clamped
+
+
 def medium_of(ior, volume, lift):
     m = {"ior": ior}
     if volume is None:
@@ -167,13 +181,17 @@ def library_medium(settings):
     return m  # "Medium's Own": the library entry's index, or the file's '# ior:' (the builder asks for one)
 
 
-def interface(t, name, medium, roughness, settings):
+def interface(t, name, medium, roughness, settings, owner=None, reports=None):
     t.media[name] = medium
     t.roles["inside"] = name
     if roughness > 0.0:
         t.roles["roughness"] = min(1.0, roughness)
     if settings is not None and settings.use_priority:
-        t.roles["priority"] = settings.priority
+        if roughness > 0.0 and reports is not None:  # nested media take smooth interfaces only
+            reports.warn(f"{owner}: a rough glass takes no priority (nested media need smooth interfaces); "
+                         "rendered without it")
+        else:
+            t.roles["priority"] = settings.priority
 
 
 def translate(material, reports, per_m, pbr_supported, spectral, lift):
@@ -225,7 +243,8 @@ def surface(t, node, owner, reports, volume, medium_name, settings, pbr_supporte
         glass_tint(node.inputs["Color"], owner, reports)
         ior = nodes.constant(node.inputs["IOR"], owner, reports)
         r = nodes.constant(node.inputs["Roughness"], owner, reports)
-        interface(t, medium_name, medium_of(ior, volume, t.lift), r * r, settings)  # Cycles' GGX alpha = roughness^2
+        interface(t, medium_name, medium_of(checked_ior(ior, owner, reports), volume, t.lift), r * r,  # GGX alpha = r^2
+                  settings, owner, reports)
     elif kind == "BSDF_PRINCIPLED":
         principled(t, node, owner, reports, volume, medium_name, settings, pbr_supported)
     else:
@@ -261,11 +280,16 @@ def principled(t, node, owner, reports, volume, medium_name, settings, pbr_suppo
         if transmission < 1.0:
             reports.warn(f"{owner}: transmission {transmission:.3g} is rendered as 1 (a dielectric interface)")
         glass_tint(base, owner, reports)
-        interface(t, medium_name, medium_of(ior, volume, t.lift), roughness * roughness, settings)
+        interface(t, medium_name, medium_of(checked_ior(ior, owner, reports), volume, t.lift), roughness * roughness,
+                  settings, owner, reports)
         return
+    if transmission > 0.0:  # below 0.5, under a metal (Cycles weights it by 1 - metallic) or emitting
+        reports.warn(f"{owner}: transmission {transmission:.3g} is not rendered (an object is a dielectric from "
+                     "transmission 0.5 up, when it is not metallic and does not emit)")
     if pbr_supported:
+        # Opaque: the glass case is above, so the pbr role never transmits here (its ior is unused).
         p = {"metallic": min(1.0, max(0.0, metallic)), "roughness": min(1.0, max(0.0, roughness)),
-             "transmission": min(1.0, max(0.0, transmission)), "ior": ior}
+             "transmission": 0.0}
         tex = texture_of(base, owner, reports)
         if tex is not None:
             p["base_color_texture"] = tex
@@ -274,9 +298,6 @@ def principled(t, node, owner, reports, volume, medium_name, settings, pbr_suppo
             p["emission"] = [max(0.0, x) for x in emission]
             p["emission_strength"] = strength
         t.roles["pbr"] = p
-        if p["transmission"] > 0.0:  # what it transmits into: a medium of its index (and its volume)
-            t.media[medium_name] = medium_of(ior, volume, t.lift)
-            t.roles["inside"] = medium_name
         return
     # The pbr role is not in this module yet: the glTF reader's untextured rules, said once.
     reports.warn(f"{owner}: this bouguer module has no 'pbr' role; the Principled BSDF is rendered as "

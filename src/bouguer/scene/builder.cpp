@@ -11,6 +11,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/core/limits.h"
+#include "bouguer/core/memory.h"
 #include "bouguer/scene/nested.h"
 #include "bouguer/media/medium.h"
 #include "bouguer/scene/render_modes.h"
@@ -217,7 +218,29 @@ void check_material(const MaterialDesc& material, const Source& where) {
 
 }  // namespace
 
+namespace {
+
+std::uint64_t mesh_bytes(const Mesh& m) {
+  return m.positions.size() * sizeof(Vec3) + m.triangles.size() * sizeof(m.triangles[0]) +
+         m.normals.size() * sizeof(Vec3) + m.uvs.size() * sizeof(m.uvs[0]) + m.tangents.size() * sizeof(Tangent);
+}
+
+}  // namespace
+
 SceneBuilder& SceneBuilder::object(ObjectDesc o, const Source& where) {
+  if (const auto* held = std::get_if<TriangleMeshShape>(&o.shape)) {
+    // A thousand instances of a large mesh are a thousand copies: refused as they add up, not
+    // when compile runs out of memory (a Blender render runs in Blender's own process).
+    held_triangles_ += held->mesh.triangles.size();
+    held_bytes_ += mesh_bytes(held->mesh);
+    if (held_triangles_ > kMaxSceneTriangles)
+      where.fail("the scene's meshes hold {} triangles so far, more than the limit of {}", held_triangles_,
+                 kMaxSceneTriangles);
+    if (memory_budget_ == 0) memory_budget_ = memory_available_bytes();
+    // Twice what the copies hold: compile's scene takes as much again.
+    require_memory(2 * held_bytes_, fmt::format("{}: {}: the scene's meshes so far", where.file.string(), where.path),
+                   memory_budget_);
+  }
   const int roles = int(o.inside.has_value()) + int(o.emission.has_value()) + int(o.material.has_value());
   if (roles != 1) where.fail("give exactly one of 'inside' (a medium interface), 'emission' or 'material'");
   if (!o.inside && (o.outside || o.contents || o.roughness != 0.0))

@@ -78,6 +78,9 @@ class SceneBuilder {
 
   SceneDesc desc_;
   std::vector<std::pair<std::string, Source>> medium_refs_;  // (name, where)
+  // The triangles and bytes of the meshes objects hold in memory (glTF primitives, Python's and
+  // Blender's arrays: each object its own copy), checked as they grow, before compile copies them.
+  std::uint64_t held_triangles_ = 0, held_bytes_ = 0, memory_budget_ = 0;
 };
 
 }  // namespace bouguer
