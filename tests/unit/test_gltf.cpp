@@ -568,6 +568,22 @@ TEST(Gltf, EveryDispersionTheExtensionAllowsLoads) {
       EXPECT_NEAR((ior_at(n, 587.6) - 1.0) / (ior_at(n, 486.1) - ior_at(n, 656.3)), 5.0, 0.05);  // V_d
     }
   }
+  // The extension's extremes: any D >= 0 loads, V_d = 20/D clamped into 5..200 with a warning.
+  for (const auto& [d, v_d] : {std::pair{0.01, 200.0}, std::pair{1e6, 5.0}, std::pair{0.0, 0.0}}) {
+    GltfDoc g = volume_slab(0.01);
+    g.doc["materials"][0]["extensions"]["KHR_materials_dispersion"] = {{"dispersion", d}};
+    g.doc["extensionsUsed"].push_back("KHR_materials_dispersion");
+    g.write(dir / "dispersion.glb");
+    const SceneDesc desc = with_asset(dir / "dispersion.glb");
+    const IorModel& n = desc.media.at(*desc.objects[0].inside).ior;
+    if (d == 0.0) {
+      EXPECT_TRUE(desc.warnings.empty());
+      EXPECT_NEAR(ior_at(n, 486.1), ior_at(n, 656.3), 1e-12);  // no dispersion
+      continue;
+    }
+    EXPECT_EQ(desc.warnings.size(), 1u) << d;
+    EXPECT_NEAR((ior_at(n, 587.6) - 1.0) / (ior_at(n, 486.1) - ior_at(n, 656.3)), v_d, 0.02 * v_d) << d;
+  }
 }
 
 // ---- thin-walled transmission: a thin dielectric sheet ------------------------------------------------
