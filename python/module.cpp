@@ -30,6 +30,7 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "bouguer/scene/pbr_material.h"
 #include "bouguer/scene/update.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 #include "python/module.h"
@@ -488,6 +489,22 @@ PYBIND11_MODULE(bouguer, m) {
       py::arg("rgb"), py::arg("wavelength_nm"),
       "The smooth reflectance spectrum of a linear Rec.709 colour (components clamped to [0, 1]) at wavelengths "
       "in nm: the lift of every {\"rgb\": ...} reflectance (docs/scene-format.md)");
+  m.def(
+      "attenuation_spectrum",
+      [](const std::array<double, 3>& colour, double distance_m) {
+        // The glTF reader's lift of an attenuation colour (scene/pbr_material.h), for front ends that
+        // give a medium per-channel coefficients (Blender's volumes): one lift, not a copy of it.
+        for (double c : colour)
+          if (!(c > 0.0 && c <= 1.0)) bouguer::fail("attenuation_spectrum: each channel must lie in (0, 1] (got {})", c);
+        if (!(distance_m > 0.0 && std::isfinite(distance_m)))
+          bouguer::fail("attenuation_spectrum: the distance must be a positive length (got {} m)", distance_m);
+        const bouguer::TableInput t = bouguer::attenuation_sigma_a({colour[0], colour[1], colour[2]}, distance_m);
+        return py::make_tuple(py::array_t<double>(static_cast<py::ssize_t>(t.wavelength_nm.size()), t.wavelength_nm.data()),
+                              py::array_t<double>(static_cast<py::ssize_t>(t.value.size()), t.value.data()));
+      },
+      py::arg("colour"), py::arg("distance_m"),
+      "(wavelength_nm, sigma_a_per_m): the absorption whose transmittance over distance_m is `colour` per "
+      "channel, exactly at the rgb3 lines (the glTF reader's KHR_materials_volume lift, docs/assets.md)");
   m.def("load", &load, py::arg("path"), "Load and compile a scene file (JSON, docs/scene-format.md)");
   m.def("load_dict", &load_dict, py::arg("scene"), py::arg("base") = py::none(), py::arg("meshes") = py::none(),
         "Load and compile a scene from a dict with the JSON schema; relative paths against `base` (default: the "

@@ -295,3 +295,16 @@ def test_many_instances_of_a_large_mesh_are_refused_before_memory_runs_out():
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0 and "REFUSED" in done.stdout, (done.stdout, done.stderr[-2000:])
     assert "memory" in done.stdout and "objects[" in done.stdout, done.stdout
+
+
+def test_attenuation_spectrum_is_the_gltf_readers_lift_exact_at_the_rgb3_lines():
+    # The one lift of a per-channel attenuation (scene/pbr_material.h), which Blender's volumes use:
+    # over the distance, the transmittance at 700.0, 546.1 and 435.8 nm is the colour's R, G and B, and
+    # sigma is not negative anywhere. A second, different lift in the add-on would not be tested here.
+    colour, d = (0.8, 0.5, 0.25), 0.004
+    nm, sigma = bouguer.attenuation_spectrum(colour, d)
+    assert nm[0] == 360 and nm[-1] == 830 and np.all(np.diff(nm) > 0) and np.all(sigma >= 0)
+    for line, c in zip((700.0, 546.1, 435.8), colour):
+        assert np.isclose(np.exp(-np.interp(line, nm, sigma) * d), c, rtol=1e-9), line
+    with pytest.raises(bouguer.Error, match="each channel must lie in"):
+        bouguer.attenuation_spectrum((0.0, 0.5, 0.5), d)

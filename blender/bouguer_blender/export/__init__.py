@@ -38,7 +38,7 @@ def export_scene(depsgraph, bouguer, settings=None):
     scene = depsgraph.scene
     out = Export()
     out.spectral = settings.spectral if settings is not None else "hero"
-    out.lift = bouguer.reflectance_spectrum
+    out.attenuation = bouguer.attenuation_spectrum
     per_unit = axes.unit_scale(scene)
     cam = scene.camera.evaluated_get(depsgraph) if scene.camera else None
     objects, point_lights, media = [], [], {}
@@ -82,7 +82,7 @@ def add_geometry(out, inst, obj, per_unit, translated, media, objects, pbr):
     matrix = axes.matrix(inst.matrix_world, per_unit)
     for index, part in out.parts[key].items():
         material = slots[index].material if index < len(slots) else None
-        t = translation(material, out.reports, per_unit, translated, pbr, out.spectral, out.lift)
+        t = translation(material, out.reports, per_unit, translated, pbr, out.spectral, out.attenuation)
         media.update(t.media)
         roles = dict(t.roles)
         if "uvs" not in part and uses_texture(roles):
@@ -93,10 +93,10 @@ def add_geometry(out, inst, obj, per_unit, translated, media, objects, pbr):
                              "transform": [{"matrix": matrix}]}, **roles))
 
 
-def translation(material, reports, per_unit, translated, pbr, spectral, lift):
+def translation(material, reports, per_unit, translated, pbr, spectral, attenuation):
     key = material.name if material is not None else None
     if key not in translated:
-        translated[key] = materials.translate(material, reports, 1.0 / per_unit, pbr, spectral, lift)
+        translated[key] = materials.translate(material, reports, 1.0 / per_unit, pbr, spectral, attenuation)
     return translated[key]
 
 

@@ -2,37 +2,29 @@
 `emission`, a `pbr` surface (the glTF reader's mapping of a metallic-roughness material), or a
 dielectric interface `inside` a medium. Volumes are Cycles' own units: Volume Absorption gives
 sigma_a = density (1 - colour), Volume Scatter sigma_s = density colour, per Blender unit, here per
-metre. The three channel values are lifted to a spectrum as the glTF reader lifts an attenuation
-colour (docs/assets.md): the transmittance over a reference length is the smooth reflectance lift of
-its colour, tabulated at 1 nm, and the table holds the channel values themselves at the rgb3 lines
-(700.0, 546.1, 435.8 nm), so that `rgb3` reproduces Cycles' per-channel transmittance exactly."""
+metre. The three channel values are lifted to a spectrum by the glTF reader's own lift of an
+attenuation colour (bouguer.attenuation_spectrum, docs/assets.md): the transmittance over a
+reference length is the smooth reflectance lift of its colour, tabulated at 1 nm, made exact at the
+rgb3 lines (700.0, 546.1, 435.8 nm), so that `rgb3` reproduces Cycles' per-channel transmittance."""
 import math
 import os
 
 import bpy
-import numpy as np
 
 from . import nodes
 from ..properties import SELLMEIER
 
-RGB3_NM = [435.8, 546.1, 700.0]  # blue, green, red: the table's order, increasing
+RGB3_NM = [435.8, 546.1, 700.0]  # blue, green, red: increasing
 DEFAULT_GREY = 0.8                 # Cycles' surface without a material
 
 
-TABLE_NM = np.union1d(np.arange(360.0, 831.0), RGB3_NM)
-
-
-def channel_table(rgb, lift):
+def channel_table(rgb, attenuation):
     """sigma (per metre, three channels) as a 1 nm table: over the reference length d = 1/max(sigma)
-    the transmittance exp(-sigma d) lies in [1/e, 1], where the reflectance lift is smooth; its lift
-    gives sigma(lambda) = -ln(T(lambda))/d, and the channel values stand at the rgb3 lines."""
+    the transmittance exp(-sigma d) lies in [1/e, 1], where the reflectance lift is smooth;
+    `attenuation` is bouguer.attenuation_spectrum, the glTF reader's lift of that colour over d."""
     d = 1.0 / max(rgb)
-    colour = [math.exp(-x * d) for x in rgb]
-    t = np.clip(lift(colour, TABLE_NM), 1e-12, 1.0)
-    sigma = -np.log(t) / d
-    for nm, value in zip(RGB3_NM, [rgb[2], rgb[1], rgb[0]]):
-        sigma[TABLE_NM == nm] = value
-    return {"unit": "attenuation_per_m", "wavelength_nm": TABLE_NM.tolist(), "value": sigma.tolist()}
+    nm, sigma = attenuation([math.exp(-x * d) for x in rgb], d)
+    return {"unit": "attenuation_per_m", "wavelength_nm": nm.tolist(), "value": sigma.tolist()}
 
 
 def clamp01(rgb):
@@ -152,15 +144,15 @@ def checked_ior(ior, owner, reports):
     return clamped
 
 
-def medium_of(ior, volume, lift):
+def medium_of(ior, volume, attenuation):
     m = {"ior": ior}
     if volume is None:
         return m
     sa, ss, g = volume
     if any(v > 0 for v in sa):
-        m["absorption"] = channel_table(sa, lift)
+        m["absorption"] = channel_table(sa, attenuation)
     if any(v > 0 for v in ss):
-        m["scattering"] = dict(channel_table(ss, lift), phase={"type": "henyey_greenstein", "g": max(-0.99, min(0.99, g))}
+        m["scattering"] = dict(channel_table(ss, attenuation), phase={"type": "henyey_greenstein", "g": max(-0.99, min(0.99, g))}
                                if abs(g) > 1e-6 else {"type": "isotropic"})
     return m
 
@@ -194,11 +186,11 @@ def interface(t, name, medium, roughness, settings, owner=None, reports=None):
             t.roles["priority"] = settings.priority
 
 
-def translate(material, reports, per_m, pbr_supported, spectral, lift):
-    """The roles of a Blender material (None: Cycles' default grey) and the media they name; `lift` is
-    bouguer.reflectance_spectrum."""
+def translate(material, reports, per_m, pbr_supported, spectral, attenuation):
+    """The roles of a Blender material (None: Cycles' default grey) and the media they name; `attenuation`
+    is bouguer.attenuation_spectrum."""
     t = Translation()
-    t.spectral, t.lift = spectral, lift
+    t.spectral, t.attenuation = spectral, attenuation
     if material is None:
         t.roles["material"] = {"type": "diffuse", "reflectance": reflectance([DEFAULT_GREY] * 3, spectral)}
         return t
@@ -225,7 +217,7 @@ def translate(material, reports, per_m, pbr_supported, spectral, lift):
 def surface(t, node, owner, reports, volume, medium_name, settings, pbr_supported):
     if node is None:
         if volume is not None:  # a volume without a surface: index-matched, as Cycles renders it
-            interface(t, medium_name, medium_of(1.0, volume, t.lift), 0.0, settings)
+            interface(t, medium_name, medium_of(1.0, volume, t.attenuation), 0.0, settings)
         else:
             reports.warn(f"{owner}: nothing is connected to the surface; rendered black")
             t.roles["material"] = {"type": "diffuse", "reflectance": 0.0}
@@ -243,7 +235,7 @@ def surface(t, node, owner, reports, volume, medium_name, settings, pbr_supporte
         glass_tint(node.inputs["Color"], owner, reports)
         ior = nodes.constant(node.inputs["IOR"], owner, reports)
         r = nodes.constant(node.inputs["Roughness"], owner, reports)
-        interface(t, medium_name, medium_of(checked_ior(ior, owner, reports), volume, t.lift), r * r,  # GGX alpha = r^2
+        interface(t, medium_name, medium_of(checked_ior(ior, owner, reports), volume, t.attenuation), r * r,  # GGX alpha = r^2
                   settings, owner, reports)
     elif kind == "BSDF_PRINCIPLED":
         principled(t, node, owner, reports, volume, medium_name, settings, pbr_supported)
@@ -280,7 +272,7 @@ def principled(t, node, owner, reports, volume, medium_name, settings, pbr_suppo
         if transmission < 1.0:
             reports.warn(f"{owner}: transmission {transmission:.3g} is rendered as 1 (a dielectric interface)")
         glass_tint(base, owner, reports)
-        interface(t, medium_name, medium_of(checked_ior(ior, owner, reports), volume, t.lift), roughness * roughness,
+        interface(t, medium_name, medium_of(checked_ior(ior, owner, reports), volume, t.attenuation), roughness * roughness,
                   settings, owner, reports)
         return
     if transmission > 0.0:  # below 0.5, under a metal (Cycles weights it by 1 - metallic) or emitting
