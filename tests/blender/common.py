@@ -57,8 +57,8 @@ def new_scene(resolution=(16, 16)):
     return s
 
 
-def material(name, shader, **inputs):
-    """A material whose surface is one shader node with constant inputs."""
+def material(name, shader, output="Surface", **inputs):
+    """A material whose surface (or volume) is one shader node with constant inputs."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     tree = m.node_tree
@@ -68,7 +68,7 @@ def material(name, shader, **inputs):
     node = tree.nodes.new(shader)
     for k, v in inputs.items():
         node.inputs[k].default_value = v
-    tree.links.new(node.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    tree.links.new(node.outputs[0], tree.nodes["Material Output"].inputs[output])
     return m
 
 

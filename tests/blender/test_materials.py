@@ -39,15 +39,7 @@ def transmittance(scene, slab, engine, name, samples):
 
 
 def volume_absorption(colour, density):
-    m = bpy.data.materials.new("wine")
-    m.use_nodes = True
-    tree = m.node_tree
-    tree.nodes.remove(tree.nodes["Principled BSDF"])
-    v = tree.nodes.new("ShaderNodeVolumeAbsorption")
-    v.inputs["Color"].default_value = (*colour, 1.0)
-    v.inputs["Density"].default_value = density
-    tree.links.new(v.outputs[0], tree.nodes["Material Output"].inputs["Volume"])
-    return m
+    return common.material("wine", "ShaderNodeVolumeAbsorption", "Volume", Color=(*colour, 1.0), Density=density)
 
 
 def test_volume_absorption_slab_is_cycles_per_channel_in_rgb3():
@@ -78,16 +70,8 @@ def test_volume_absorption_in_centimetres():
 
 
 def principled_volume(colour, absorption, density):
-    m = bpy.data.materials.new("smoke")
-    m.use_nodes = True
-    tree = m.node_tree
-    tree.nodes.remove(tree.nodes["Principled BSDF"])
-    v = tree.nodes.new("ShaderNodeVolumePrincipled")
-    v.inputs["Color"].default_value = (*colour, 1.0)
-    v.inputs["Absorption Color"].default_value = (*absorption, 1.0)
-    v.inputs["Density"].default_value = density
-    tree.links.new(v.outputs[0], tree.nodes["Material Output"].inputs["Volume"])
-    return m
+    return common.material("smoke", "ShaderNodeVolumePrincipled", "Volume", Color=(*colour, 1.0),
+                           **{"Absorption Color": (*absorption, 1.0)}, Density=density)
 
 
 def test_principled_volume_absorption_is_cycles():
