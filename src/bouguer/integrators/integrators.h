@@ -52,7 +52,7 @@ void add_camera_sample(FilmBuffer& film, const SpectralTables<N>& tables, const 
     film.add_sample(x, y, rgb, 1.0);
 }
 
-// Sample s's wavelengths and hero (events.h: draw_hero): hero mode's four wavelengths from
+// Sample s's wavelengths and hero (media_travel.h: draw_hero): hero mode's four wavelengths from
 // `strata` (the pixel's wavelength strata; the fixed modes carry theirs), the hero's index from
 // `heroes`, strata of its own, so that it stays independent of the wavelengths and of the one kept
 // at a dispersive interface (both drawn from `strata`), and each index is the hero equally often.
@@ -72,7 +72,7 @@ void start_sample_wavelengths(const RenderScene& scene, const SpectralTables<N>&
 // stream (seed, pixel, sample, salt) and its wavelengths and hero (start_sample_wavelengths: hero
 // mode stratifies its wavelengths over the pixel's samples in a shuffled order; the fixed modes
 // stratify the wavelength kept at a dispersive interface instead; the hero of scattering media is
-// stratified in every mode, for every estimator that draws its samples here: events.h), handed to
+// stratified in every mode, for every estimator that draws its samples here: media_travel.h), handed to
 // sample(x, y, s, rng, wavelengths, dispersion_u, rays). An estimator that never keeps one
 // wavelength (kDispersion false: Whitted) gets dispersion_u 0 in the fixed modes, and the strata
 // are not drawn for it.

@@ -1,4 +1,4 @@
-// The unidirectional spectral path tracer. Next-event estimation (integrators/events.h) combined
+// The unidirectional spectral path tracer. Next-event estimation (integrators/direct_light.h) combined
 // with BSDF sampling by multiple importance sampling (power heuristic). At a smooth interface the
 // path reflects with probability F and refracts otherwise (weight 1: the Fresnel factor cancels),
 // so the same interface and medium model as the Whitted integrator hold, and both converge to the
@@ -13,9 +13,9 @@
 // Scattering media: delta tracking of the scattering with spectral MIS (media/scattering.h), the
 // absorption in closed form; next-event estimation at every medium vertex through the phase
 // function, and near the boundary of a dense medium next-event estimation through its smooth
-// interfaces to the environment map (events.h: ExitGuide); Russian roulette by throughput there
+// interfaces to the environment map (exit_guide.h: ExitGuide); Russian roulette by throughput there
 // too. Scattering events do not count against max_depth; a path stops after kMaxScatterings of
-// them (integrators/events.h). Index-matched interfaces are crossed without a vertex.
+// them (integrators/scene_view.h). Index-matched interfaces are crossed without a vertex.
 // The walk is the one random walk of integrators/walk.h; this file is its visitor.
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/integrators/radiance.h"

@@ -34,7 +34,7 @@ struct Radiance {
     const double arrived = state.pdf_dir;
     const Vec3 d = -x.wo;
     if (x.infinite) {  // an environment map is also reached by next-event estimation: weighted against it
-      // Through smooth interfaces from a guided vertex: against the guide (events.h). A surface's
+      // Through smooth interfaces from a guided vertex: against the guide (exit_guide.h). A surface's
       // guide is next-event estimation's own sample carried on, so it is weighted as that is.
       auto against_the_guide = [&] {
         const ExitGuide& g = state.guide;
@@ -74,7 +74,7 @@ struct Radiance {
     if (x.kind == VertexKind::medium) return medium_vertex(x.point);  // (the walk calls it itself)
     if (++surfaces > v.max_depth) return false;
     if (!x.delta) {
-      // Through the smooth interfaces in the way, where the walk could still cross one (events.h:
+      // Through the smooth interfaces in the way, where the walk could still cross one (exit_guide.h:
       // surface_exit_guide; the walk keeps the guide for the direction it draws next).
       const bool guided = surfaces < v.max_depth && exit_guide_runs(v);
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
@@ -93,13 +93,13 @@ struct Radiance {
     const int medium = state.medium;
     const Vec3 direction = state.ray.direction;  // the one it arrived along
     const PhaseFunction& phase = scattering_medium(scene, medium)->phase;
-    // Thinned deep in a dense medium, where it finds nothing (events.h: nee_probability_in_medium).
+    // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
     const double q = nee_probability_in_medium(v, medium, point, w, state.near);
     if (q >= 1.0 || rng.next_double() < q)
       add(state.beta *
           direct_light_in_medium(v, point, direction, phase, medium, w, state.mis.r_u, rng, rays, state.inside) *
           static_cast<float>(1.0 / q));
-    // Near the boundary, through it (events.h: ExitGuide). Its numbers come from a stream of its
+    // Near the boundary, through it (exit_guide.h: ExitGuide). Its numbers come from a stream of its
     // own, so the walk's moves on by one however many the connection takes.
     // (None where the walk could not cross one more surface.)
     state.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, state.near, state.inside) : ExitGuide{};

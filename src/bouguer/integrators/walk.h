@@ -97,18 +97,18 @@ struct WalkState {
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int crossings = 0;
   int events = 0;  // vertices so far (Russian roulette)
-  // A lower bound on the distance to every surface near the walk (events.h: the path tracer's
+  // A lower bound on the distance to every surface near the walk (dense_media.h: the path tracer's
   // next-event estimation keeps it): deep in a homogeneous medium, a walk of one wavelength whose
   // next collision falls within it needs no ray.
   SurfaceDistance near;
   // The weight the split gave a walk's bin (full mode: 1/(4·P(bin)); 1 otherwise). It is a
   // choice of spectral sample, not a path's attenuation: the roulette judges the throughput
   // without it, as it judged the path before the split (without this, full mode's split walks,
-  // at about 24 times their path's throughput, never played it; events.h: kSplitCount).
+  // at about 24 times their path's throughput, never played it; dense_media.h: kSplitCount).
   float split_weight = 1.0f;
   float single_mean_ratio = 0.0f;  // the mean of the ratios once one wavelength is left (0: not yet)
   // The exit guide the visitor set at the last medium or non-specular surface vertex (the path
-  // tracer's next-event estimation through the interfaces, events.h: ExitGuide and
+  // tracer's next-event estimation through the interfaces, exit_guide.h: ExitGuide and
   // surface_exit_guide), the direction drawn there and its phase or BSDF density: a walk that
   // leaves from there through smooth interfaces only, to the map, is weighted against the guide.
   // Cleared at any other vertex but a smooth interface's refraction; a surface's also in a
@@ -201,7 +201,7 @@ bool wants_reverse(const Visitor& visit) {
 //       called instead of vertex() for medium vertices (a visitor without reverse densities),
 //       except while visit.keeps_records() (optional) says true;
 //   visit.split(state, wavelengths, rng) -> child and visit.join(child), optional: a walk of one
-//       wavelength from here (events.h: kSplitCount), not while visit.keeps_records().
+//       wavelength from here (dense_media.h: kSplitCount), not while visit.keeps_records().
 // The visitor may read and edit `state` in vertex() (the path tracer's MIS reads the density of
 // the direction that arrived, state.pdf_dir, and restarts the light-connection ratios).
 // At the first dispersive interface it keeps one wavelength (state.dispersion_u). Russian
@@ -301,10 +301,10 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     }
     const Surface& surface = surface_seen(scene, *hit, state.inside, scratch);
     state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
-    // A surface's guide goes through no scattering medium (events.h: surface_exit_guide).
+    // A surface's guide goes through no scattering medium (exit_guide.h: surface_exit_guide).
     if (state.guide.from_surface && scattering_medium(scene, state.medium)) state.guide = {};
     const Vec3 d = state.ray.direction;
-    // A visitor that can split (the path tracer's) does so at a dense chromatic medium (events.h:
+    // A visitor that can split (the path tracer's) does so at a dense chromatic medium (dense_media.h:
     // kSplitCount): each walk takes this segment again from the same state and a copy of the same
     // random stream.
     if constexpr (requires(Visitor& c, WalkState<N>& s, SampledWavelengths<N>& wk, Rng& r) {
@@ -351,7 +351,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       continue;
     }
     // A surface's guide goes through no dispersive interface while several wavelengths ride on the
-    // path (events.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
+    // path (exit_guide.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
     if (state.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, surface)) state.guide = {};
     if (!state.kept)
       keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);

@@ -63,7 +63,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     const float w_in = weight * tr.max_value();
     if (depth >= v.max_depth || w_in < kMinPathWeight) return {};
     // Split about the shading normal; a branch the geometric normal puts on the wrong side carries
-    // nothing (events.h, SurfaceEvent).
+    // nothing (surface_assembly.h, SurfaceEvent).
     const double wo_side = dot(wo, hit->normal);
     if ((dot(wo, hit->shading_normal) > 0.0) != (wo_side > 0.0)) return {};  // behind the shading normal
     const DielectricSplit d = split(interface_indices(v, surface, w), wo, hit->shading_normal);

@@ -1,0 +1,112 @@
+#include "bouguer/integrators/dense_media.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bouguer {
+
+template <std::size_t N>
+bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w, const Vec3& start,
+                        const Vec3& direction, double length_m) {
+  if (N == 1 || w.secondary_terminated()) return false;
+  const ScatteringMedium* sm = scattering_medium(v.scene, medium);
+  if (!sm) return false;
+  const SampledSpectrum<N> sigma_s = v.tables.at(sm->sigma_s, w);
+  float lo = sigma_s[0], hi = sigma_s[0];
+  for (std::size_t k = 1; k < N; ++k) {
+    lo = std::min(lo, sigma_s[k]);
+    hi = std::max(hi, sigma_s[k]);
+  }
+  if (!(hi > 0.0f) || static_cast<double>(hi) < kSplitSpread * static_cast<double>(lo)) return false;
+  return static_cast<double>(hi) * scattering_column_density(*sm, Ray{start, direction}, 0.0, length_m) >= kSplitDepth;
+}
+
+template <std::size_t N>
+double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
+                           double u_nm) {
+  constexpr std::size_t kCount = kSplitCount<N>;
+  std::size_t j = i;
+  double weight = 1.0;
+  if constexpr (N > kCount) {  // full mode: bins as hero mode draws its wavelengths (dense_media.h)
+    static_assert(kCount == kHeroCount);
+    const double width_nm = (kLambdaMaxNm - kLambdaMinNm) / static_cast<double>(N);
+    const double nm = sample_hero_wavelengths(w.split_u).nm[i];
+    j = std::min(static_cast<std::size_t>(std::max(0.0, (nm - kLambdaMinNm) / width_nm)), N - 1);
+    const double lo = kLambdaMinNm + static_cast<double>(j) * width_nm;
+    weight = 1.0 / (kCount * visible_wavelength_probability(lo, lo + width_nm));
+  }
+  w.terminate_secondary(static_cast<int>(j), v.tables.kept_wavelength_nm(w, static_cast<int>(j), u_nm));
+  const float kept = beta[j] * static_cast<float>(weight);
+  beta = SampledSpectrum<N>{};
+  beta[j] = kept;
+  return weight;
+}
+
+// σ_s·ρ of a homogeneous scattering medium at the least-scattering carried wavelength (the walk's
+// own after a split); 0 for any other medium.
+template <std::size_t N>
+double homogeneous_sigma_min_per_m(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w) {
+  const ScatteringMedium* sm = scattering_medium(v.scene, medium);
+  const auto* constant = sm ? std::get_if<ConstantField>(&sm->density) : nullptr;
+  if (!constant) return 0.0;
+  float lo;
+  if (w.secondary_terminated()) {
+    lo = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
+  } else {
+    const SampledSpectrum<N> sigma_s = v.tables.at(sm->sigma_s, w);
+    lo = sigma_s[0];
+    for (std::size_t k = 1; k < N; ++k) lo = std::min(lo, sigma_s[k]);
+  }
+  const double sigma_per_m = static_cast<double>(lo) * constant->value;
+  return sigma_per_m > 0.0 ? sigma_per_m : 0.0;
+}
+
+namespace {
+
+// The distance beyond which the thinning of next-event estimation is at its floor.
+double nee_floor_m(double sigma_per_m) { return (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m; }
+
+}  // namespace
+
+// A fresh point query at x, as far as the thinning of next-event estimation needs to look.
+template <std::size_t N>
+void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last) {
+  const double cap_m = 2.0 * nee_floor_m(sigma_per_m);
+  last.centre = x;
+  last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest, &last.nearest_geometry);
+  last.radius_m = last.surface_m;
+  for (const int index : v.scene.delta_lights) {
+    const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
+    if (const auto* p = std::get_if<PointLight>(&light)) last.radius_m = std::min(last.radius_m, length(x - p->position_m));
+    if (const auto* s = std::get_if<SpotLight>(&light)) last.radius_m = std::min(last.radius_m, length(x - s->position_m));
+  }
+}
+
+template <std::size_t N>
+double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                                 SurfaceDistance& last) {
+  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
+  if (!(sigma_per_m > 0.0)) return 1.0;
+  const double full_m = kNeeFullDepth / sigma_per_m;
+  const double floor_m = nee_floor_m(sigma_per_m);
+  if (last.radius_m >= 0.0) {
+    const double moved = length(x - last.centre);
+    if (last.radius_m + moved <= full_m) return 1.0;  // (a capped radius is larger than full_m)
+    if (last.radius_m - moved >= floor_m) return kNeeFloor;
+  }
+  query_surface_distance(v, x, sigma_per_m, last);
+  return std::clamp(std::exp(kNeeFullDepth - sigma_per_m * last.radius_m), kNeeFloor, 1.0);
+}
+
+#define BOUGUER_DENSE_MEDIA_INSTANTIATE(N) \
+  template double homogeneous_sigma_min_per_m(const SceneView<N>&, int, const SampledWavelengths<N>&); \
+  template void query_surface_distance(const SceneView<N>&, const Vec3&, double, SurfaceDistance&); \
+  template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, SurfaceDistance&); \
+  template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&, double); \
+  template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, double);
+BOUGUER_DENSE_MEDIA_INSTANTIATE(kFullBins)
+BOUGUER_DENSE_MEDIA_INSTANTIATE(3)
+BOUGUER_DENSE_MEDIA_INSTANTIATE(kHeroCount)
+#undef BOUGUER_DENSE_MEDIA_INSTANTIATE
+
+}  // namespace bouguer

@@ -1,0 +1,87 @@
+#pragma once
+// The path tracer's heuristics for dense media (#20), each leaving the expectation unchanged:
+// next-event estimation thinned deep in a homogeneous medium, from a bound on the distance to
+// every surface (nee_probability_in_medium, SurfaceDistance), and the split of a walk into walks
+// of one wavelength at a dense chromatic medium (splits_wavelengths, keep_split_wavelength).
+// Contract: each changes only how often or with which weight a path samples, never what it
+// estimates.
+#include "bouguer/integrators/scene_view.h"
+
+namespace bouguer {
+
+// Next-event estimation deep in a dense medium (the path tracer, #20). A connection from a medium
+// vertex that is R from every surface and every point or spot light crosses at least R of its
+// medium, so in a homogeneous one it gets through with probability at most exp(−τ_R), τ_R =
+// σ_s·ρ·R at the least-scattering carried wavelength. Deep in whole milk that is e^−100, and the
+// light's sample, its shadow ray and the tracking that finds the ray blocked took half of a walk's
+// time. The path tracer does next-event estimation at a medium vertex with probability
+// q = min(1, max(kNeeFloor, exp(kNeeFullDepth − τ_R))) and divides what it finds by q: the
+// expectation is the same for any q > 0, and the MIS weights against phase sampling keep their
+// meaning (they sum to 1 over the strategies, the roulette only thins one of them). A connection
+// that q thins is worth at most e^−3 of a light's unshadowed value in expectation; a rare one that
+// gets through is worth up to 1/q of it in its sample. R comes from a point query
+// (RayScene::distance_to_surfaces) and is reused while the triangle inequality decides: |x − c|
+// from the last query point c, the distance at x lies within R(c) ± |x − c|, so a vertex within
+// reach of a surface (q = 1) or far below it (q = kNeeFloor) needs no query. Media whose density
+// varies keep q = 1 (their ρ along a ray has no lower bound).
+inline constexpr double kNeeFullDepth = 3.0;
+inline constexpr double kNeeFloor = 1.0 / 64.0;
+// The last such query of a walk: a point and its distance to the nearest surface or point light
+// (capped). The walk reuses it too (walk.h: a walk of one wavelength deep in a homogeneous medium
+// needs no ray where the next collision falls within the bound).
+struct SurfaceDistance {
+  Vec3 centre;              // where the last query was made
+  double radius_m = -1.0;   // the distance found there (capped); < 0: none yet
+  double surface_m = -1.0;  // the same without the point lights
+  Vec3 nearest;             // the nearest surface point, where surface_m is below the cap
+  std::uint32_t nearest_geometry = 0;  // its surface (RenderScene::surfaces), there too
+};
+template <std::size_t N>
+double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                                 SurfaceDistance& last);
+// σ_s·ρ of a homogeneous scattering medium at the least-scattering carried wavelength (the walk's
+// own after a split); 0 for any other medium.
+template <std::size_t N>
+double homogeneous_sigma_min_per_m(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w);
+// A fresh point query at x, as far as the thinning of next-event estimation needs to look.
+template <std::size_t N>
+void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last);
+
+// Splitting at a dense chromatic medium (the path tracer, #20). Where a camera path enters a
+// scattering medium whose σ_s differs across the carried wavelengths and in which it will scatter
+// many times, the spectral-MIS ratios of one walk collapse onto wavelengths near its hero, so a
+// pixel's colour comes from a few wavelengths with independent radiance: colour speckle. There the
+// path splits into kSplitCount<N> walks of one wavelength each (terminate_secondary), all with the
+// same random numbers from the split on. In a homogeneous medium with one phase function, a walk
+// with the same numbers at another σ_s is the same walk scaled about the entry point (distances
+// −ln(1−u)/σ_s, directions relative to the last one), so below a flat boundary it leaves at the
+// same event in the same direction: its wavelengths see the same light, and the noise left is in
+// brightness, not colour. Each walk is an ordinary single-wavelength path tracer's walk for its
+// wavelength, so the image's expectation does not change. Hero mode and rgb3 split into all the
+// carried wavelengths (weight 1); full mode into 4 bins drawn as hero mode draws its wavelengths
+// (the eye-sensitivity density at 4 equal offsets of w.split_u, a number stratified over the
+// pixel's samples and independent of the hero, whose majorant drew the path's distances so far),
+// each weighted 1/(4·P(j)), P(j) the density's mass over [360 + j·w, 360 + (j + 1)·w] nm, w =
+// 470/96 nm, which is how a drawn wavelength picks its index (close to the bin's own whole
+// nanometres; the weight has only to match the choice): the bins that matter to the colour are
+// drawn more often, so a pixel's colour does not hang on how often each of 96 bins came up.
+template <std::size_t N>
+inline constexpr std::size_t kSplitCount = N <= 4 ? N : 4;
+// A segment splits when the medium is chromatic (largest σ_s over smallest at least
+// kSplitSpread) and dense (σ_s,max·∫ρ along it at least kSplitDepth: about that many events at
+// the most-scattering wavelength before the path could leave); the #12 furnaces (σ_s·r ≤ 1.8)
+// stay below it.
+inline constexpr double kSplitSpread = 1.1;
+inline constexpr double kSplitDepth = 8.0;
+template <std::size_t N>
+bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w, const Vec3& start,
+                        const Vec3& direction, double length_m);
+// Makes `w` and `beta` those of split walk i (of kSplitCount<N>); u_nm places a full-mode bin's
+// wavelength within the bin (the one its geometry follows at a dispersive interface). Returns the
+// weight given to the bin (1 but in full mode), which the roulette leaves out (walk.h:
+// WalkState::split_weight).
+template <std::size_t N>
+double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
+                           double u_nm);
+
+}  // namespace bouguer

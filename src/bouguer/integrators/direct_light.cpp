@@ -1,0 +1,186 @@
+#include "bouguer/integrators/direct_light.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bouguer/integrators/exit_guide.h"
+
+namespace bouguer {
+
+double power_heuristic(double pdf_a, double pdf_b) {
+  const double a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  return a + b > 0.0 ? a / (a + b) : 0.0;
+}
+
+double area_light_pdf(const RenderScene& scene, const Hit& hit, const Vec3& from, const Vec3& wi) {
+  const Surface& s = scene.surfaces[hit.geometry];
+  const auto index = static_cast<std::size_t>(s.first_light) + hit.primitive;
+  return scene.area_lights.pmf[index] * pdf_li(scene.lights[index], from, wi, hit.point);
+}
+
+double environment_pdf(const RenderScene& scene, const Vec3& d) {
+  return scene.environment ? scene.environment->pdf(d) : 0.0;
+}
+
+template <std::size_t N>
+std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
+                                            double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
+                                            std::uint64_t& rays, std::span<const double> sigma_mean,
+                                            bool* by_smooth_interface) {
+  const RenderScene& s = v.scene;
+  Transmission<N> out;
+  Vec3 start = from.point, origin = from.origin_towards(wi);
+  InsideSet inside = from.hit ? inside_towards(s, *from.hit, from.inside, wi) : from.inside;
+  double remaining = distance_m;
+  Surface scratch;  // a nested object's surface as this connection sees it
+  for (int crossing = 0;; ++crossing) {
+    ++rays;
+    // Stop just short of the target, so its own surface never blocks it.
+    const double t_max = std::isinf(remaining) ? remaining : remaining * (1.0 - 1e-4);
+    const auto hit = s.rays.intersect({origin, wi, t_max});
+    const double length_m = hit ? length(hit->point - start) : remaining;
+    if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
+      ratio_track(*sm, v.tables, Ray{start, wi}, length_m, w, rng, out.tr, out.ratios);
+      if (!sigma_mean.empty() && std::isfinite(length_m))
+        out.tau += sigma_mean[static_cast<std::size_t>(medium)] * scattering_column_density(*sm, Ray{start, wi}, 0.0, length_m);
+    } else
+      out.tr *= travel(v, medium, Ray{start, wi}, length_m, w);
+    if (out.tr.is_zero()) return std::nullopt;
+    // (An infinite path through a medium that only absorbs carries nothing, at every wavelength, as
+    // escaped() says, even where its σ_a is 0.)
+    if (!hit) return std::isinf(remaining) && absorbs(s, medium) && !scattering_medium(s, medium) ? std::nullopt
+                                                                                                     : std::optional(out);
+    const Surface& surface = surface_seen(s, *hit, inside, scratch);
+    if (!surface.index_matched || crossing == kMaxCrossings) {  // then it counts as blocked
+      if (by_smooth_interface)
+        *by_smooth_interface = !surface.index_matched && surface.kind == SurfaceKind::interface && surface.roughness == 0.0;
+      return std::nullopt;
+    }
+    medium = dot(wi, hit->normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+    inside = inside_towards(s, *hit, inside, wi);
+    remaining = std::max(0.0, remaining - length_m);
+    start = hit->point;
+    origin = offset_ray_origin(*hit, wi);
+  }
+}
+
+namespace {
+
+// Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
+// vertex's f·|cos θ| (or phase value) towards wi and the density with which the vertex itself
+// would sample wi; medium_towards(wi) the medium wi leaves into.
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, Towards towards,
+                                   MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                                   const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, bool mis,
+                                   bool environment, const ThroughInterfaces* through = nullptr) {
+  const RenderScene& s = v.scene;
+  // A strategy's mixture density over the carried wavelengths is its own density times the mean
+  // of its ratios: the path's so far times the connection's own (1 without scattering media).
+  auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
+  auto mis_weight = [&](double light_pdf, double vertex_pdf, const Transmission<N>& t) {
+    return power_heuristic(light_pdf * light_ratio(t), vertex_pdf * mean_ratio(s, path_r_u, t.ratios.r_u));
+  };
+  SampledSpectrum<N> sum;
+  const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
+  if (const auto chosen = s.area_lights.sample(u_light)) {
+    const auto& [index, p_choice] = *chosen;
+    if (const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, u1, u2)) {
+      double vertex_pdf = 0.0;
+      const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+      if (!f.is_zero())
+        if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
+          const double light_pdf = p_choice * li->pdf;
+          const double weight = (mis ? mis_weight(light_pdf, vertex_pdf, *t) : 1.0) * li->factor /
+                                (light_pdf * light_ratio(*t));
+          sum += f * sample_radiance(v, *li, w) * t->tr * static_cast<float>(weight);
+        }
+    }
+  }
+  for (const int index : s.delta_lights) {
+    const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, 0.0, 0.0);
+    if (!li) continue;
+    const SampledSpectrum<N> radiance = v.tables.at(li->spectrum, w);
+    if (li->factor == 0.0 || radiance.is_zero()) continue;
+    double vertex_pdf = 0.0;
+    const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+    if (f.is_zero()) continue;
+    if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays))
+      sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
+  }
+  if (environment && s.environment_light >= 0) {
+    const double ue1 = rng.next_double(), ue2 = rng.next_double();
+    const auto li = sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
+    // Into a medium that only absorbs, the shadow ray still goes: it gets nothing where it would
+    // leave the scene in the medium (an infinite path: travel gives 0), but it may leave the medium
+    // through an index-matched boundary, as the walk's own direction does (skipping it lost that
+    // share: a diffuse ball in an index-matched sphere of σ_a = 1e-6 per m, under the studio map,
+    // was 72 % dark), or reach glass that next-event estimation through the interfaces goes on
+    // through.
+    const int m = li ? medium_towards(li->wi) : -1;
+    if (li) {
+      double vertex_pdf = 0.0;
+      const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+      bool glass = false;
+      if (!f.is_zero()) {
+        if (const auto t = transmission(v, at, li->wi, li->distance_m, m, w, rng, rays, {}, through ? &glass : nullptr)) {
+          const double weight =
+              (mis ? mis_weight(li->pdf, vertex_pdf, *t) : 1.0) / (li->pdf * light_ratio(*t));
+          sum += f * v.tables.environment(*s.environment, li->texel, w) * t->tr * static_cast<float>(weight);
+        } else if (glass) {  // on through the smooth interfaces (exit_guide.h: surface_exit_guide)
+          const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, li->wi) : at.inside;
+          const SampledSpectrum<N> l =
+              carry_to_environment(v, at.point, at.origin_towards(li->wi), li->wi, m, inside,
+                                   SampledSpectrum<N>::constant(1.0f), w, rays, through->surfaces_left,
+                                   through->crossings, false);
+          const Transmission<N> clear;  // (no scattering medium on the way: ratios of 1)
+          if (!l.is_zero())
+            sum += f * l * static_cast<float>((mis ? mis_weight(li->pdf, vertex_pdf, clear) : 1.0) /
+                                              (li->pdf * light_ratio(clear)));
+        }
+      }
+    }
+  }
+  return sum;
+}
+
+}  // namespace
+
+template <std::size_t N>
+SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
+                                const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                std::uint64_t& rays, bool mis, bool environment, const ThroughInterfaces* through) {
+  auto bsdf_towards = [&](const Vec3& wi, double& bsdf_pdf) {
+    bsdf_pdf = e.pdf(wo, wi);
+    return e.eval(wo, wi, TransportMode::radiance);
+  };
+  return direct_light_at(
+      v, PathVertex{hit.point, &hit, e.inside}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
+      path_r_u, rng, rays, mis, environment, through);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                          const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          InsideSet inside) {
+  // Light arriving along −wi continues along `direction` after the event.
+  auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
+    phase_pdf = phase_value(phase, -wi, -direction);
+    return SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
+  };
+  return direct_light_at(
+      v, PathVertex{x, nullptr, inside}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays, true,
+      true);
+}
+
+#define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
+  template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double, int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*); \
+  template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool, bool, const ThroughInterfaces*); \
+  template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);
+BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
+BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)
+BOUGUER_DIRECT_LIGHT_INSTANTIATE(kHeroCount)
+#undef BOUGUER_DIRECT_LIGHT_INSTANTIATE
+
+}  // namespace bouguer

@@ -1,0 +1,101 @@
+#pragma once
+// Connections and next-event estimation: the transmission along a connection (across
+// index-matched boundaries, stopped by any other surface, ratio-tracked through scattering media),
+// direct light at a surface or a medium vertex weighted against the vertex's own sampling, and the
+// MIS arithmetic they share with the estimators (the power heuristic over the spectral mixtures'
+// densities). Contract: a connection's value is its contribution divided by its own density; its
+// weights with the strategies it is combined with sum to 1.
+#include "bouguer/integrators/surface_events.h"
+
+namespace bouguer {
+
+double power_heuristic(double pdf_a, double pdf_b);
+
+// The mean of a path's ratios, which its contributions are divided by (1 without scattering media,
+// where the ratios are not read); with `connection`, of the path's ratios times a connection's.
+template <std::size_t N>
+float mean_ratio(const RenderScene& scene, const SampledSpectrum<N>& r) {
+  return scene.scatters ? r.average() : 1.0f;
+}
+template <std::size_t N>
+float mean_ratio(const RenderScene& scene, const SampledSpectrum<N>& r, const SampledSpectrum<N>& connection) {
+  return scene.scatters ? (r * connection).average() : 1.0f;
+}
+
+// The MIS weight (power heuristic) of a strategy with density pdf_a and ratios r_a against one
+// with pdf_b and r_b: the densities of the two one-sample mixtures over the carried wavelengths.
+template <std::size_t N>
+double spectral_power_heuristic(const RenderScene& scene, double pdf_a, const SampledSpectrum<N>& r_a, double pdf_b,
+                                const SampledSpectrum<N>& r_b) {
+  return power_heuristic(pdf_a * mean_ratio(scene, r_a), pdf_b * mean_ratio(scene, r_b));
+}
+
+// Solid-angle density with which next-event estimation at `from` reaches this emitter hit (for
+// MIS), and the one for a direction that escapes to the environment map.
+double area_light_pdf(const RenderScene& scene, const Hit& hit, const Vec3& from, const Vec3& wi);
+double environment_pdf(const RenderScene& scene, const Vec3& d);
+
+// Where a connection (to a light or the camera) starts: a surface hit, whose rays leave from its
+// offset origin while lengths are measured from the hit point itself, or a point inside a medium.
+struct PathVertex {
+  Vec3 point;
+  const Hit* hit = nullptr;  // null: a point inside a medium
+  InsideSet inside = 0;      // the nested objects the path was inside there (at a surface: as it arrived)
+  Vec3 origin_towards(const Vec3& d) const { return hit ? offset_ray_origin(*hit, d) : point; }
+};
+
+// What gets through along a connection: the transmittance (ratio-tracked in scattering media,
+// exact elsewhere) and the connection's factors of the spectral MIS ratios (media/scattering.h).
+template <std::size_t N>
+struct Transmission {
+  SampledSpectrum<N> tr = SampledSpectrum<N>::constant(1.0f);
+  SpectralMis<N> ratios;
+  double tau = 0.0;  // with sigma_mean given: Σ σ̄_s·∫ρ over the scattering media crossed (integrators/walk.h)
+};
+
+// The connection from `from` along wi to a point distance_m away (infinite: a distant light or
+// the environment), starting in `medium`: nullopt when a surface blocks it. It crosses
+// index-matched interfaces (Surface::index_matched: medium boundaries that neither reflect nor
+// refract) into the medium beyond and stops at any other surface, glass included; so a medium
+// inside glass or behind a water surface gets no direct light (docs/rendering.md). Surfaces of
+// nested objects are seen as the path would see them (surface_seen), from the set `from.inside`.
+// With `sigma_mean` (σ̄_s by medium), it also sums the segment's mean scattering optical depth for
+// the MIS weights of the bidirectional estimators (Tungsten's generalised shadow ray with pdfs).
+// With `by_smooth_interface`, it also says whether what blocked it was a smooth interface (glass,
+// a liquid's surface): what next-event estimation through the interfaces may go on through.
+template <std::size_t N>
+std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
+                                            double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
+                                            std::uint64_t& rays, std::span<const double> sigma_mean = {},
+                                            bool* by_smooth_interface = nullptr);
+
+// Where next-event estimation at a surface may carry the environment map's direction on through
+// smooth interfaces (the path tracer's surface exit guide, exit_guide.h): as many as the walk could still
+// cross, and its count of index-matched crossings so far.
+struct ThroughInterfaces {
+  int surfaces_left = 0;
+  int crossings = 0;
+};
+
+// Direct light at a non-specular surface event, towards wo: one area light drawn by power, every
+// delta light and (with `environment`) one direction of the environment map; MIS-weighted
+// against BSDF sampling by the power heuristic when `mis` is set. Shadow rays go as
+// transmission() says; with `through`, the environment's goes on through the smooth interfaces
+// that block it (exit_guide.h: surface_exit_guide). path_r_u: the path's unidirectional ratios so far
+// (all 1 outside scattering media).
+template <std::size_t N>
+SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
+                                const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                std::uint64_t& rays, bool mis, bool environment,
+                                const ThroughInterfaces* through = nullptr);
+
+// The same at a scattering event at `x` inside scattering medium `medium`, for light travelling
+// along `direction`: the phase function in place of the BSDF, always MIS-weighted against phase
+// sampling.
+template <std::size_t N>
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                          const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          InsideSet inside = 0);
+
+}  // namespace bouguer

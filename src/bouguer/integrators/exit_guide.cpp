@@ -1,0 +1,137 @@
+#include "bouguer/integrators/exit_guide.h"
+
+#include <cmath>
+
+#include "bouguer/integrators/direct_light.h"
+
+namespace bouguer {
+
+template <std::size_t N>
+SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, Vec3 start, Vec3 origin, Vec3 d, int medium,
+                                        InsideSet inside, SampledSpectrum<N> tr, const SampledWavelengths<N>& w,
+                                        std::uint64_t& rays, int surfaces_left, int crossings, bool through_scattering) {
+  const RenderScene& s = v.scene;
+  int interfaces = 0;
+  Surface scratch;
+  for (;;) {
+    const ScatteringMedium* sm = scattering_medium(s, medium);
+    if (sm && !through_scattering) return {};
+    ++rays;
+    const auto hit = s.rays.intersect({origin, d});
+    if (!hit) {  // the map, if at least one interface was crossed
+      if (interfaces == 0 || sm) return {};
+      return tr * escaped(v, medium, d, w);
+    }
+    const double length_m = length(hit->point - start);
+    if (sm) {
+      const double sigma_per_m = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
+      tr *= static_cast<float>(std::exp(-sigma_per_m * scattering_column_density(*sm, Ray{start, d}, 0.0, length_m)));
+      tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
+    } else {
+      tr *= travel(v, medium, Ray{start, d}, length_m, w);
+    }
+    if (tr.is_zero()) return {};
+    const Surface& surface = surface_seen(s, *hit, inside, scratch);
+    if (surface.index_matched) {
+      inside = inside_towards(s, *hit, inside, d);
+      Ray ray{origin, d};
+      if (!cross_index_matched(surface, *hit, crossings, medium, start, ray)) return {};
+      origin = ray.origin;
+      continue;
+    }
+    if (surface.kind != SurfaceKind::interface || surface.roughness != 0.0 || interfaces == surfaces_left) return {};
+    if (!w.secondary_terminated() && is_dispersive(s, surface)) return {};
+    const SurfaceEvent<N> e = surface_event(v, *hit, surface, -d, medium, w);
+    const double reflectance = split(std::get<SmoothDielectric>(e.bsdf), e.frame.to_local(-d)).reflectance;
+    const auto through = e.sample(-d, 1.0, 0.0, 0.0, TransportMode::radiance);
+    if (!through || !through->transmitted) return {};
+    tr *= through->weight * static_cast<float>(1.0 - reflectance);
+    medium = e.medium_towards(through->wi);
+    inside = inside_towards(s, *hit, inside, through->wi);
+    d = through->wi;
+    start = hit->point;
+    origin = offset_ray_origin(*hit, d);
+    ++interfaces;
+  }
+}
+
+template <std::size_t N>
+ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
+                        SurfaceDistance& last, InsideSet inside) {
+  const RenderScene& s = v.scene;
+  if (!exit_guide_runs(v) || !w.secondary_terminated()) return {};
+  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
+  if (!(sigma_per_m > 0.0)) return {};
+  const double reach_m = kExitGuideDepth / sigma_per_m;
+  const bool here = last.surface_m >= 0.0 && last.centre == x;
+  if (last.surface_m >= 0.0 && last.surface_m - length(x - last.centre) > reach_m) return {};
+  if (!here) query_surface_distance(v, x, sigma_per_m, last);
+  // (Within reach, below the query's cap: the nearest point was found.)
+  if (last.surface_m > reach_m) return {};
+  // An index-matched boundary lets next-event estimation through: from here it draws from the
+  // map already, and a second strategy with the same density only costs time (a whole-milk ball
+  // of index 1 under the studio map, 16×16, 128 spp: the same variance in 1.45 s against 1.75 s).
+  Hit nearest;
+  nearest.geometry = last.nearest_geometry;
+  Surface scratch;
+  if (surface_seen(s, nearest, inside, scratch).index_matched) return {};
+  const Vec3 towards = last.nearest - x;
+  const double l = length(towards);
+  if (!(l > 0.0)) return {};
+  const double n = s.media[static_cast<std::size_t>(medium)].ior_reference;
+  const double n_world = s.media[static_cast<std::size_t>(s.world_medium)].ior_reference;
+  return {towards / l, n / n_world};
+}
+
+double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi) {
+  if (guide.from_surface) return environment_pdf(scene, wi);
+  const double cos_in = dot(wi, guide.normal);
+  if (!guide.active() || !(cos_in > 0.0)) return 0.0;
+  const double cos_out = cos_theta_transmitted(cos_in, guide.eta, 1.0);
+  if (!(cos_out > 0.0)) return 0.0;  // (total internal reflection at the plane)
+  const Vec3 out = refract(-wi, -guide.normal, cos_in, cos_out, guide.eta);
+  return environment_pdf(scene, out) * guide.eta * guide.eta * cos_in / cos_out;
+}
+
+std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide& guide, double u1, double u2) {
+  if (!guide.active() || scene.environment_light < 0) return std::nullopt;
+  const auto li = sample_li(scene.lights[static_cast<std::size_t>(scene.environment_light)], Vec3{}, u1, u2);
+  if (!li) return std::nullopt;
+  const double cos_out = dot(li->wi, guide.normal);
+  if (!(cos_out > 0.0)) return std::nullopt;
+  const double cos_in = cos_theta_transmitted(cos_out, 1.0, guide.eta);
+  if (!(cos_in > 0.0)) return std::nullopt;
+  // Light from the map's direction refracts into the medium along −wi.
+  return -refract(li->wi, guide.normal, cos_out, cos_in, 1.0 / guide.eta);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
+                                                  const PhaseFunction& phase, int medium, const ExitGuide& guide,
+                                                  const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
+                                                  InsideSet inside, int surfaces_left, int crossings) {
+  const RenderScene& s = v.scene;
+  const double u1 = rng.next_double(), u2 = rng.next_double();
+  const auto wi = sample_exit_guide(s, guide, u1, u2);
+  if (!wi) return {};
+  const double guide_pdf = exit_guide_pdf(s, guide, *wi);
+  // As in direct_light_in_medium: light arriving along −wi goes on along `direction`.
+  const double phase_pdf = phase_value(phase, -*wi, -direction);
+  if (!(guide_pdf > 0.0) || !(phase_pdf > 0.0)) return {};
+  // (A walk of one wavelength: exit_guide_at.)
+  const SampledSpectrum<N> l =
+      carry_to_environment(v, x, x, *wi, medium, inside, SampledSpectrum<N>::constant(static_cast<float>(phase_pdf)), w,
+                           rays, surfaces_left, crossings, true);
+  return l * static_cast<float>(power_heuristic(guide_pdf, phase_pdf) / guide_pdf);
+}
+
+#define BOUGUER_EXIT_GUIDE_INSTANTIATE(N) \
+  template SampledSpectrum<N> carry_to_environment(const SceneView<N>&, Vec3, Vec3, Vec3, int, InsideSet, SampledSpectrum<N>, const SampledWavelengths<N>&, std::uint64_t&, int, int, bool); \
+  template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, SurfaceDistance&, InsideSet); \
+  template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, const ExitGuide&, const SampledWavelengths<N>&, Rng&, std::uint64_t&, InsideSet, int, int);
+BOUGUER_EXIT_GUIDE_INSTANTIATE(kFullBins)
+BOUGUER_EXIT_GUIDE_INSTANTIATE(3)
+BOUGUER_EXIT_GUIDE_INSTANTIATE(kHeroCount)
+#undef BOUGUER_EXIT_GUIDE_INSTANTIATE
+
+}  // namespace bouguer
