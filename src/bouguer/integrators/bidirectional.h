@@ -168,6 +168,8 @@ struct KeepThenTrace {
   }
   void join(const Radiance<N>& child) { tail.join(child); }
 };
+static_assert(WalkVisitor<KeepThenTrace<kFullBins>, kFullBins> && KeepsRecords<KeepThenTrace<kFullBins>> &&
+              ChoosesReverse<KeepThenTrace<kFullBins>> && SplitsWalks<KeepThenTrace<kFullBins>, kFullBins>);
 
 template <std::size_t N>
 void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep_spectrum) {

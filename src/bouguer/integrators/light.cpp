@@ -41,8 +41,9 @@ struct SplatToCamera {
     if (!x.delta) splat_surface_to_camera(v, x.hit, x.event, x.wo, x.beta, w, x.r_u, rng, film, rays);
     return true;
   }
-  void reverse(double) {}
 };
+static_assert(WalkVisitor<SplatToCamera<kFullBins>, kFullBins> && !TakesMediumPoints<SplatToCamera<kFullBins>> &&
+              !SplitsWalks<SplatToCamera<kFullBins>, kFullBins>);
 
 template <std::size_t N>
 void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,

@@ -119,5 +119,7 @@ struct Radiance {
     previous = point;
   }
 };
+static_assert(WalkVisitor<Radiance<kFullBins>, kFullBins> && TakesMediumPoints<Radiance<kFullBins>> &&
+              SplitsWalks<Radiance<kFullBins>, kFullBins>);
 
 }  // namespace bouguer

@@ -13,8 +13,10 @@
 // the distances, and the spectral MIS over wavelengths (media/scattering.h) stays unbiased
 // beneath them. The throughput beta and the ratios r_u are the estimator's own.
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "bouguer/core/error.h"
@@ -165,23 +167,70 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
   return p + state.ray.direction * e.t;
 }
 
-// Whether a visitor wants every vertex as a record (handed to vertex()) just now: one that keeps
-// its subpath's vertices (the bidirectional estimators' camera subpaths until their tail,
-// bidirectional.h), which a split into walks of one wavelength would also break.
+// What a visitor of random_walk (below) provides: the walk hands it each vertex and asks it
+// whether to go on; the visitor holds the limits (depth, scattering events) and decides what a
+// vertex is for. Required of every visitor:
+//   static constexpr bool kReverse: whether it reads reverse densities;
+//   vertex(x) -> bool: a new vertex, its pdf_fwd set; false ends the walk. The visitor may read
+//       and edit the walk's state here (the path tracer's MIS reads the density of the direction
+//       that arrived, state.pdf_dir, and restarts the light-connection ratios);
+//   reverse(pdf_dir), where kReverse: once the walk has sampled on from the last vertex, the
+//       solid-angle density with which that vertex samples the direction back towards the one
+//       before it.
+template <typename V, std::size_t N>
+concept WalkVisitor = requires(V& visit, const Vertex<N>& x) {
+  { V::kReverse } -> std::convertible_to<bool>;
+  { visit.vertex(x) } -> std::same_as<bool>;
+} && (!V::kReverse || requires(V& visit, double pdf_dir) { visit.reverse(pdf_dir); });
+
+// The optional abilities of a visitor, each one the walk looks for:
+// KeepsRecords: keeps_records() -> bool says whether it wants every vertex as a record just now
+//   (the bidirectional estimators' camera subpaths until their tail, bidirectional.h); while it
+//   says true the walk neither hands medium vertices by point nor splits.
+template <typename V>
+concept KeepsRecords = requires(const V& visit) {
+  { visit.keeps_records() } -> std::same_as<bool>;
+};
+// ChoosesReverse: wants_reverse() -> bool says whether a visitor with kReverse still reads
+//   reverse densities (a camera subpath's tail does not).
+template <typename V>
+concept ChoosesReverse = requires(const V& visit) {
+  { visit.wants_reverse() } -> std::same_as<bool>;
+};
+// TakesMediumPoints: medium_vertex(point) -> bool, a medium vertex at `point`, the rest of it
+//   (the throughput, the medium, the nested set, the direction it arrived along) in the walk's
+//   state; called instead of vertex() for medium vertices (no record of 2 KB to fill and copy at
+//   each of a dense walk's thousands of collisions); false ends the walk.
+template <typename V>
+concept TakesMediumPoints = requires(V& visit, const Vec3& point) {
+  { visit.medium_vertex(point) } -> std::same_as<bool>;
+};
+// SplitsWalks: split(state, wavelengths, rng) -> child and join(child): at a dense chromatic
+//   medium (dense_media.h: kSplitCount) a walk of one wavelength from here for each of the split's
+//   wavelengths, each walked by its own child visitor (itself a WalkVisitor) from a copy of the
+//   state and of the random stream, then joined back.
+template <typename V, std::size_t N>
+concept SplitsWalks = requires(V& visit, WalkState<N>& s, SampledWavelengths<N>& w, Rng& r) {
+  visit.join(visit.split(s, w, r));
+} && WalkVisitor<decltype(std::declval<V&>().split(std::declval<WalkState<N>&>(),
+                                                    std::declval<SampledWavelengths<N>&>(), std::declval<Rng&>())),
+                 N>;
+
+// Whether a visitor wants every vertex as a record just now (KeepsRecords).
 template <typename Visitor>
 bool keeps_records(const Visitor& visit) {
-  if constexpr (requires(const Visitor& c) { c.keeps_records(); })
+  if constexpr (KeepsRecords<Visitor>)
     return visit.keeps_records();
   else
     return false;
 }
 
-// Whether a visitor with reverse densities still reads them (a camera subpath's tail does not).
+// Whether a visitor with reverse densities still reads them (ChoosesReverse).
 template <typename Visitor>
 bool wants_reverse(const Visitor& visit) {
   if constexpr (!Visitor::kReverse)
     return false;
-  else if constexpr (requires(const Visitor& c) { c.wants_reverse(); })
+  else if constexpr (ChoosesReverse<Visitor>)
     return visit.wants_reverse();
   else
     return true;
@@ -189,25 +238,13 @@ bool wants_reverse(const Visitor& visit) {
 
 // Walks on from `state` in the transport mode of the subpath (radiance: from the camera, which
 // then also meets lamps and escapes to a light at infinity; importance: from a light), and hands
-// each vertex to the visitor (Tungsten's TraceBase, pbrt-v4's RandomWalk):
-//   visit.vertex(x) -> bool: a new vertex, its pdf_fwd set; false ends the walk (the visitor
-//       holds the limits: the depth, the scattering events);
-//   visit.reverse(pdf_dir): once the walk has sampled on from the last vertex, the solid-angle
-//       density with which that vertex samples the direction back towards the one before it
-//       (asked only of a visitor whose kReverse is true, and whose wants_reverse(), if it has one,
-//       says true);
-//   visit.medium_vertex(point) -> bool, optional: a medium vertex at `point`, the rest of it
-//       (the throughput, the medium, the nested set, the direction it arrived along) in `state`;
-//       called instead of vertex() for medium vertices (a visitor without reverse densities),
-//       except while visit.keeps_records() (optional) says true;
-//   visit.split(state, wavelengths, rng) -> child and visit.join(child), optional: a walk of one
-//       wavelength from here (dense_media.h: kSplitCount), not while visit.keeps_records().
-// The visitor may read and edit `state` in vertex() (the path tracer's MIS reads the density of
-// the direction that arrived, state.pdf_dir, and restarts the light-connection ratios).
+// each vertex to the visitor (Tungsten's TraceBase, pbrt-v4's RandomWalk; the visitor's contract:
+// WalkVisitor and its optional abilities, above).
 // At the first dispersive interface it keeps one wavelength (state.dispersion_u). Russian
 // roulette and the medium tracking as the path tracer's; index-matched boundaries are crossed
 // without a vertex.
 template <std::size_t N, typename Visitor>
+  requires WalkVisitor<Visitor, N>
 void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mode, WalkState<N>& state,
                  SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays, Visitor& visit) {
   const RenderScene& scene = v.scene;
@@ -257,7 +294,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     // A visitor that reads a medium vertex from the state alone (the path tracer's) is handed its
     // point: no record of 2 KB to fill and copy at each of a dense walk's thousands of collisions.
     bool by_point = false;
-    if constexpr (requires(Visitor& c, const Vec3& p) { c.medium_vertex(p); }) {
+    if constexpr (TakesMediumPoints<Visitor>) {
       by_point = !keeps_records(visit);
       if (by_point && !visit.medium_vertex(x)) return false;
     }
@@ -307,9 +344,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     // A visitor that can split (the path tracer's) does so at a dense chromatic medium (dense_media.h:
     // kSplitCount): each walk takes this segment again from the same state and a copy of the same
     // random stream.
-    if constexpr (requires(Visitor& c, WalkState<N>& s, SampledWavelengths<N>& wk, Rng& r) {
-                    c.join(c.split(s, wk, r));
-                  }) {
+    if constexpr (SplitsWalks<Visitor, N>) {
       // (Not once a bidirectional tail has crossed a dispersive interface: only the kept wavelength
       // counts there, and it is rarely among the split's.)
       if (!keeps_records(visit) && !(state.kept && state.dispersed) &&
@@ -452,5 +487,6 @@ struct KeepVertices {
     prev.pdf_rev = to_area_density(pdf_dir, at.point, prev, at.tau_in);
   }
 };
+static_assert(WalkVisitor<KeepVertices<kFullBins>, kFullBins>);
 
 }  // namespace bouguer
