@@ -32,7 +32,6 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   Vec3 start = from.point, origin = from.origin_towards(wi);
   InsideSet inside = from.hit ? inside_towards(s, *from.hit, from.inside, wi) : from.inside;
   double remaining = distance_m;
-  Surface scratch;  // a nested object's surface as this connection sees it
   for (int crossing = 0;; ++crossing) {
     ++rays;
     // Stop just short of the target, so its own surface never blocks it.
@@ -50,13 +49,13 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
     // escaped() says, even where its σ_a is 0.)
     if (!hit) return std::isinf(remaining) && absorbs(s, medium) && !scattering_medium(s, medium) ? std::nullopt
                                                                                                      : std::optional(out);
-    const Surface& surface = surface_seen(s, *hit, inside, scratch);
-    if (!surface.index_matched || crossing == kMaxCrossings) {  // then it counts as blocked
+    const SurfaceSeen seen = surface_seen(s, *hit, inside);
+    if (!seen.index_matched || crossing == kMaxCrossings) {  // then it counts as blocked
       if (by_smooth_interface)
-        *by_smooth_interface = !surface.index_matched && surface.kind == SurfaceKind::interface && surface.roughness == 0.0;
+        *by_smooth_interface = !seen.index_matched && seen.surface.kind == SurfaceKind::interface && seen.surface.roughness == 0.0;
       return std::nullopt;
     }
-    medium = dot(wi, hit->normal) > 0.0 ? surface.medium_front : surface.medium_behind;
+    medium = dot(wi, hit->normal) > 0.0 ? seen.medium_front : seen.medium_behind;
     inside = inside_towards(s, *hit, inside, wi);
     remaining = std::max(0.0, remaining - length_m);
     start = hit->point;
@@ -72,9 +71,11 @@ namespace {
 template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, Towards towards,
                                    MediumTowards medium_towards, const SampledWavelengths<N>& w,
-                                   const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, bool mis,
-                                   bool environment, const ThroughInterfaces* through = nullptr) {
+                                   const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                   NextEvent next_event, const ThroughInterfaces* through = nullptr) {
   const RenderScene& s = v.scene;
+  const bool mis = next_event == NextEvent::lights_and_map_weighted;
+  const bool environment = next_event == NextEvent::lights_and_map_weighted;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
   auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
@@ -149,14 +150,14 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
-                                std::uint64_t& rays, bool mis, bool environment, const ThroughInterfaces* through) {
+                                std::uint64_t& rays, NextEvent next_event, const ThroughInterfaces* through) {
   auto bsdf_towards = [&](const Vec3& wi, double& bsdf_pdf) {
     bsdf_pdf = e.pdf(wo, wi);
     return e.eval(wo, wi, TransportMode::radiance);
   };
   return direct_light_at(
       v, PathVertex{hit.point, &hit, e.inside}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
-      path_r_u, rng, rays, mis, environment, through);
+      path_r_u, rng, rays, next_event, through);
 }
 
 template <std::size_t N>
@@ -170,13 +171,13 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
     return SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
   };
   return direct_light_at(
-      v, PathVertex{x, nullptr, inside}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays, true,
-      true);
+      v, PathVertex{x, nullptr, inside}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays,
+      NextEvent::lights_and_map_weighted);
 }
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
   template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double, int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*); \
-  template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool, bool, const ThroughInterfaces*); \
+  template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, const ThroughInterfaces*); \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)

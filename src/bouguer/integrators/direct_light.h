@@ -77,21 +77,29 @@ struct ThroughInterfaces {
   int crossings = 0;
 };
 
-// Direct light at a non-specular surface event, towards wo: one area light drawn by power, every
-// delta light and (with `environment`) one direction of the environment map; MIS-weighted
-// against BSDF sampling by the power heuristic when `mis` is set. Shadow rays go as
-// transmission() says; with `through`, the environment's goes on through the smooth interfaces
+// Which strategies next-event estimation combines at a vertex.
+enum class NextEvent : std::uint8_t {
+  // Whitted's: one area light drawn by power and every delta light, unweighted (no other strategy
+  // of its reaches a light), and no environment map.
+  lights,
+  // The path tracer's: those and one direction of the environment map, each MIS-weighted against
+  // the vertex's own sampling of its direction by the power heuristic.
+  lights_and_map_weighted,
+};
+
+// Direct light at a non-specular surface event, towards wo, by the strategies `next_event`
+// names. Shadow rays go as transmission() says; with `through`, the environment's goes on through the smooth interfaces
 // that block it (exit_guide.h: surface_exit_guide). path_r_u: the path's unidirectional ratios so far
 // (all 1 outside scattering media).
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
-                                std::uint64_t& rays, bool mis, bool environment,
+                                std::uint64_t& rays, NextEvent next_event,
                                 const ThroughInterfaces* through = nullptr);
 
 // The same at a scattering event at `x` inside scattering medium `medium`, for light travelling
-// along `direction`: the phase function in place of the BSDF, always MIS-weighted against phase
-// sampling.
+// along `direction`: the phase function in place of the BSDF, by the path tracer's strategies
+// (NextEvent::lights_and_map_weighted).
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                           const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,

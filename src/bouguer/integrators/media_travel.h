@@ -120,19 +120,36 @@ std::optional<Vec3> through_medium(const SceneView<N>& v, int medium, const Vec3
   return start + direction * e.t;
 }
 
+// The head of a path, what its next step changes: the ray it goes on along, the medium that ray
+// travels in, the throughput (walk.h's WalkState is one).
+template <std::size_t N>
+struct PathHead {
+  Ray ray;
+  int medium = -1;
+  SampledSpectrum<N> beta = SampledSpectrum<N>::constant(1.0f);
+};
+
+// How Russian roulette reads a path (survives_roulette): what it divides the throughput by (the
+// mean of the path's spectral-MIS ratios, times a split walk's bin weight) and the index of the
+// only wavelength carried (−1: several).
+struct RouletteReading {
+  float divisor = 1.0f;
+  int single = -1;
+};
+
 // A path's next step from a scattering event at x: a direction drawn from the phase function
-// (weight 1), Russian roulette (`events`: the path's surface and scattering events so far;
-// roulette_divisor: what survives_roulette divides the throughput by, the mean of the path's
-// ratios). The phase pdf, or nullopt when the path ends.
+// (weight 1) into path.ray, Russian roulette on path.beta in path.medium (`events`: the path's
+// surface and scattering events so far). The phase pdf, or nullopt when the path ends.
 template <std::size_t N>
 std::optional<double> continue_from_medium(const RenderScene& scene, const ScatteringMedium& sm, const Vec3& x,
-                                           int events, int medium, SampledSpectrum<N>& beta, float roulette_divisor,
-                                           Ray& ray, Rng& rng, TransportMode mode, int single = -1) {
+                                           int events, PathHead<N>& path, Rng& rng, TransportMode mode,
+                                           RouletteReading roulette = {}) {
   const double u1 = rng.next_double(), u2 = rng.next_double();
-  const PhaseSample ps = sample_phase(sm.phase, ray.direction, u1, u2);
-  if (!survives_roulette(scene, events, medium, beta, rng, roulette_divisor, roulette_scale(scene, medium, mode), single))
+  const PhaseSample ps = sample_phase(sm.phase, path.ray.direction, u1, u2);
+  if (!survives_roulette(scene, events, path.medium, path.beta, rng, roulette.divisor,
+                         roulette_scale(scene, path.medium, mode), roulette.single))
     return std::nullopt;
-  ray = {x, ps.out};
+  path.ray = {x, ps.out};
   return ps.pdf;
 }
 

@@ -78,7 +78,7 @@ struct Radiance {
       // surface_exit_guide; the walk keeps the guide for the direction it draws next).
       const bool guided = surfaces < v.max_depth && exit_guide_runs(v);
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
-      add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, true, true,
+      add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, NextEvent::lights_and_map_weighted,
                                 guided ? &through : nullptr));
       if (guided) state.guide = surface_exit_guide();
     }

@@ -66,18 +66,34 @@ struct SurfaceEvent {
   }
 };
 
+// A surface as a path sees it: the scene's surface (its kind, material, roughness, lights) and
+// what the path learns where it meets it, the media on its two sides and whether they match
+// (index-matched: crossed without a vertex). For a nested object's surface they depend on the
+// objects the path is inside (surface_events.h: surface_seen); for any other they are its own,
+// so a Surface is seen as itself. A view: no copy of the Surface.
+struct SurfaceSeen {
+  const Surface& surface;
+  int medium_front = -1, medium_behind = -1;
+  bool index_matched = false;
+
+  SurfaceSeen(const Surface& s)  // (implicit: a surface without nesting is seen as it is)
+      : surface(s), medium_front(s.medium_front), medium_behind(s.medium_behind), index_matched(s.index_matched) {}
+  SurfaceSeen(const Surface& s, int front, int behind, bool matched)
+      : surface(s), medium_front(front), medium_behind(behind), index_matched(matched) {}
+};
+
 // `medium` is the one the path arrived through (the medium around an opaque surface).
 // `cone_width_m`: the width at the hit of the ray cone the path carries (scene/texture.h), which
 // chooses the textures' MIP level; 0 reads their finest level.
 template <std::size_t N>
-SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const Surface& surface, const Vec3& wo,
+SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& hit, const SurfaceSeen& seen, const Vec3& wo,
                               int medium, const SampledWavelengths<N>& w, double cone_width_m = 0.0);
 
 // The indices on the two sides of an interface, as the path sees them (reference or kept wavelength).
 template <std::size_t N>
-inline SmoothDielectric interface_indices(const SceneView<N>& v, const Surface& surface, const SampledWavelengths<N>& w) {
+inline SmoothDielectric interface_indices(const SceneView<N>& v, const SurfaceSeen& seen, const SampledWavelengths<N>& w) {
   auto eta_of = [&](int m) { return eta(v.scene.media[static_cast<std::size_t>(m)], v.tables, w); };
-  return {eta_of(surface.medium_front), eta_of(surface.medium_behind)};
+  return {eta_of(seen.medium_front), eta_of(seen.medium_behind)};
 }
 
 // The texels of texture `id` at the hit's UV, at the level the ray cone chooses (the finest without one).
@@ -131,8 +147,9 @@ inline Bsdf<N> opaque_bsdf(const SceneView<N>& v, const SurfaceMaterial& m, cons
 }
 
 template <std::size_t N>
-inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& geometric_hit, const Surface& surface,
+inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& geometric_hit, const SurfaceSeen& seen,
                                      const Vec3& wo, int medium, const SampledWavelengths<N>& w, double cone_width_m) {
+  const Surface& surface = seen.surface;
   const Hit hit = normal_mapped(v.scene, surface, geometric_hit);  // its shading normal from a normal map
   const RenderScene& s = v.scene;
   const Vec3& ns = hit.shading_normal;
@@ -143,12 +160,12 @@ inline SurfaceEvent<N> surface_event(const SceneView<N>& v, const Hit& geometric
     const SurfaceMaterial& m = s.materials[static_cast<std::size_t>(surface.material)];
     return {frame, opaque_bsdf(v, m, hit, wo, medium, w, cone_width_m), medium, medium, 0, ng};
   }
-  const SmoothDielectric indices = interface_indices(v, surface, w);
+  const SmoothDielectric indices = interface_indices(v, seen, w);
   const Frame frame(ns);
-  if (surface.roughness == 0.0) return {frame, indices, surface.medium_front, surface.medium_behind, 0, hit.normal};
+  if (surface.roughness == 0.0) return {frame, indices, seen.medium_front, seen.medium_behind, 0, hit.normal};
   const RoughDielectricBsdf lobe{{surface.roughness}, indices.eta_front, indices.eta_behind,
                                  &s.dielectric_albedo[static_cast<std::size_t>(surface.albedo)]};
-  return {frame, RoughDielectric{lobe}, surface.medium_front, surface.medium_behind, 0, hit.normal};
+  return {frame, RoughDielectric{lobe}, seen.medium_front, seen.medium_behind, 0, hit.normal};
 }
 
 }  // namespace bouguer

@@ -12,9 +12,9 @@ int keep_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, double u, R
 }
 
 template <std::size_t N>
-bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledWavelengths<N>& w,
+bool keep_one_wavelength(const SceneView<N>& v, const SurfaceSeen& seen, SampledWavelengths<N>& w,
                          SampledSpectrum<N>& beta, double u, Rng& rng) {
-  if (N == 1 || w.secondary_terminated() || !is_dispersive(v.scene, surface)) return false;
+  if (N == 1 || w.secondary_terminated() || !is_dispersive(v.scene, seen)) return false;
   const int j = keep_wavelength(v, w, u, rng);
   const float kept = beta[static_cast<std::size_t>(j)] * static_cast<float>(N);
   beta = SampledSpectrum<N>{};
@@ -24,7 +24,7 @@ bool keep_one_wavelength(const SceneView<N>& v, const Surface& surface, SampledW
 
 #define BOUGUER_SURFACE_EVENTS_INSTANTIATE(N) \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&); \
-  template bool keep_one_wavelength(const SceneView<N>&, const Surface&, SampledWavelengths<N>&, SampledSpectrum<N>&, double, Rng&);
+  template bool keep_one_wavelength(const SceneView<N>&, const SurfaceSeen&, SampledWavelengths<N>&, SampledSpectrum<N>&, double, Rng&);
 BOUGUER_SURFACE_EVENTS_INSTANTIATE(kFullBins)
 BOUGUER_SURFACE_EVENTS_INSTANTIATE(3)
 BOUGUER_SURFACE_EVENTS_INSTANTIATE(kHeroCount)

@@ -73,13 +73,11 @@ double scattering_depth(const SceneView<N>& v, const WalkMedia& media, int mediu
 // The state a walk continues from: the ray leaving the last vertex, where the current segment
 // began (a vertex or a medium boundary), the medium it travels in, the throughput and ratios,
 // and the solid-angle density of the ray's direction (0: specular).
+// Its head (ray, medium, beta: media_travel.h, PathHead) is what the continuations change.
 template <std::size_t N>
-struct WalkState {
-  Ray ray;
+struct WalkState : PathHead<N> {
   Vec3 start;
-  int medium = -1;
   InsideSet inside = 0;  // the nested objects the ray is inside (scene/nested.h)
-  SampledSpectrum<N> beta = SampledSpectrum<N>::constant(1.0f);
   SpectralMis<N> mis;
   Vec3 from;  // the last vertex
   double pdf_dir = 0.0;
@@ -272,7 +270,6 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     tau = 0.0;
     ++events;
   };
-  Surface scratch;  // a nested object's surface as this path sees it (kept: its name's storage is reused)
   // What the roulette divides the throughput by (the mean of the path's ratios, and a split walk's
   // bin weight: WalkState::split_weight), and the one wavelength carried (−1: several).
   // A walk of one wavelength no longer changes its ratios (media/scattering.h: sample_scattering),
@@ -282,7 +279,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!(state.single_mean_ratio > 0.0f)) state.single_mean_ratio = mean_ratio(scene, state.mis.r_u);
     return state.single_mean_ratio * state.split_weight;
   };
-  auto single_index = [&] { return w.secondary_terminated() ? w.single : -1; };
+  auto roulette = [&] { return RouletteReading{roulette_divisor(), w.secondary_terminated() ? w.single : -1}; };
   // A vertex in the medium at x, reached along d (by the ray's segment, or by walk_deep without a
   // ray): record it, then the phase function's direction and the roulette. False ends the walk.
   auto medium_vertex = [&](const Vec3& x, const Vec3& d) -> bool {
@@ -305,8 +302,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       if (!record(vx)) return false;
     }
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
-    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state.medium, state.beta, roulette_divisor(),
-                                                state.ray, rng, mode, single_index());
+    const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state, rng, mode, roulette());
     if (!phase_pdf) return false;
     if constexpr (Visitor::kReverse)
       if (wants_reverse(visit)) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
@@ -336,8 +332,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       }
       return;
     }
-    const Surface& surface = surface_seen(scene, *hit, state.inside, scratch);
-    state.medium = medium_arrived_through(surface, state.ray, *hit, state.medium);
+    const SurfaceSeen seen = surface_seen(scene, *hit, state.inside);
+    state.medium = medium_arrived_through(seen, state.ray, *hit, state.medium);
     // A surface's guide goes through no scattering medium (exit_guide.h: surface_exit_guide).
     if (state.guide.from_surface && scattering_medium(scene, state.medium)) state.guide = {};
     const Vec3 d = state.ray.direction;
@@ -369,46 +365,45 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     }
     tau += scattering_depth(v, media, state.medium, state.start, d, length(hit->point - state.start));
     if (state.beta.is_zero()) return;
-    if (surface.kind == SurfaceKind::emitter) {  // lamps absorb what reaches them
+    if (seen.surface.kind == SurfaceKind::emitter) {  // lamps absorb what reaches them
       if (mode == TransportMode::radiance) {
         Vertex<N> x = make(VertexKind::light, hit->point);
         x.normal = hit->normal;
         x.hit = *hit;
-        x.light = surface.first_light + static_cast<int>(hit->primitive);
+        x.light = seen.surface.first_light + static_cast<int>(hit->primitive);
         record(x);
       }
       return;
     }
     state.cone_width_m += state.cone_spread_rad * hit->t;
-    if (surface.index_matched) {
+    if (seen.index_matched) {
       state.inside = inside_towards(scene, *hit, state.inside, d);
-      if (!cross_index_matched(surface, *hit, state.crossings, state.medium, state.start, state.ray)) return;
+      if (!cross_index_matched(seen, *hit, state.crossings, state.medium, state.start, state.ray)) return;
       continue;
     }
     // A surface's guide goes through no dispersive interface while several wavelengths ride on the
     // path (exit_guide.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
-    if (state.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, surface)) state.guide = {};
+    if (state.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, seen)) state.guide = {};
     if (!state.kept)
-      keep_one_wavelength(v, surface, w, state.beta, state.dispersion_u, rng);
-    else if (!state.dispersed && is_dispersive(scene, surface))
+      keep_one_wavelength(v, seen, w, state.beta, state.dispersion_u, rng);
+    else if (!state.dispersed && is_dispersive(scene, seen))
       state.dispersed = true;
     const Vec3 wo = -d;
     Vertex<N> vx = make(VertexKind::surface, hit->point);
     vx.normal = hit->normal;
     vx.hit = *hit;
-    vx.event = surface_event(v, *hit, surface, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
+    vx.event = surface_event(v, *hit, seen, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
     if (!vx.delta) state.guide = {};  // (the visitor may set a surface's: radiance.h)
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
-    const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state.beta, state.medium, state.ray, rng,
-                                        roulette_divisor(), single_index());
+    const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state, rng, roulette());
     if (!bsdf_pdf) return;
     if (!vx.delta) {
       state.guide_dir = state.ray.direction;  // (kept only where the visitor set a guide)
       state.guide_phase_pdf = *bsdf_pdf;
-    } else if (surface.kind != SurfaceKind::interface || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) {
+    } else if (seen.surface.kind != SurfaceKind::interface || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) {
       state.guide = {};  // a reflection, or a thin sheet: the guide's connection crosses neither
     }
     state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);

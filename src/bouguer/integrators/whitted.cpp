@@ -49,10 +49,10 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
   ++rays_;
   const auto hit = v.scene.rays.intersect(ray);
   if (!hit) return escaped(v, medium, ray.direction, w);
-  Surface scratch;
-  const Surface& surface = surface_seen(v.scene, *hit, inside, scratch);
+  const SurfaceSeen seen = surface_seen(v.scene, *hit, inside);
+  const Surface& surface = seen.surface;
   cone_width_m += cone_spread_rad_ * hit->t;
-  medium = medium_arrived_through(surface, ray, *hit, medium);
+  medium = medium_arrived_through(seen, ray, *hit, medium);
   const SampledSpectrum<N> tr = travel_to(v, medium, from, ray.direction, hit->point, w);
   const Vec3 wo = -ray.direction;
   if (surface.kind == SurfaceKind::emitter) return tr * emitted(v, *hit, wo, w);
@@ -66,7 +66,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
     // nothing (surface_assembly.h, SurfaceEvent).
     const double wo_side = dot(wo, hit->normal);
     if ((dot(wo, hit->shading_normal) > 0.0) != (wo_side > 0.0)) return {};  // behind the shading normal
-    const DielectricSplit d = split(interface_indices(v, surface, w), wo, hit->shading_normal);
+    const DielectricSplit d = split(interface_indices(v, seen, w), wo, hit->shading_normal);
     const auto f = static_cast<float>(d.reflectance);
     const float w_reflected = w_in * f, w_refracted = w_in * (1.0f - f);
     SampledSpectrum<N> l;
@@ -76,7 +76,7 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
                          cone_width_m, inside_towards(v.scene, *hit, inside, r));
     if (f < 1.0f && w_refracted >= kMinPathWeight)
       if (const auto t = d.refracted(); t && dot(*t, hit->normal) * wo_side < 0.0) {
-        const int other = d.from_front ? surface.medium_behind : surface.medium_front;
+        const int other = d.from_front ? seen.medium_behind : seen.medium_front;
         // Radiance across the boundary: (η_o/η_t)² (materials/surface_bsdf.h). The branch weight
         // leaves it out: it judges what the branch adds once back in the camera's medium.
         const auto eta2 = static_cast<float>((d.eta_o * d.eta_o) / (d.eta_t * d.eta_t));
@@ -86,9 +86,10 @@ SampledSpectrum<N> WhittedTracer<N>::radiance(const Vec3& from, const Ray& ray, 
       }
     return tr * l;
   }
-  SurfaceEvent<N> e = surface_event(v, *hit, surface, wo, medium, w, cone_width_m);
+  SurfaceEvent<N> e = surface_event(v, *hit, seen, wo, medium, w, cone_width_m);
   e.inside = inside;
-  if (!is_specular(e.bsdf)) return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, false, false);
+  if (!is_specular(e.bsdf))
+    return tr * direct_light(v, *hit, e, wo, w, SampledSpectrum<N>::constant(1.0f), rng_, rays_, NextEvent::lights);
   if (depth >= v.max_depth) return {};
   // A smooth conductor: a mirror with its spectral Fresnel reflectance. A thin sheet: its mirror
   // branch (R') and its undeviated one (T' times the tint), both followed, each weighted by the
