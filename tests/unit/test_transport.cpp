@@ -225,8 +225,12 @@ TEST(ExitGuide, StopsWhereTheWalkWould) {
   for (int i = 0; i < 2000; ++i) {
     Rng a(1, static_cast<std::uint64_t>(i)), b(1, static_cast<std::uint64_t>(i));
     const Vec3 arrived = normalize(Vec3{1.0, 0.2, 0.1});
-    if (!environment_through_interfaces(v, x, arrived, phase, milky, guide, w, a, rays, 0, 1, 0).is_zero()) ++found_one;
-    if (!environment_through_interfaces(v, x, arrived, phase, milky, guide, w, b, rays, 0, 2, 0).is_zero()) ++found_two;
+    if (!environment_through_interfaces(v, x, arrived, phase, milky, guide, w, a, rays, 0, ThroughInterfaces{1, 0})
+             .is_zero())
+      ++found_one;
+    if (!environment_through_interfaces(v, x, arrived, phase, milky, guide, w, b, rays, 0, ThroughInterfaces{2, 0})
+             .is_zero())
+      ++found_two;
   }
   std::printf("exit guide through a tumbler's wall: %d of 2000 with one surface left, %d with two\n", found_one,
               found_two);

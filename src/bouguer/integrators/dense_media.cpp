@@ -101,9 +101,12 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 #define BOUGUER_DENSE_MEDIA_INSTANTIATE(N) \
   template double homogeneous_sigma_min_per_m(const SceneView<N>&, int, const SampledWavelengths<N>&); \
   template void query_surface_distance(const SceneView<N>&, const Vec3&, double, SurfaceDistance&); \
-  template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, SurfaceDistance&); \
-  template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, const Vec3&, double); \
-  template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, std::size_t, double);
+  template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, \
+      SurfaceDistance&); \
+  template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, \
+      const Vec3&, double); \
+  template double keep_split_wavelength(const SceneView<N>&, SampledWavelengths<N>&, SampledSpectrum<N>&, \
+      std::size_t, double);
 BOUGUER_DENSE_MEDIA_INSTANTIATE(kFullBins)
 BOUGUER_DENSE_MEDIA_INSTANTIATE(3)
 BOUGUER_DENSE_MEDIA_INSTANTIATE(kHeroCount)

@@ -29,38 +29,35 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
                                             bool* by_smooth_interface) {
   const RenderScene& s = v.scene;
   Transmission<N> out;
-  Vec3 start = from.point, origin = from.origin_towards(wi);
-  InsideSet inside = from.hit ? inside_towards(s, *from.hit, from.inside, wi) : from.inside;
   double remaining = distance_m;
-  for (int crossing = 0;; ++crossing) {
-    ++rays;
-    // Stop just short of the target, so its own surface never blocks it.
-    const double t_max = std::isinf(remaining) ? remaining : remaining * (1.0 - 1e-4);
-    const auto hit = s.rays.intersect({origin, wi, t_max});
-    const double length_m = hit ? length(hit->point - start) : remaining;
-    if (const ScatteringMedium* sm = scattering_medium(s, medium)) {
-      ratio_track(*sm, v.tables, Ray{start, wi}, length_m, w, rng, out.tr, out.ratios);
+  // Stop just short of the target, so its own surface never blocks it.
+  auto t_max = [&] { return std::isinf(remaining) ? remaining : remaining * (1.0 - 1e-4); };
+  RaySegment seg{Ray{from.origin_towards(wi), wi, t_max()}, from.point, medium,
+                 from.hit ? inside_towards(s, *from.hit, from.inside, wi) : from.inside};
+  auto segment = [&](const Hit* hit, const SurfaceSeen*) {
+    const double length_m = hit ? length(hit->point - seg.start) : remaining;
+    if (const ScatteringMedium* sm = scattering_medium(s, seg.medium)) {
+      ratio_track(*sm, v.tables, Ray{seg.start, wi}, length_m, w, rng, out.tr, out.ratios);
       if (!sigma_mean.empty() && std::isfinite(length_m))
-        out.tau += sigma_mean[static_cast<std::size_t>(medium)] * scattering_column_density(*sm, Ray{start, wi}, 0.0, length_m);
+        out.tau += sigma_mean[static_cast<std::size_t>(seg.medium)] *
+                   scattering_column_density(*sm, Ray{seg.start, wi}, 0.0, length_m);
     } else
-      out.tr *= travel(v, medium, Ray{start, wi}, length_m, w);
-    if (out.tr.is_zero()) return std::nullopt;
-    // (An infinite path through a medium that only absorbs carries nothing, at every wavelength, as
-    // escaped() says, even where its σ_a is 0.)
-    if (!hit) return std::isinf(remaining) && absorbs(s, medium) && !scattering_medium(s, medium) ? std::nullopt
-                                                                                                     : std::optional(out);
-    const SurfaceSeen seen = surface_seen(s, *hit, inside);
-    if (!seen.index_matched || crossing == kMaxCrossings) {  // then it counts as blocked
-      if (by_smooth_interface)
-        *by_smooth_interface = !seen.index_matched && seen.surface.kind == SurfaceKind::interface && seen.surface.roughness == 0.0;
-      return std::nullopt;
-    }
-    medium = dot(wi, hit->normal) > 0.0 ? seen.medium_front : seen.medium_behind;
-    inside = inside_towards(s, *hit, inside, wi);
-    remaining = std::max(0.0, remaining - length_m);
-    start = hit->point;
-    origin = offset_ray_origin(*hit, wi);
-  }
+      out.tr *= travel(v, seg.medium, Ray{seg.start, wi}, length_m, w);
+    if (out.tr.is_zero()) return false;
+    remaining = std::max(0.0, remaining - length_m);  // (read only if it crosses here)
+    seg.ray.t_max = t_max();
+    return true;
+  };
+  const RayStop stop = advance_to_surface(s, seg, rays, segment);
+  // (An infinite path through a medium that only absorbs carries nothing, at every wavelength, as
+  // escaped() says, even where its σ_a is 0.)
+  if (stop.at == RayStop::At::escape)
+    return std::isinf(distance_m) && absorbs(s, seg.medium) && !scattering_medium(s, seg.medium) ? std::nullopt
+                                                                                                  : std::optional(out);
+  if (by_smooth_interface && stop.seen)  // blocked: by a surface, or by one crossing too many
+    *by_smooth_interface = !stop.seen->index_matched && stop.seen->surface.kind == SurfaceKind::interface &&
+                           stop.seen->surface.roughness == 0.0;
+  return std::nullopt;
 }
 
 namespace {
@@ -130,10 +127,9 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
           sum += f * v.tables.environment(*s.environment, li->texel, w) * t->tr * static_cast<float>(weight);
         } else if (glass) {  // on through the smooth interfaces (exit_guide.h: surface_exit_guide)
           const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, li->wi) : at.inside;
-          const SampledSpectrum<N> l =
-              carry_to_environment(v, at.point, at.origin_towards(li->wi), li->wi, m, inside,
-                                   SampledSpectrum<N>::constant(1.0f), w, rays, through->surfaces_left,
-                                   through->crossings, false);
+          const SampledSpectrum<N> l = carry_to_environment(
+              v, RaySegment{Ray{at.origin_towards(li->wi), li->wi}, at.point, m, inside, through->crossings},
+              SampledSpectrum<N>::constant(1.0f), w, rays, through->surfaces_left, ScatteringMedia::stop);
           const Transmission<N> clear;  // (no scattering medium on the way: ratios of 1)
           if (!l.is_zero())
             sum += f * l * static_cast<float>((mis ? mis_weight(li->pdf, vertex_pdf, clear) : 1.0) /
@@ -176,9 +172,14 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
 }
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
-  template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double, int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*); \
-  template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, const ThroughInterfaces*); \
-  template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, InsideSet);
+  template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double, \
+      int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*); \
+  template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
+      const ThroughInterfaces*); \
+  template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&, \
+      const PhaseFunction&, int, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, \
+      InsideSet);
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kHeroCount)

@@ -5,6 +5,7 @@
 // MIS arithmetic they share with the estimators (the power heuristic over the spectral mixtures'
 // densities). Contract: a connection's value is its contribution divided by its own density; its
 // weights with the strategies it is combined with sum to 1.
+#include "bouguer/integrators/exit_guide.h"
 #include "bouguer/integrators/surface_events.h"
 
 namespace bouguer {
@@ -68,14 +69,6 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
                                             std::uint64_t& rays, std::span<const double> sigma_mean = {},
                                             bool* by_smooth_interface = nullptr);
-
-// Where next-event estimation at a surface may carry the environment map's direction on through
-// smooth interfaces (the path tracer's surface exit guide, exit_guide.h): as many as the walk could still
-// cross, and its count of index-matched crossings so far.
-struct ThroughInterfaces {
-  int surfaces_left = 0;
-  int crossings = 0;
-};
 
 // Which strategies next-event estimation combines at a vertex.
 enum class NextEvent : std::uint8_t {

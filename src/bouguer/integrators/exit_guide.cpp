@@ -7,49 +7,52 @@
 namespace bouguer {
 
 template <std::size_t N>
-SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, Vec3 start, Vec3 origin, Vec3 d, int medium,
-                                        InsideSet inside, SampledSpectrum<N> tr, const SampledWavelengths<N>& w,
-                                        std::uint64_t& rays, int surfaces_left, int crossings, bool through_scattering) {
+SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, RaySegment seg, SampledSpectrum<N> tr,
+                                        const SampledWavelengths<N>& w, std::uint64_t& rays, int surfaces_left,
+                                        ScatteringMedia scattering) {
   const RenderScene& s = v.scene;
   int interfaces = 0;
-  for (;;) {
-    const ScatteringMedium* sm = scattering_medium(s, medium);
-    if (sm && !through_scattering) return {};
-    ++rays;
-    const auto hit = s.rays.intersect({origin, d});
-    if (!hit) {  // the map, if at least one interface was crossed
-      if (interfaces == 0 || sm) return {};
-      return tr * escaped(v, medium, d, w);
-    }
-    const double length_m = length(hit->point - start);
+  const ScatteringMedium* sm = nullptr;  // the current segment's medium, where it scatters
+  auto before_ray = [&] {
+    sm = scattering_medium(s, seg.medium);
+    return !sm || scattering == ScatteringMedia::closed_form;
+  };
+  auto segment = [&](const Hit* hit, const SurfaceSeen*) {
+    if (!hit) return true;
+    const Vec3& d = seg.ray.direction;
+    const double length_m = length(hit->point - seg.start);
     if (sm) {
       const double sigma_per_m = v.tables.at_index(sm->sigma_s, w, static_cast<std::size_t>(w.single));
-      tr *= static_cast<float>(std::exp(-sigma_per_m * scattering_column_density(*sm, Ray{start, d}, 0.0, length_m)));
-      tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{start, d}, 0.0, length_m, w);
+      const double column = scattering_column_density(*sm, Ray{seg.start, d}, 0.0, length_m);
+      tr *= static_cast<float>(std::exp(-sigma_per_m * column));
+      tr *= absorbers_transmittance(sm->absorbers, v.tables, Ray{seg.start, d}, 0.0, length_m, w);
     } else {
-      tr *= travel(v, medium, Ray{start, d}, length_m, w);
+      tr *= travel(v, seg.medium, Ray{seg.start, d}, length_m, w);
     }
-    if (tr.is_zero()) return {};
-    const SurfaceSeen seen = surface_seen(s, *hit, inside);
-    if (seen.index_matched) {
-      inside = inside_towards(s, *hit, inside, d);
-      Ray ray{origin, d};
-      if (!cross_index_matched(seen, *hit, crossings, medium, start, ray)) return {};
-      origin = ray.origin;
-      continue;
+    return !tr.is_zero();
+  };
+  for (;;) {
+    const RayStop stop = advance_to_surface(s, seg, rays, before_ray, segment);
+    const Vec3 d = seg.ray.direction;
+    if (stop.at == RayStop::At::escape) {  // the map, if at least one interface was crossed
+      if (interfaces == 0 || sm) return {};
+      return tr * escaped(v, seg.medium, d, w);
     }
-    if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || interfaces == surfaces_left) return {};
+    if (stop.at != RayStop::At::surface) return {};
+    const Hit& hit = *stop.hit;
+    const SurfaceSeen& seen = *stop.seen;
+    if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || interfaces == surfaces_left)
+      return {};
     if (!w.secondary_terminated() && is_dispersive(s, seen)) return {};
-    const SurfaceEvent<N> e = surface_event(v, *hit, seen, -d, medium, w);
+    const SurfaceEvent<N> e = surface_event(v, hit, seen, -d, seg.medium, w);
     const double reflectance = split(std::get<SmoothDielectric>(e.bsdf), e.frame.to_local(-d)).reflectance;
     const auto through = e.sample(-d, 1.0, 0.0, 0.0, TransportMode::radiance);
     if (!through || !through->transmitted) return {};
     tr *= through->weight * static_cast<float>(1.0 - reflectance);
-    medium = e.medium_towards(through->wi);
-    inside = inside_towards(s, *hit, inside, through->wi);
-    d = through->wi;
-    start = hit->point;
-    origin = offset_ray_origin(*hit, d);
+    seg.medium = e.medium_towards(through->wi);
+    seg.inside = inside_towards(s, hit, seg.inside, through->wi);
+    seg.start = hit.point;
+    seg.ray = {offset_ray_origin(hit, through->wi), through->wi};
     ++interfaces;
   }
 }
@@ -107,7 +110,7 @@ template <std::size_t N>
 SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                                   const PhaseFunction& phase, int medium, const ExitGuide& guide,
                                                   const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                                                  InsideSet inside, int surfaces_left, int crossings) {
+                                                  InsideSet inside, ThroughInterfaces through) {
   const RenderScene& s = v.scene;
   const double u1 = rng.next_double(), u2 = rng.next_double();
   const auto wi = sample_exit_guide(s, guide, u1, u2);
@@ -118,15 +121,20 @@ SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const V
   if (!(guide_pdf > 0.0) || !(phase_pdf > 0.0)) return {};
   // (A walk of one wavelength: exit_guide_at.)
   const SampledSpectrum<N> l =
-      carry_to_environment(v, x, x, *wi, medium, inside, SampledSpectrum<N>::constant(static_cast<float>(phase_pdf)), w,
-                           rays, surfaces_left, crossings, true);
+      carry_to_environment(v, RaySegment{Ray{x, *wi}, x, medium, inside, through.crossings},
+                           SampledSpectrum<N>::constant(static_cast<float>(phase_pdf)), w, rays, through.surfaces_left,
+                           ScatteringMedia::closed_form);
   return l * static_cast<float>(power_heuristic(guide_pdf, phase_pdf) / guide_pdf);
 }
 
 #define BOUGUER_EXIT_GUIDE_INSTANTIATE(N) \
-  template SampledSpectrum<N> carry_to_environment(const SceneView<N>&, Vec3, Vec3, Vec3, int, InsideSet, SampledSpectrum<N>, const SampledWavelengths<N>&, std::uint64_t&, int, int, bool); \
-  template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, SurfaceDistance&, InsideSet); \
-  template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, const ExitGuide&, const SampledWavelengths<N>&, Rng&, std::uint64_t&, InsideSet, int, int);
+  template SampledSpectrum<N> carry_to_environment(const SceneView<N>&, RaySegment, SampledSpectrum<N>, \
+      const SampledWavelengths<N>&, std::uint64_t&, int, ScatteringMedia); \
+  template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, \
+      SurfaceDistance&, InsideSet); \
+  template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&, \
+      const PhaseFunction&, int, const ExitGuide&, const SampledWavelengths<N>&, Rng&, std::uint64_t&, InsideSet, \
+      ThroughInterfaces);
 BOUGUER_EXIT_GUIDE_INSTANTIATE(kFullBins)
 BOUGUER_EXIT_GUIDE_INSTANTIATE(3)
 BOUGUER_EXIT_GUIDE_INSTANTIATE(kHeroCount)

@@ -9,6 +9,31 @@
 
 namespace bouguer {
 
+// How far a connection through the interfaces may go: as many surfaces as the walk could still
+// cross (its max_depth less the surfaces it has met), and the walk's count of index-matched
+// crossings so far (it stops where the walk would, past kMaxCrossings).
+struct ThroughInterfaces {
+  int surfaces_left = 0;
+  int crossings = 0;
+};
+
+// What carry_to_environment does where it enters a scattering medium: stop (a surface's guide:
+// many wavelengths ride on it), or go on with the transmittance in closed form (a medium vertex's
+// guide, on a walk of one wavelength: ratio tracking against a homogeneous medium's own majorant
+// would give 0 or 1).
+enum class ScatteringMedia : std::uint8_t { stop, closed_form };
+
+// `seg` carried on through the smooth interfaces it meets, refracting and transmitting (1 − F) at
+// each, to the map: tr times what arrives there once at least one interface is crossed. Zero where
+// it meets any other surface, escapes without crossing one (next-event estimation's own), would
+// cross more than `surfaces_left` interfaces or kMaxCrossings index-matched boundaries (where the
+// walk would stop), would keep one wavelength at a dispersive interface, or enters a scattering
+// medium where `scattering` says stop.
+template <std::size_t N>
+SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, RaySegment seg, SampledSpectrum<N> tr,
+                                        const SampledWavelengths<N>& w, std::uint64_t& rays, int surfaces_left,
+                                        ScatteringMedia scattering);
+
 // Next-event estimation through the interfaces (the path tracer, #20). A connection stops at any
 // surface but an index-matched one, so a dense medium inside glass or below a water surface gets
 // no direct light: its light comes from walks that leave by chance in a direction that meets the
@@ -75,26 +100,11 @@ std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide&
 // The connection itself at medium vertex x (as direct_light_in_medium's arguments): what reaches
 // the map along a direction drawn from the guide, through at least one smooth interface,
 // MIS-weighted against the phase function's direction; zero where it meets any other surface.
-// It stops where the walk would: after `surfaces_left` surfaces (the walk's max_depth less the
-// surfaces it has met) or once `crossings` (the walk's count so far) passes kMaxCrossings.
+// It stops where the walk would (`through`).
 template <std::size_t N>
 SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
                                                   const PhaseFunction& phase, int medium, const ExitGuide& guide,
                                                   const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                                                  InsideSet inside, int surfaces_left, int crossings);
-
-// A ray from `start` (leaving from `origin`) along d in `medium`, carried through the smooth
-// interfaces it meets, refracting and transmitting (1 − F) at each, to the map: tr times what
-// arrives there once at least one interface is crossed. Zero where it meets any other surface,
-// escapes without crossing one (next-event estimation's own), would cross more than
-// `surfaces_left` interfaces or kMaxCrossings index-matched boundaries (where the walk would
-// stop), would keep one wavelength at a dispersive interface, or, without `through_scattering`,
-// enters a scattering medium. With it the walk carries one wavelength and a scattering medium's
-// transmittance is in closed form (ratio tracking against a homogeneous medium's own majorant
-// would give 0 or 1).
-template <std::size_t N>
-SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, Vec3 start, Vec3 origin, Vec3 d, int medium,
-                                        InsideSet inside, SampledSpectrum<N> tr, const SampledWavelengths<N>& w,
-                                        std::uint64_t& rays, int surfaces_left, int crossings, bool through_scattering);
+                                                  InsideSet inside, ThroughInterfaces through);
 
 }  // namespace bouguer

@@ -120,12 +120,23 @@ std::optional<Vec3> through_medium(const SceneView<N>& v, int medium, const Vec3
   return start + direction * e.t;
 }
 
-// The head of a path, what its next step changes: the ray it goes on along, the medium that ray
-// travels in, the throughput (walk.h's WalkState is one).
-template <std::size_t N>
-struct PathHead {
+// A ray between a path's vertices, on its way through index-matched boundaries
+// (surface_events.h: advance_to_surface): the ray (from an offset origin at a surface), where its
+// current segment began (lengths are measured from there, so they do not depend on the offset),
+// the medium that segment travels in, the nested objects it is inside (scene/nested.h), and the
+// index-matched boundaries its path has crossed so far (at most kMaxCrossings).
+struct RaySegment {
   Ray ray;
+  Vec3 start;
   int medium = -1;
+  InsideSet inside = 0;
+  int crossings = 0;
+};
+
+// The head of a path, what its next step changes: its ray segment (the ray it goes on along, the
+// medium that ray travels in) and the throughput (walk.h's WalkState is one).
+template <std::size_t N>
+struct PathHead : RaySegment {
   SampledSpectrum<N> beta = SampledSpectrum<N>::constant(1.0f);
 };
 

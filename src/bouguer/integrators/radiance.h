@@ -78,8 +78,8 @@ struct Radiance {
       // surface_exit_guide; the walk keeps the guide for the direction it draws next).
       const bool guided = surfaces < v.max_depth && exit_guide_runs(v);
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
-      add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays, NextEvent::lights_and_map_weighted,
-                                guided ? &through : nullptr));
+      add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays,
+                                NextEvent::lights_and_map_weighted, guided ? &through : nullptr));
       if (guided) state.guide = surface_exit_guide();
     }
     moved_to(x.point);
@@ -107,7 +107,7 @@ struct Radiance {
       Rng side(rng.next_u32(), kExitGuideStream);
       add(state.beta *
           environment_through_interfaces(v, point, direction, phase, medium, state.guide, w, side, rays,
-                                         state.inside, v.max_depth - surfaces, state.crossings) *
+                                         state.inside, ThroughInterfaces{v.max_depth - surfaces, state.crossings}) *
           static_cast<float>(1.0 / mean_ratio(scene, state.mis.r_u)));
     }
     moved_to(point);

@@ -56,9 +56,14 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
 }
 
 #define BOUGUER_SPLATS_INSTANTIATE(N) \
-  template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&); \
-  template void splat_medium_to_camera(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&, InsideSet); \
-  template void splat_light_to_camera(const SceneView<N>&, const Hit&, const AreaLight&, int, const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&, std::uint64_t&);
+  template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
+      const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, \
+      std::uint64_t&); \
+  template void splat_medium_to_camera(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, \
+      const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, \
+      std::uint64_t&, InsideSet); \
+  template void splat_light_to_camera(const SceneView<N>&, const Hit&, const AreaLight&, int, \
+      const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&, std::uint64_t&);
 BOUGUER_SPLATS_INSTANTIATE(kFullBins)
 BOUGUER_SPLATS_INSTANTIATE(3)
 BOUGUER_SPLATS_INSTANTIATE(kHeroCount)

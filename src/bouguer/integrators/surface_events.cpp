@@ -24,7 +24,8 @@ bool keep_one_wavelength(const SceneView<N>& v, const SurfaceSeen& seen, Sampled
 
 #define BOUGUER_SURFACE_EVENTS_INSTANTIATE(N) \
   template int keep_wavelength(const SceneView<N>&, SampledWavelengths<N>&, double, Rng&); \
-  template bool keep_one_wavelength(const SceneView<N>&, const SurfaceSeen&, SampledWavelengths<N>&, SampledSpectrum<N>&, double, Rng&);
+  template bool keep_one_wavelength(const SceneView<N>&, const SurfaceSeen&, SampledWavelengths<N>&, \
+      SampledSpectrum<N>&, double, Rng&);
 BOUGUER_SURFACE_EVENTS_INSTANTIATE(kFullBins)
 BOUGUER_SURFACE_EVENTS_INSTANTIATE(3)
 BOUGUER_SURFACE_EVENTS_INSTANTIATE(kHeroCount)

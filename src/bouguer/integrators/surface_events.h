@@ -45,6 +45,47 @@ inline bool cross_index_matched(const SurfaceSeen& seen, const Hit& hit, int& cr
   return true;
 }
 
+// What advance_to_surface stopped at: the first surface that is not index-matched (its hit and
+// how the ray's nested set sees it), the ray leaving the scene, one crossing more than
+// kMaxCrossings, or a stop its caller asked for.
+struct RayStop {
+  enum class At : std::uint8_t { surface, escape, crossings_exhausted, halted };
+  At at = At::halted;
+  std::optional<Hit> hit;
+  std::optional<SurfaceSeen> seen;
+};
+
+// The one loop that carries a ray through index-matched boundaries, for the walk, for connections
+// (transmission) and for the exit guide (carry_to_environment): intersect, the surface as the
+// ray's nested set sees it, the segment just travelled, and where the surface is index-matched
+// its crossing without a vertex (cross_index_matched), then again. before_ray() -> bool is asked
+// before each ray is cast (false: halt, no ray); segment(hit, seen) -> bool is handed each segment
+// once its end is known, before any crossing there (hit and seen null: the ray left the scene;
+// seg.start, seg.medium: where it began and the medium it travelled in), and false halts there.
+// `seg` is left at the last segment's start; a caller that changes seg.ray.t_max in segment()
+// bounds the next ray.
+template <typename BeforeRay, typename Segment>
+RayStop advance_to_surface(const RenderScene& scene, RaySegment& seg, std::uint64_t& rays, BeforeRay before_ray,
+                           Segment segment) {
+  for (;;) {
+    if (!before_ray()) return {};
+    ++rays;
+    const auto hit = scene.rays.intersect(seg.ray);
+    if (!hit) return segment(nullptr, nullptr) ? RayStop{RayStop::At::escape, {}, {}} : RayStop{};
+    const SurfaceSeen seen = surface_seen(scene, *hit, seg.inside);
+    if (!segment(&*hit, &seen)) return {};
+    if (!seen.index_matched) return {RayStop::At::surface, hit, seen};
+    seg.inside = inside_towards(scene, *hit, seg.inside, seg.ray.direction);
+    if (!cross_index_matched(seen, *hit, seg.crossings, seg.medium, seg.start, seg.ray))
+      return {RayStop::At::crossings_exhausted, hit, seen};
+  }
+}
+// The same with no question before each ray.
+template <typename Segment>
+RayStop advance_to_surface(const RenderScene& scene, RaySegment& seg, std::uint64_t& rays, Segment segment) {
+  return advance_to_surface(scene, seg, rays, [] { return true; }, segment);
+}
+
 // Whether a path crossing `surface` splits the wavelengths: an interface with a medium whose index
 // varies with wavelength on either side.
 inline bool is_dispersive(const RenderScene& scene, const SurfaceSeen& seen) {

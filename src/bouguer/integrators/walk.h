@@ -1,7 +1,9 @@
 #pragma once
 // One random walk for camera and light subpaths (pbrt-v4's RandomWalk, Tungsten's TraceBase): a
-// subpath as a list of vertex records, each with what a connection and its MIS weight need. The
-// bidirectional estimator (integrators/bdpt.cpp) builds both of its subpaths with it.
+// subpath as a list of vertex records, each with what a connection and its MIS weight need,
+// handed to a visitor (WalkVisitor, below) that decides what each vertex is for. Every estimator
+// but Whitted's recursion walks with it: the path tracer (radiance.h), the light tracer
+// (light.cpp), bdpt and vcm, both of whose subpaths it builds (bidirectional.h).
 //
 // Densities. pdf_fwd is the density with which the walk produced the vertex, pdf_rev the one with
 // which a walk from the other end would have; both per unit area at the vertex (per unit solid
@@ -73,11 +75,10 @@ double scattering_depth(const SceneView<N>& v, const WalkMedia& media, int mediu
 // The state a walk continues from: the ray leaving the last vertex, where the current segment
 // began (a vertex or a medium boundary), the medium it travels in, the throughput and ratios,
 // and the solid-angle density of the ray's direction (0: specular).
-// Its head (ray, medium, beta: media_travel.h, PathHead) is what the continuations change.
+// Its head (media_travel.h, PathHead: the ray, the segment's start, medium and nested set, the
+// index-matched crossings, the throughput) is what the continuations and the crossings change.
 template <std::size_t N>
 struct WalkState : PathHead<N> {
-  Vec3 start;
-  InsideSet inside = 0;  // the nested objects the ray is inside (scene/nested.h)
   SpectralMis<N> mis;
   Vec3 from;  // the last vertex
   double pdf_dir = 0.0;
@@ -95,7 +96,6 @@ struct WalkState : PathHead<N> {
   double cone_width_m = 0.0, cone_spread_rad = 0.0;
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
-  int crossings = 0;
   int events = 0;  // vertices so far (Russian roulette)
   // A lower bound on the distance to every surface near the walk (dense_media.h: the path tracer's
   // next-event estimation keeps it): deep in a homogeneous medium, a walk of one wavelength whose
@@ -312,28 +312,24 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     moved_on(x);
     return true;
   };
-  for (;;) {
-    if (const auto x = walk_deep(v, state, w, rng)) {
-      if (!medium_vertex(*x, state.ray.direction)) return;
-      continue;
-    }
-    ++rays;
-    const auto hit = scene.rays.intersect(state.ray);
-    if (!hit) {  // a camera subpath may end on a light at infinity
-      const int light = scene.environment_light >= 0 ? scene.environment_light : scene.background_light;
-      if (mode == TransportMode::radiance && light >= 0 && !absorbs(scene, state.medium) &&
-          !scattering_medium(scene, state.medium)) {
-        Vertex<N> x = make(VertexKind::light, Vec3{});
-        x.infinite = true;
-        x.light = light;
-        x.light_dir = state.ray.direction;
-        x.pdf_fwd = state.pdf_dir * std::exp(-tau);
-        visit.vertex(x);
-      }
-      return;
-    }
-    const SurfaceSeen seen = surface_seen(scene, *hit, state.inside);
-    state.medium = medium_arrived_through(seen, state.ray, *hit, state.medium);
+  // The loop of advance_to_surface (surface_events.h) carries the walk across index-matched
+  // boundaries; before each ray a collision deep in a homogeneous medium may need none (walk_deep),
+  // and each segment up to a surface may end in a collision (through_medium), split into walks of
+  // one wavelength, or end the walk (nothing left, a lamp).
+  std::optional<Vec3> collision;  // a medium vertex before the next surface
+  // The direction a collision on a ray's segment arrived along (a copy: medium_vertex reads it
+  // after the phase function has drawn the next one). walk_deep's collision is handed the ray's
+  // own direction, state.ray.direction, as it was before this loop was shared.
+  Vec3 arrived;
+  bool on_segment = false;
+  auto before_ray = [&] {
+    collision = walk_deep(v, state, w, rng);
+    on_segment = false;
+    return !collision;
+  };
+  auto segment = [&](const Hit* hit, const SurfaceSeen* seen) {
+    if (!hit) return true;  // (a camera subpath may end on a light at infinity: below)
+    state.medium = medium_arrived_through(*seen, state.ray, *hit, state.medium);
     // A surface's guide goes through no scattering medium (exit_guide.h: surface_exit_guide).
     if (state.guide.from_surface && scattering_medium(scene, state.medium)) state.guide = {};
     const Vec3 d = state.ray.direction;
@@ -356,31 +352,53 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
           random_walk(v, media, mode, sub, wk, r, rays, child);
           visit.join(child);
         }
-        return;
+        return false;
       }
     }
-    if (const auto x = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis)) {
-      if (!medium_vertex(*x, d)) return;
-      continue;
+    collision = through_medium(v, state.medium, state.start, d, *hit, w, rng, state.beta, state.mis);
+    if (collision) {
+      arrived = d;
+      on_segment = true;
+      return false;
     }
     tau += scattering_depth(v, media, state.medium, state.start, d, length(hit->point - state.start));
-    if (state.beta.is_zero()) return;
-    if (seen.surface.kind == SurfaceKind::emitter) {  // lamps absorb what reaches them
+    if (state.beta.is_zero()) return false;
+    if (seen->surface.kind == SurfaceKind::emitter) {  // lamps absorb what reaches them
       if (mode == TransportMode::radiance) {
         Vertex<N> x = make(VertexKind::light, hit->point);
         x.normal = hit->normal;
         x.hit = *hit;
-        x.light = seen.surface.first_light + static_cast<int>(hit->primitive);
+        x.light = seen->surface.first_light + static_cast<int>(hit->primitive);
         record(x);
+      }
+      return false;
+    }
+    state.cone_width_m += state.cone_spread_rad * hit->t;
+    return true;
+  };
+  for (;;) {
+    const RayStop stop = advance_to_surface(scene, state, rays, before_ray, segment);
+    if (collision) {
+      if (!medium_vertex(*collision, on_segment ? arrived : state.ray.direction)) return;
+      continue;
+    }
+    if (stop.at == RayStop::At::escape) {  // a camera subpath may end on a light at infinity
+      const int light = scene.environment_light >= 0 ? scene.environment_light : scene.background_light;
+      if (mode == TransportMode::radiance && light >= 0 && !absorbs(scene, state.medium) &&
+          !scattering_medium(scene, state.medium)) {
+        Vertex<N> x = make(VertexKind::light, Vec3{});
+        x.infinite = true;
+        x.light = light;
+        x.light_dir = state.ray.direction;
+        x.pdf_fwd = state.pdf_dir * std::exp(-tau);
+        visit.vertex(x);
       }
       return;
     }
-    state.cone_width_m += state.cone_spread_rad * hit->t;
-    if (seen.index_matched) {
-      state.inside = inside_towards(scene, *hit, state.inside, d);
-      if (!cross_index_matched(seen, *hit, state.crossings, state.medium, state.start, state.ray)) return;
-      continue;
-    }
+    if (stop.at != RayStop::At::surface) return;  // the segment ended the walk, or too many crossings
+    const Hit& hit = *stop.hit;
+    const SurfaceSeen& seen = *stop.seen;
+    const Vec3 d = state.ray.direction;
     // A surface's guide goes through no dispersive interface while several wavelengths ride on the
     // path (exit_guide.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
     if (state.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, seen)) state.guide = {};
@@ -389,28 +407,29 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     else if (!state.dispersed && is_dispersive(scene, seen))
       state.dispersed = true;
     const Vec3 wo = -d;
-    Vertex<N> vx = make(VertexKind::surface, hit->point);
-    vx.normal = hit->normal;
-    vx.hit = *hit;
-    vx.event = surface_event(v, *hit, seen, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
+    Vertex<N> vx = make(VertexKind::surface, hit.point);
+    vx.normal = hit.normal;
+    vx.hit = hit;
+    vx.event = surface_event(v, hit, seen, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
     if (!vx.delta) state.guide = {};  // (the visitor may set a surface's: radiance.h)
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
-    const auto bsdf_pdf = continue_path(scene, *hit, e, wo, mode, events, state, rng, roulette());
+    const auto bsdf_pdf = continue_path(scene, hit, e, wo, mode, events, state, rng, roulette());
     if (!bsdf_pdf) return;
     if (!vx.delta) {
       state.guide_dir = state.ray.direction;  // (kept only where the visitor set a guide)
       state.guide_phase_pdf = *bsdf_pdf;
-    } else if (seen.surface.kind != SurfaceKind::interface || dot(d, hit->normal) * dot(state.ray.direction, hit->normal) <= 0.0) {
+    } else if (seen.surface.kind != SurfaceKind::interface ||
+               dot(d, hit.normal) * dot(state.ray.direction, hit.normal) <= 0.0) {
       state.guide = {};  // a reflection, or a thin sheet: the guide's connection crosses neither
     }
-    state.inside = inside_towards(scene, *hit, state.inside, state.ray.direction);
+    state.inside = inside_towards(scene, hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
       if (wants_reverse(visit)) visit.reverse(vx.delta ? 0.0 : e.pdf(state.ray.direction, wo));
     state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;
-    moved_on(hit->point);
+    moved_on(hit.point);
   }
 }
 
