@@ -45,6 +45,14 @@ TEST(VdbLayout, RefusesAGridPastTheEndOfTheFile) {
   expect_one_line_naming(refusal(file), file, "places its grid at bytes 124, 9973, 10094 in a file of 5047");
 }
 
+// The fuzzer's second finding: cube_2.vdb whose grid says zip where its chunks are blosc. OpenVDB
+// throws inside a root child's topology and never frees the child (270 KB leaked per read, which
+// LeakSanitizer stops on); the check decompresses topology chunks first and refuses it.
+TEST(VdbLayout, RefusesATopologyChunkThatDoesNotDecompress) {
+  const fs::path file = kVdbCorpus / "found_zip_flag_on_blosc_chunks.vdb";
+  expect_one_line_naming(refusal(file), file, "the zip chunk at byte 8836 does not decompress to the 131072 bytes");
+}
+
 // A file cut at any length is refused with one line (a file whose data OpenVDB would read past
 // its end reads garbage sizes: the 140 TB request came from there).
 TEST(VdbLayout, RefusesEveryTruncationInOneLine) {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <openvdb/Metadata.h>
+#include <openvdb/io/Compression.h>
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
@@ -54,6 +55,7 @@ class Cursor {
   }
   void seek(std::uint64_t to) {
     pos_ = to;
+    in_.clear();
     in_.seekg(static_cast<std::streamoff>(to));
   }
   void skip(std::uint64_t bytes, std::string_view what) {
@@ -76,6 +78,12 @@ class Cursor {
     return v;
   }
   std::string string(std::string_view what) { return bytes(get<std::uint32_t>(what), what); }
+  // The stream at byte `at`, for OpenVDB's own decompression (the walk's position is not moved).
+  std::istream& stream_at(std::uint64_t at) {
+    in_.clear();
+    in_.seekg(static_cast<std::streamoff>(at));
+    return in_;
+  }
 
  private:
   std::string path_;
@@ -237,17 +245,21 @@ struct Tree {
 
   // io::readCompressedValues for a node of `values` values, `active` of them on in its value mask
   // of `mask_bytes` bytes.
-  void compressed_values(std::uint64_t values, std::uint64_t active, std::uint64_t mask_bytes) {
+  void compressed_values(std::uint64_t values, std::uint64_t active, std::uint64_t mask_bytes, bool decode) {
     const auto kind = c.get<std::int8_t>("a node's value flag");
     if (kind == 2 || kind == 4 || kind == 5) c.skip(kind == 5 ? 8 : 4, "a node's inactive values");
     if (kind == 3 || kind == 4 || kind == 5) c.skip(mask_bytes, "a node's selection mask");
     const bool only_active = (compression & kActiveMask) != 0 && kind != 6;
-    chunk((only_active ? active : values) * value_bytes);
+    chunk((only_active ? active : values) * value_bytes, decode);
   }
 
   // readData: blosc or zip, each after a 64-bit size (negative or zero: that many raw bytes), or raw.
-  void chunk(std::uint64_t expected) {
+  // With `decode`, a compressed chunk (its size checked first) is also decompressed, by OpenVDB's
+  // own functions: a root child's topology that throws while OpenVDB reads it is never freed
+  // (RootNode::readTopology), so what would throw there is refused here.
+  void chunk(std::uint64_t expected, bool decode) {
     if ((compression & (kBlosc | kZip)) == 0) return c.skip(expected, "a node's values");
+    const std::uint64_t at = c.pos();
     const auto size = c.get<std::int64_t>("a chunk size");
     if (size <= 0) {
       const std::uint64_t raw = std::uint64_t{0} - static_cast<std::uint64_t>(size);
@@ -256,8 +268,22 @@ struct Tree {
       return c.skip(raw, "an uncompressed chunk");
     }
     const auto bytes = static_cast<std::uint64_t>(size);
-    if (compression & kBlosc) return blosc_header(c, bytes, expected, "a blosc chunk");
-    c.skip(bytes, "a zip chunk");
+    if (compression & kBlosc) blosc_header(c, bytes, expected, "a blosc chunk");
+    else c.skip(bytes, "a zip chunk");
+    if (decode) decompress(at, expected);
+  }
+
+  void decompress(std::uint64_t at, std::uint64_t expected) {
+    std::vector<char> values(static_cast<std::size_t>(expected));
+    try {
+      std::istream& in = c.stream_at(at);
+      if (compression & kBlosc) openvdb::io::bloscFromStream(in, values.data(), values.size());
+      else openvdb::io::unzipFromStream(in, values.data(), values.size());
+    } catch (const std::exception& e) {
+      c.fail("the {} chunk at byte {} does not decompress to the {} bytes of its node: {}",
+             (compression & kBlosc) ? "blosc" : "zip", at, expected, e.what());
+    }
+    c.seek(c.pos());  // back where the walk is
   }
 
   // InternalNode::readTopology of a node of 2^(3 log2_dim) entries; its children are internal
@@ -266,7 +292,7 @@ struct Tree {
     const std::uint64_t entries = std::uint64_t{1} << (3 * log2_dim);
     const std::string child_mask = c.bytes(entries / 8, "a child mask");
     const std::string value_mask = c.bytes(entries / 8, "a value mask");
-    compressed_values(entries, count_on(value_mask), value_mask.size());
+    compressed_values(entries, count_on(value_mask), value_mask.size(), true);
     for (std::size_t byte = 0; byte < child_mask.size(); ++byte)
       for (int bit = 0; bit < 8; ++bit) {
         if ((static_cast<unsigned char>(child_mask[byte]) >> bit & 1u) == 0) continue;
@@ -308,7 +334,7 @@ struct Tree {
         const Leaf in_buffers = leaf(c.bytes(64, "a leaf's value mask"));
         if (in_buffers.active != leaves[l].active || in_buffers.hash != leaves[l].hash)
           c.fail("a leaf's value mask at byte {} differs from its topology", c.pos() - 64);
-        compressed_values(512, leaves[l].active, 64);
+        compressed_values(512, leaves[l].active, 64, false);  // a leaf's buffer: freed with the tree
       }
   }
 };
