@@ -5,8 +5,10 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 180
 FUZZ_TARGETS ?=
+FUZZ_LONG_SECONDS ?= 3600
+ASAN_BUILD ?= build-asan
 
-.PHONY: all deps configure build demo test bench convergence estimators fuzz clean blender-addon
+.PHONY: all deps configure build demo test bench convergence estimators fuzz fuzz-long test-asan clean blender-addon
 
 all: build
 
@@ -42,10 +44,19 @@ estimators: build
 fuzz:
 	@bash scripts/fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
+# Every harness for FUZZ_LONG_SECONDS (an hour) each, as many at once as there are cores, then the
+# summary table (target, seconds, executions, corpus, findings) for docs/limits.md.
+fuzz-long:
+	@bash scripts/fuzz-long.sh $(FUZZ_BUILD) $(FUZZ_LONG_SECONDS) $(FUZZ_TARGETS)
+
+# The whole suite under ASan and UBSan (gcc, RelWithDebInfo -O1) in ASAN_BUILD, without `long` tests.
+test-asan:
+	@bash scripts/test-asan.sh $(ASAN_BUILD)
+
 # The Blender add-on as a zip for Blender's Preferences > Add-ons > Install (docs/blender.md).
 blender-addon:
 	@mkdir -p $(BUILD)
 	@/usr/bin/python3 scripts/make-blender-addon.py blender/bouguer_blender $(BUILD)/bouguer_blender.zip
 
 clean:
-	rm -rf $(BUILD) $(FUZZ_BUILD) out
+	rm -rf $(BUILD) $(FUZZ_BUILD) $(ASAN_BUILD) out

@@ -1,6 +1,8 @@
 // The libFuzzer entry point for one reader: built once per target in targets.cpp as
-// fuzz_<name>, with BOUGUER_FUZZ_TARGET naming it (tests/fuzz/CMakeLists.txt). A bouguer::Error
-// is the expected answer to bad input; anything else escapes and is a crash.
+// fuzz_<name>, with BOUGUER_FUZZ_TARGET naming it (tests/fuzz/CMakeLists.txt). The environment
+// variable BOUGUER_FUZZ_TARGET picks another target, so one binary can be carried to another
+// machine for all (scripts/fuzz-one.sh). A bouguer::Error is the expected answer to bad input;
+// anything else escapes and is a crash.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -16,9 +18,11 @@ std::filesystem::path dir;
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  target = bouguer::fuzz::find_target(BOUGUER_FUZZ_TARGET);
+  const char* chosen = std::getenv("BOUGUER_FUZZ_TARGET");
+  const char* name = chosen && *chosen ? chosen : BOUGUER_FUZZ_TARGET;
+  target = bouguer::fuzz::find_target(name);
   if (!target) {
-    std::fprintf(stderr, "fuzz: unknown target '%s'\n", BOUGUER_FUZZ_TARGET);
+    std::fprintf(stderr, "fuzz: unknown target '%s'\n", name);
     std::abort();
   }
   std::string pattern = (std::filesystem::temp_directory_path() / "bouguer-fuzz-XXXXXX").string();

@@ -8,6 +8,8 @@
 
 #include <openvdb/openvdb.h>
 
+#include "bouguer/io/vdb_layout.h"
+
 #include <algorithm>
 #include <cmath>
 #include <new>
@@ -41,12 +43,14 @@ void initialize_once() {
   (void)initialized;
 }
 
-// Runs `body` on the opened file (checked by the library before: io/vdb.cpp), turning everything
-// OpenVDB throws into a file problem.
+// Runs `body` on the opened file (checked by the library before: io/vdb.cpp, and its layout here:
+// io/vdb_layout.h, the grids' too with `grids`), turning everything OpenVDB throws into a file
+// problem.
 template <typename Body>
-Result with_file(const std::string& path, Body body) {
+Result with_file(const std::string& path, bool grids, Body body) {
   try {
     initialize_once();
+    if (Result layout = bouguer::vdb_layout::check(path, grids); layout.status != Status::ok) return layout;
     openvdb::io::File file(path);
     file.open(false);  // no delayed loading: the file is read now, not mapped for later
     body(file);
@@ -109,13 +113,13 @@ void dense_values(const openvdb::FloatGrid& grid, const openvdb::Coord& first, c
 }
 
 Result grid_names(const std::string& path, std::vector<std::string>& names) {
-  return with_file(path, [&](openvdb::io::File& file) { names = names_in(file); });
+  return with_file(path, false, [&](openvdb::io::File& file) { names = names_in(file); });
 }
 
 Result read_grid(const std::string& path, const std::string& grid_name, Limits& limits, Grid& out) {
   const std::string what = fmt::format("{}: grid '{}'", path, grid_name);
   Result memory;
-  Result r = with_file(path, [&](openvdb::io::File& file) {
+  Result r = with_file(path, true, [&](openvdb::io::File& file) {
     const std::vector<std::string> names = names_in(file);
     if (std::find(names.begin(), names.end(), grid_name) == names.end()) {
       if (names.empty()) fail_grid("{}: the file has no grids", path);
