@@ -112,6 +112,13 @@ class PhotonGrid {
   double radius_ = 0.0, cell_ = 1.0;
 };
 
+// The photon lookup of an iteration: the surface and the medium photons apart (kept by render
+// over the iterations, so that each iteration's photons replace the last's in place).
+template <std::size_t N>
+struct PhotonLookup {
+  PhotonGrid<N> surfaces, media;
+};
+
 template <std::size_t N>
 Photon<N> make_photon(const std::vector<Vertex<N>>& lp, std::size_t j, const std::vector<double>& sums,
                       std::uint32_t path) {
@@ -139,14 +146,15 @@ std::uint64_t pixel_index(int x, int y, int width) {
 
 // One iteration of the estimator, in its stages: trace_light_subpaths (the photons),
 // build_photon_lookup (the grids), camera_pass (per pixel: connections and merges) and merge (one
-// camera vertex with the photons around it). Everything its paths share is fixed at construction.
+// camera vertex with the photons around it). Everything its paths share is fixed at construction;
+// its photons go into `lookup`.
 template <std::size_t N>
 class Iteration {
  public:
   Iteration(const SceneView<N>& view, const RenderSettings& settings, int width, int height, int it, double r1,
-            const WavelengthStrata& strata, const WavelengthStrata& heroes)
+            const WavelengthStrata& strata, const WavelengthStrata& heroes, PhotonLookup<N>& lookup)
       : view_(view), scene_(view.scene), settings_(settings), width_(width), height_(height), it_(it),
-        w_(view.tables.wavelengths(0.0)), kept_(w_) {
+        w_(view.tables.wavelengths(0.0)), kept_(w_), lookup_(lookup) {
     // The iteration's wavelengths, hero, kept wavelength and σ̄_s, shared by all its paths.
     const bool hero = settings.spectral == SpectralMode::hero;
     Rng irng = sample_rng(settings.seed, 0, it, kIterationSalt);
@@ -167,8 +175,8 @@ class Iteration {
   double radius_m() const { return radius_m_; }
 
   // 1. One light subpath per pixel of the whole image, from its own random stream; its vertices
-  // where a path can merge become the photons.
-  std::vector<Photon<N>> trace_light_subpaths(const RenderControl& control, RenderStats& stats) const {
+  // where a path can merge become the photons (by tile, as the threads made them).
+  std::vector<std::vector<Photon<N>>> trace_light_subpaths(const RenderControl& control, RenderStats& stats) const {
     std::vector<std::vector<Photon<N>>> tiles_photons;
     std::mutex tiles_mutex;
     for_each_tile(PixelRegion{0, 0, width_, height_}, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
@@ -190,26 +198,24 @@ class Iteration {
       const std::lock_guard<std::mutex> lock(tiles_mutex);
       tiles_photons.push_back(std::move(mine));
     });
-    std::size_t count = 0;
-    for (const auto& t : tiles_photons) count += t.size();
-    require_memory(count * sizeof(Photon<N>) * 2,
-                   fmt::format("{}: {} photons of iteration {}", scene_.file.string(), count, it_ + 1));
-    std::vector<Photon<N>> photons;
-    photons.reserve(count);
-    for (auto& t : tiles_photons) std::move(t.begin(), t.end(), std::back_inserter(photons));
-    return photons;
+    return tiles_photons;
   }
 
   // 2. The photons sorted into grids of cells 2r wide (surfaces and media apart), in an order
   // fixed by the paths alone.
-  void build_photon_lookup(std::vector<Photon<N>>&& photons) {
+  void build_photon_lookup(std::vector<std::vector<Photon<N>>>&& tiles_photons) {
+    std::size_t count = 0;
+    for (const auto& t : tiles_photons) count += t.size();
+    require_memory(count * sizeof(Photon<N>) * 2,
+                   fmt::format("{}: {} photons of iteration {}", scene_.file.string(), count, it_ + 1));
     std::vector<Photon<N>> on_surfaces, in_media;
-    for (Photon<N>& q : photons) (q.medium >= 0 ? in_media : on_surfaces).push_back(std::move(q));
-    photons.clear();
-    surface_grid_.build(std::move(on_surfaces), radius_m_);
-    medium_grid_.build(std::move(in_media), radius_m_);
+    for (auto& t : tiles_photons)
+      for (Photon<N>& q : t) (q.medium >= 0 ? in_media : on_surfaces).push_back(std::move(q));
+    tiles_photons.clear();
+    lookup_.surfaces.build(std::move(on_surfaces), radius_m_);
+    lookup_.media.build(std::move(in_media), radius_m_);
   }
-  std::size_t photons() const { return surface_grid_.size() + medium_grid_.size(); }
+  std::size_t photons() const { return lookup_.surfaces.size() + lookup_.media.size(); }
 
   // 3. Per pixel of the region a camera subpath, connected to the light subpath of the same pixel
   // (traced again from the same stream) by every bidirectional strategy, and merged at each of
@@ -281,7 +287,7 @@ class Iteration {
       ++merged;
       l += c * static_cast<float>(b.merge_weight(camera, t, q.wo, q.mis) / mean_ratio(scene_, pt.r_u * q.r_u));
     };
-    (in_medium ? medium_grid_ : surface_grid_).around(pt.point, one);
+    (in_medium ? lookup_.media : lookup_.surfaces).around(pt.point, one);
     return l;
   }
 
@@ -302,7 +308,7 @@ class Iteration {
   WalkMedia media_;
   double radius_m_ = 0.0;
   bidir::Merging merging_;
-  PhotonGrid<N> surface_grid_, medium_grid_;
+  PhotonLookup<N>& lookup_;
 };
 
 template <std::size_t N>
@@ -316,6 +322,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
   strata.reset(settings.seed, ~std::uint64_t{0}, settings.spp);
   heroes.reset(settings.seed, ~std::uint64_t{0}, settings.spp, kHeroStrataSalt);
   const int iterations = range.end - range.begin;
+  PhotonLookup<N> lookup;
   for (int it = range.begin; it < range.end; ++it) {
     if (control.cancel && control.cancel->load()) return;
     // Each iteration's two halves report progress: the light subpaths, then the camera pass.
@@ -327,8 +334,8 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
       }
       return c;
     };
-    Iteration<N> iteration(view, settings, film.width(), film.height(), it, r1, strata, heroes);
-    std::vector<Photon<N>> photons = iteration.trace_light_subpaths(half(0), stats);
+    Iteration<N> iteration(view, settings, film.width(), film.height(), it, r1, strata, heroes, lookup);
+    auto photons = iteration.trace_light_subpaths(half(0), stats);
     // Ctrl-C: the image keeps whole iterations only; the progress says how many, which the film's
     // splat normalisation reads.
     if (control.cancel && control.cancel->load()) {
