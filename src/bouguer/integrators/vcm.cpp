@@ -244,7 +244,7 @@ class Iteration {
           b.camera_subpath(view_.camera.generate_ray(x + u, y + v), camera_path, &keep_);
           b.light_subpath(light_path, lrng);
           SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep_) + b.camera_tail();
-          for (int t = 2; t <= static_cast<int>(camera_path.size()); ++t) l += merge(b, camera_path, t, wc, merged);
+          for (int t = 2; t <= static_cast<int>(camera_path.size()); ++t) merge(b, camera_path, t, wc, l, merged);
           add_camera_sample(film, view_.tables, wc, x, y, l);
         }
       merges += merged;
@@ -253,12 +253,11 @@ class Iteration {
   }
 
   // 4. Camera vertex camera[t − 1] merged with the photons within r: surfaces by the disc πr²,
-  // media by the ball 4/3·πr³, each merge weighted by Bdpt::merge_weight.
-  SampledSpectrum<N> merge(const Bdpt<N>& b, const std::vector<Vertex<N>>& camera, int t,
-                           const SampledWavelengths<N>& wc, std::uint64_t& merged) const {
+  // media by the ball 4/3·πr³, each merge weighted by Bdpt::merge_weight, added to l.
+  void merge(const Bdpt<N>& b, const std::vector<Vertex<N>>& camera, int t, const SampledWavelengths<N>& wc,
+             SampledSpectrum<N>& l, std::uint64_t& merged) const {
     const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
-    SampledSpectrum<N> l;
-    if (!Bdpt<N>::mergeable(pt)) return l;
+    if (!Bdpt<N>::mergeable(pt)) return;
     const bool in_medium = pt.kind == VertexKind::medium;
     SampledSpectrum<N> sigma_s;  // a medium vertex: σ_s(x) at the carried wavelengths
     if (in_medium) {
@@ -288,7 +287,6 @@ class Iteration {
       l += c * static_cast<float>(b.merge_weight(camera, t, q.wo, q.mis) / mean_ratio(scene_, pt.r_u * q.r_u));
     };
     (in_medium ? lookup_.media : lookup_.surfaces).around(pt.point, one);
-    return l;
   }
 
  private:
