@@ -14,6 +14,7 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/mis_check.h"
 #include "support/test_scenes.h"
 #include "support/test_support.h"
 
@@ -318,7 +319,7 @@ void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const R
   })";
   const SceneDesc desc = parse_scene(json, "mis.json");
   const RenderScene scene = compile(desc);
-  std::size_t paths = 0;
+  std::size_t paths = 0, lens_through_media = 0;
   double worst_sum = 0.0, worst_difference = 0.0;
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x)
@@ -327,10 +328,12 @@ void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const R
         for (const double sum : c.sums) worst_sum = std::max(worst_sum, std::abs(sum - 1.0));
         worst_difference = std::max(worst_difference, c.max_weight_difference);
         paths += c.sums.size();
+        lens_through_media += c.lens_through_media;
       }
-  std::printf("%s MIS over %zu full paths: largest |Σ weights − 1| %.2e, largest renderer-vs-recomputed weight %.2e\n",
-              what, paths, worst_sum, worst_difference);
+  std::printf("%s MIS over %zu full paths (%zu lens connections through the haze): largest |Σ weights − 1| %.2e, "
+              "largest renderer-vs-recomputed weight %.2e\n", what, paths, lens_through_media, worst_sum, worst_difference);
   EXPECT_GT(paths, 800u);
+  EXPECT_GT(lens_through_media, 10u);  // t = 1 through a medium is checked, not skipped
   EXPECT_LT(worst_sum, 1e-9);
   EXPECT_LT(worst_difference, 1e-3);  // hit points are rounded: measured 2e-5
 }

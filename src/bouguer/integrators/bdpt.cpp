@@ -7,8 +7,6 @@ namespace {
 
 using bidir::Bdpt;
 using bidir::begin_sample;
-using bidir::is_delta_light;
-
 
 template <std::size_t N>
 void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
@@ -34,15 +32,6 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
 }
 
 }  // namespace
-
-BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample) {
-  BdptMisCheck out;
-  with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    bidir::mis_check<N>(scene, settings, x, y, sample, {},
-                        [](const Bdpt<N>&, const std::vector<Vertex<N>>&, const std::vector<Vertex<N>>&) { return 0.0; }, out);
-  });
-  return out;
-}
 
 void render_bdpt(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                  SampleRange range, const RenderControl& control, RenderStats& stats) {

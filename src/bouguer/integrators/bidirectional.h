@@ -9,8 +9,10 @@
 // connection strategy (s light vertices, t camera vertices): the camera path meeting a lamp or
 // escaping to a light at infinity (s = 0), next-event estimation (s = 1), light tracing to the
 // camera (t = 1, splatted), and vertex connections, surface and medium vertices alike. The
-// strategies are combined by the power heuristic over the densities of the vertex records; a
-// lamp seen directly is left to s = 0 (the light tracer's lamp splat is not made), as in pbrt.
+// strategies are combined by the power heuristic over the densities of the vertex records, by
+// Georgiev's recursion (Bdpt::mis_weight: each subpath folded once, O(1) a strategy), the one
+// formulation vcm's merges share; a lamp seen directly is left to s = 0 (the light tracer's lamp
+// splat is not made), as in pbrt.
 //
 // Spectral. Both subpaths carry the sample's wavelengths (all 96 bins in full mode, the four of
 // hero mode); in scattering media distances follow the sample's hero wavelength and every
@@ -49,9 +51,50 @@ struct Merging {
   double eta_surface = 0.0, eta_medium = 0.0;
 };
 
+// vcm.cpp's merging: its first radius (the scene's, or two pixel footprints), and the η of an
+// iteration with radius r over `light_paths` light subpaths, or of iteration `iteration`.
+double vcm_initial_radius(const RenderScene& scene, const RenderSettings& settings);
+Merging vcm_merging(double r, double light_paths);
+Merging vcm_merging(const RenderScene& scene, const RenderSettings& settings, int iteration);
+
 inline bool is_delta_light(const Light& light) {
   return std::holds_alternative<PointLight>(light) || std::holds_alternative<SpotLight>(light) ||
          std::holds_alternative<DistantLight>(light);
+}
+
+// (p_rev/p_fwd)² of a vertex, a density 0 (a specular vertex's, or a light's at infinity)
+// counting as 1 so that the ratio passes the vertex by, as pbrt-v4's remap0.
+inline double ratio2(double pdf_rev, double pdf_fwd) {
+  auto remap0 = [](double p) { return p != 0.0 ? p : 1.0; };
+  return sq(remap0(pdf_rev) / remap0(pdf_fwd));
+}
+
+// What a merge's weight needs of the light vertex before the photon: where it is (for the density
+// of sampling it from the merge point) and the density with which the light subpath made it.
+struct LightPredecessor {
+  Vec3 point, normal;
+  VertexKind kind = VertexKind::light;
+  double sigma_rho = 0.0;
+  bool infinite = false;
+  double pdf_fwd = 0.0;
+  bool delta = false;
+  bool on_surface() const { return normal != Vec3{}; }
+};
+
+// What a merge's weight needs of the photon's light subpath (vcm.cpp keeps it in each photon):
+// the photon's density, its subpath's folded sum (Bdpt::subpath_sums) and its predecessor.
+struct MergeSource {
+  double pdf_fwd = 0.0;
+  double sums = 0.0;
+  double tau_in = 0.0;
+  LightPredecessor prev;
+};
+
+template <std::size_t N>
+MergeSource merge_source(const std::vector<Vertex<N>>& lp, std::size_t j, const std::vector<double>& sums) {
+  const Vertex<N>& x = lp[j];
+  const Vertex<N>& p = lp[j - 1];
+  return {x.pdf_fwd, sums[j], x.tau_in, {p.point, p.normal, p.kind, p.sigma_rho, p.infinite, p.pdf_fwd, p.delta}};
 }
 
 template <std::size_t N>
@@ -64,7 +107,8 @@ class Bdpt {
 
   // The camera subpath's first max_depth + 2 vertices into `path`, and what its tail beyond them
   // finds into camera_tail(); `keep` (begin_sample's) weighs the tail's light of paths that have
-  // crossed a dispersive interface (null: no tail, the walk stops there: bdpt_mis_check).
+  // crossed a dispersive interface (null: no tail, the walk stops there: the MIS check,
+  // tests/support/mis_check.h).
   void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep);
   const SampledSpectrum<N>& camera_tail() const { return tail_; }
   void light_subpath(std::vector<Vertex<N>>& path) { light_subpath(path, rng_); }
@@ -72,13 +116,14 @@ class Bdpt {
   // then for the connections of its pixel).
   void light_subpath(std::vector<Vertex<N>>& path, Rng& rng);
   // The strategy (s, t) over the two subpaths: its contribution, weighted; t = 1 splats it.
-  SampledSpectrum<N> connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
+  SampledSpectrum<N> connect(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera, int s, int t,
                              FilmBuffer& film, const SampledSpectrum<N>& keep);
   // Every strategy (s, t) within the depth, summed (light tracing splatted).
   SampledSpectrum<N> connect_all(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, FilmBuffer& film,
                                  const SampledSpectrum<N>& keep) {
     const int nc = static_cast<int>(camera.size()), nl = static_cast<int>(light.size());
     if (light.empty()) light.emplace_back();  // the slot of s = 1's own light sample
+    fold_mis(light, camera);
     SampledSpectrum<N> l;
     for (int t = 1; t <= nc; ++t)
       for (int k = 0; k <= std::max(nl, 1); ++k) {
@@ -89,12 +134,13 @@ class Bdpt {
     return l;
   }
 
-  // The densities of the vertex records and the MIS weight (public for the check in
-  // bdpt_mis_check below).
+  // The densities of the vertex records, from the geometry (public for the MIS check,
+  // tests/support/mis_check.h).
   double pdf_light_origin(const Vertex<N>& y) const;
   double pdf_light(const Vertex<N>& y, const Vertex<N>& next, double tau) const;
   double pdf_camera(const Vertex<N>& next, double tau) const;
   double pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<N>& next, double tau) const;
+  double direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) const;
   SampledSpectrum<N> f(const Vertex<N>& x, const Vec3& wi, TransportMode mode) const;
   int medium_towards(const Vertex<N>& x, const Vec3& wi) const {
     return x.kind == VertexKind::surface ? x.event.medium_towards(wi) : x.medium;
@@ -102,8 +148,18 @@ class Bdpt {
   PathVertex path_vertex(const Vertex<N>& x) const {
     return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit, x.inside};
   }
-  double mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled, int s,
-                    int t, double tau) const;
+
+  // The MIS (below mis_weight): fold_mis(light, camera) once the subpaths are made, then the
+  // weight of any strategy over them in O(1). `sampled` stands for light[0] (s = 1) or
+  // camera[0] (t = 1).
+  void fold_mis(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera) {
+    subpath_sums(light, true, light_sums_);
+    subpath_sums(camera, false, camera_sums_);
+  }
+  void subpath_sums(const std::vector<Vertex<N>>& path, bool light, std::vector<double>& sums) const;
+  double mis_weight(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera,
+                    const Vertex<N>* sampled, int s, int t, double tau) const;
+  double merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vec3& wo, const MergeSource& q) const;
 
   void set_merging(const Merging& m) { merging_ = m; }
   bool merges() const { return merging_.eta_surface > 0.0; }
@@ -125,6 +181,19 @@ class Bdpt {
   std::uint64_t& rays_;
   Merging merging_;
   SampledSpectrum<N> tail_;
+  // subpath_sums of the subpaths connected: buffers of the thread, reused from sample to sample
+  // (a Bdpt lives for one sample, and a thread weighs one sample's strategies at a time), where
+  // vectors of its own cost two allocations a sample (2 % of a glass scene's instructions).
+  std::vector<double>& light_sums_ = thread_buffer(0);
+  std::vector<double>& camera_sums_ = thread_buffer(1);
+  static std::vector<double>& thread_buffer(int k) {
+    thread_local std::vector<double> buffers[2];
+    return buffers[k];
+  }
+
+  double light_side(const std::vector<Vertex<N>>& light, int s, const Vertex<N>& qs, double qs_rev,
+                    double qs_minus_rev) const;
+  double camera_side(const std::vector<Vertex<N>>& camera, int t, double pt_rev, double pt_minus_rev) const;
 };
 
 // A camera subpath's visitor: it keeps the first `max_vertices` vertices for the connections and,
@@ -137,7 +206,7 @@ struct KeepThenTrace {
   std::vector<Vertex<N>>& path;
   std::size_t max_vertices;
   Radiance<N> tail;
-  bool with_tail = true;  // false: stop at the last kept vertex (bdpt_mis_check)
+  bool with_tail = true;  // false: stop at the last kept vertex (the MIS check)
   bool tracing = false;   // past the kept vertices
   bool reversed = false;  // the last kept vertex's predecessor has its pdf_rev
 
@@ -267,65 +336,125 @@ SampledSpectrum<N> Bdpt<N>::f(const Vertex<N>& x, const Vec3& wi, TransportMode 
   return x.event.eval(x.wo, wi, mode);
 }
 
-// The power heuristic over every strategy that could have made the same path (pbrt-v4's
-// MISWeight): the densities of the vertices next to the connection are set to what the other
-// strategies would have used, and the ratios of densities walked outwards on both sides.
-// `sampled` replaces light[0] (s = 1) or camera[0] (t = 1); `tau` is the connection's.
+// The power heuristic over every strategy that could have made the same path, by Georgiev's
+// recursion ("Implementing VCM", SmallVCM's dVCM/dVC/dVM) written on the walk's area densities:
+// subpath_sums (once per subpath) folds each side's strategies into one number per vertex, and a
+// strategy's weight recomputes only the ≤ 4 densities next to its joint (the other side's
+// vertex, and the one before it, as the other strategies would reach them) and adds the two
+// sides' folded sums to them: O(1) a connection or merge. Nothing is modified, so a sampled
+// light or lens vertex is just passed in. `tau` is the connection's scattering depth.
 template <std::size_t N>
-double Bdpt<N>::mis_weight(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, const Vertex<N>* sampled,
-                           int s, int t, double tau) const {
+double Bdpt<N>::mis_weight(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera,
+                           const Vertex<N>* sampled, int s, int t, double tau) const {
   if (s + t == 2) return 1.0;
-  Vertex<N>* slot = sampled ? (s == 1 ? &light[0] : &camera[0]) : nullptr;
-  Vertex<N> saved;
-  if (slot) saved = std::exchange(*slot, *sampled);
-  Vertex<N>* qs = s > 0 ? &light[static_cast<std::size_t>(s - 1)] : nullptr;
-  Vertex<N>* pt = &camera[static_cast<std::size_t>(t - 1)];
-  Vertex<N>* qs_minus = s > 1 ? &light[static_cast<std::size_t>(s - 2)] : nullptr;
-  Vertex<N>* pt_minus = t > 1 ? &camera[static_cast<std::size_t>(t - 2)] : nullptr;
-  // What the other strategies would have used next to the connection (computed before any edit).
-  const double pt_rev = s > 0 ? pdf_at(*qs, qs_minus, *pt, tau) : pdf_light_origin(*pt);
-  const double pt_minus_rev =
-      pt_minus ? (s > 0 ? pdf_at(*pt, qs, *pt_minus, pt->tau_in) : pdf_light(*pt, *pt_minus, pt->tau_in)) : 0.0;
-  const double qs_rev = qs ? pdf_at(*pt, pt_minus, *qs, tau) : 0.0;
-  const double qs_minus_rev = qs_minus ? pdf_at(*qs, pt, *qs_minus, qs->tau_in) : 0.0;
-  const double old_pt_rev = pt->pdf_rev, old_pt_minus_rev = pt_minus ? pt_minus->pdf_rev : 0.0,
-               old_qs_rev = qs ? qs->pdf_rev : 0.0, old_qs_minus_rev = qs_minus ? qs_minus->pdf_rev : 0.0;
-  const bool old_pt_delta = pt->delta, old_qs_delta = qs ? qs->delta : false;
-  pt->pdf_rev = pt_rev;
-  pt->delta = false;
-  if (pt_minus) pt_minus->pdf_rev = pt_minus_rev;
-  if (qs) qs->pdf_rev = qs_rev, qs->delta = false;
-  if (qs_minus) qs_minus->pdf_rev = qs_minus_rev;
-
-  auto remap0 = [](double p) { return p != 0.0 ? p : 1.0; };
-  double sum = 0.0, ri = 1.0;
-  for (int i = t - 1; i > 0; --i) {
-    const Vertex<N>& x = camera[static_cast<std::size_t>(i)];
-    if (merges() && mergeable(x)) sum += sq(ri * x.pdf_rev * eta(x));  // merging at x
-    ri *= remap0(x.pdf_rev) / remap0(x.pdf_fwd);
-    if (!x.delta && !camera[static_cast<std::size_t>(i - 1)].delta) sum += ri * ri;
+  const Vertex<N>& pt = sampled && t == 1 ? *sampled : camera[static_cast<std::size_t>(t - 1)];
+  const Vertex<N>* pt_minus = t > 1 ? &camera[static_cast<std::size_t>(t - 2)] : nullptr;
+  if (s == 0) {  // pt is a lamp the camera path met: what light subpaths starting there would do
+    const double pt_rev = pdf_light_origin(pt);
+    const double pt_minus_rev = pdf_light(pt, *pt_minus, pt.tau_in);
+    return 1.0 / (1.0 + camera_side(camera, t, pt_rev, pt_minus_rev));
   }
-  ri = 1.0;
-  for (int i = s - 1; i >= 0; --i) {
-    const Vertex<N>& x = light[static_cast<std::size_t>(i)];
-    ri *= remap0(x.pdf_rev) / remap0(x.pdf_fwd);
-    const bool delta_before = i > 0 ? light[static_cast<std::size_t>(i - 1)].delta
-                                    : is_delta_light(s_.lights[static_cast<std::size_t>(light[0].light)]);
-    if (!x.delta && !delta_before) sum += ri * ri;
-    if (merges() && i > 0 && mergeable(x)) sum += sq(ri * x.pdf_fwd * eta(x));
-  }
-
-  if (qs_minus) qs_minus->pdf_rev = old_qs_minus_rev;
-  if (qs) qs->pdf_rev = old_qs_rev, qs->delta = old_qs_delta;
-  if (pt_minus) pt_minus->pdf_rev = old_pt_minus_rev;
-  pt->pdf_rev = old_pt_rev;
-  pt->delta = old_pt_delta;
-  if (slot) *slot = saved;
+  const Vertex<N>& qs = sampled && s == 1 ? *sampled : light[static_cast<std::size_t>(s - 1)];
+  const Vertex<N>* qs_minus = s > 1 ? &light[static_cast<std::size_t>(s - 2)] : nullptr;
+  double sum = 0.0;
+  if (t > 1) sum += camera_side(camera, t, pdf_at(qs, qs_minus, pt, tau),
+                                pt_minus ? pdf_at(pt, &qs, *pt_minus, pt.tau_in) : 0.0);
+  const double qs_rev = pdf_at(pt, pt_minus, qs, tau);
+  const double qs_minus_rev = qs_minus ? pdf_at(qs, &pt, *qs_minus, qs.tau_in) : 0.0;
+  sum += light_side(light, s, qs, qs_rev, qs_minus_rev);
   return 1.0 / (1.0 + sum);
 }
 
+// What the strategies with fewer light vertices than s add, relative to the connection (s, t):
+// qs = light[s − 1] (or the sampled light vertex), its density qs_rev from the camera side and
+// qs_minus_rev its predecessor's; the rest is light_sums_[s − 1], folded when the subpath was made.
 template <std::size_t N>
-SampledSpectrum<N> Bdpt<N>::connect(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, int s, int t,
+double Bdpt<N>::light_side(const std::vector<Vertex<N>>& light, int s, const Vertex<N>& qs, double qs_rev,
+                           double qs_minus_rev) const {
+  // qs's own strategies: the connection just before it (qs is not specular: it connects) and
+  // merging at it.
+  const bool delta_before = s > 1 ? light[static_cast<std::size_t>(s - 2)].delta : is_delta_light(s_.lights[static_cast<std::size_t>(qs.light)]);
+  double at_qs = delta_before ? 0.0 : 1.0;
+  if (merges() && s > 1 && mergeable(qs)) at_qs += sq(qs.pdf_fwd * eta(qs));
+  if (s > 1)
+    at_qs += ratio2(qs_minus_rev, light[static_cast<std::size_t>(s - 2)].pdf_fwd) * light_sums_[static_cast<std::size_t>(s - 1)];
+  return ratio2(qs_rev, qs.pdf_fwd) * at_qs;
+}
+
+// What the strategies with more camera vertices than t add (merging at pt and beyond included),
+// relative to a connection or merge at pt = camera[t − 1]: pt_rev and pt_minus_rev are pt's and
+// its predecessor's densities from the light side; the rest is camera_sums_[t − 2].
+template <std::size_t N>
+double Bdpt<N>::camera_side(const std::vector<Vertex<N>>& camera, int t, double pt_rev, double pt_minus_rev) const {
+  if (t < 2) return 0.0;
+  const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
+  const Vertex<N>& pt_minus = camera[static_cast<std::size_t>(t - 2)];
+  double merge_at_pt = merges() && mergeable(pt) ? sq(pt_rev * eta(pt)) : 0.0;
+  double beyond = pt_minus.delta ? 0.0 : 1.0;  // the connection between pt and pt_minus
+  if (t > 2) {
+    const Vertex<N>& before = camera[static_cast<std::size_t>(t - 3)];
+    if (merges() && mergeable(pt_minus)) beyond += sq(pt_minus_rev * eta(pt_minus));
+    beyond += ratio2(pt_minus_rev, pt_minus.pdf_fwd) *
+              ((!pt_minus.delta && !before.delta ? 1.0 : 0.0) + camera_sums_[static_cast<std::size_t>(t - 2)]);
+  }
+  return merge_at_pt + ratio2(pt_rev, pt.pdf_fwd) * beyond;
+}
+
+// The folded sums of a subpath's strategies (see mis_weight), from the densities its walk
+// recorded. Light: sums[j] (j ≥ 1), the strategies that hold vertices 0 … j − 1 on the light side
+// (the connection before vertex i and merging at i, for i < j), relative to the connection
+// s = j, less the factor (p_rev/p_fwd)² of vertex j − 1, which depends on what meets the subpath
+// there. Camera: sums[k] (k ≥ 1), the same for the camera vertices 1 … k − 1, relative to a
+// connection at camera[k].
+template <std::size_t N>
+void Bdpt<N>::subpath_sums(const std::vector<Vertex<N>>& path, bool light, std::vector<double>& sums) const {
+  sums.assign(path.size() + 1, 0.0);
+  if (light) {
+    for (std::size_t j = 1; j < path.size(); ++j) {
+      const Vertex<N>& x = path[j - 1];
+      const bool delta_before = j > 1 ? path[j - 2].delta : is_delta_light(s_.lights[static_cast<std::size_t>(path[0].light)]);
+      double at_x = !x.delta && !delta_before ? 1.0 : 0.0;
+      if (merges() && j > 1 && mergeable(x)) at_x += sq(x.pdf_fwd * eta(x));
+      sums[j] = at_x + (j >= 2 ? ratio2(path[j - 2].pdf_rev, path[j - 2].pdf_fwd) * sums[j - 1] : 0.0);
+    }
+    return;
+  }
+  for (std::size_t k = 2; k < path.size(); ++k) {
+    const Vertex<N>& x = path[k - 1];
+    const double merge_at_x = merges() && mergeable(x) ? sq(x.pdf_rev * eta(x)) : 0.0;
+    sums[k] = merge_at_x + ratio2(x.pdf_rev, x.pdf_fwd) * ((!x.delta && !path[k - 2].delta ? 1.0 : 0.0) + sums[k - 1]);
+  }
+}
+
+// The MIS weight of merging camera[t − 1] with a photon (light vertex q, `wo` towards its
+// predecessor): the merge's squared density over that of every strategy for the same path,
+// relative to the connection of q's predecessor with camera[t − 1] (s = q's place, t). The
+// light side is folded into q.sums at the photon's own place, as SmallVCM's photons keep dVCM
+// and dVM: the merge point stands in for q there.
+template <std::size_t N>
+double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vec3& wo, const MergeSource& q) const {
+  const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
+  const double rev_prev = to_area_density(direction_pdf(pt, wo, false), pt.point, q.prev, q.tau_in);
+  const double rev_before =
+      t >= 3 ? to_area_density(direction_pdf(pt, wo, true), pt.point, camera[static_cast<std::size_t>(t - 2)], pt.tau_in)
+             : 0.0;
+  const double own = sq(q.pdf_fwd * eta(pt));
+  const double sum = (q.prev.delta ? 0.0 : 1.0) + ratio2(rev_prev, q.prev.pdf_fwd) * q.sums +
+                     camera_side(camera, t, q.pdf_fwd, rev_before);
+  return sum > 0.0 ? own / sum : 0.0;
+}
+
+// The density with which camera vertex x, reached along x.wo, samples direction wi (solid angle);
+// `reverse`: x reached along wi, sampling x.wo.
+template <std::size_t N>
+double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) const {
+  const Vec3 a = reverse ? wi : x.wo, b = reverse ? x.wo : wi;
+  if (x.kind == VertexKind::medium) return phase_value(scattering_medium(s_, x.medium)->phase, -a, b);
+  return x.event.pdf(a, b);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> Bdpt<N>::connect(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera, int s, int t,
                                     FilmBuffer& film, const SampledSpectrum<N>& keep) {
   // A path that crossed a dispersive interface counts at the kept wavelength only (weight N).
   auto mask = [&](bool dispersed) { return dispersed ? keep : SampledSpectrum<N>::constant(1.0f); };
@@ -427,142 +556,6 @@ SampledSpectrum<N> begin_sample(const SceneView<N>& view, SampledWavelengths<N>&
     keep[static_cast<std::size_t>(j)] = static_cast<float>(N);
   }
   return keep;
-}
-
-// Every strategy that could have made the full path light[0, s) + camera[t, 0): its subpaths cut
-// at each place, the densities of every vertex recomputed from the geometry in both directions,
-// and the MIS weights summed. Also the largest difference between the weight the renderer gives
-// the original split (from the walk's own records) and the recomputed one.
-// With merging on, also the merging strategies at every vertex where a path can merge:
-// merge_weight(light subpath up to the vertex, camera subpath up to it) gives each's weight.
-template <std::size_t N, typename MergeWeight>
-void check_path(const Bdpt<N>& bdpt, const RenderScene& scene, const std::vector<Vertex<N>>& light,
-                const std::vector<Vertex<N>>& camera, int s, int t, double tau_connection, double renderer_weight,
-                BdptMisCheck& out, MergeWeight&& merge_weight) {
-  std::vector<Vertex<N>> full(light.begin(), light.begin() + s);
-  for (int j = t - 1; j >= 0; --j) full.push_back(camera[static_cast<std::size_t>(j)]);
-  const int n = s + t;
-  // tau[i]: the segment between full[i] and full[i + 1].
-  std::vector<double> tau(static_cast<std::size_t>(n), 0.0);
-  for (int i = 0; i + 1 < n; ++i)
-    tau[static_cast<std::size_t>(i)] = i + 1 < s ? full[static_cast<std::size_t>(i + 1)].tau_in
-                                       : i + 1 == s ? tau_connection
-                                                    : full[static_cast<std::size_t>(i)].tau_in;
-  auto at = [&](int i) -> const Vertex<N>& { return full[static_cast<std::size_t>(i)]; };
-  std::vector<double> p_light(static_cast<std::size_t>(n)), p_camera(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    p_light[k] = i == 0 ? bdpt.pdf_light_origin(at(0))
-                        : bdpt.pdf_at(at(i - 1), i >= 2 ? &at(i - 2) : nullptr, at(i), tau[k - 1]);
-    p_camera[k] = i == n - 1 ? 1.0
-                             : bdpt.pdf_at(at(i + 1), i + 2 < n ? &at(i + 2) : nullptr, at(i), tau[k]);
-  }
-  // The full path cut before vertex s2: its light subpath [0, s2) and camera subpath (n − 1 … s2],
-  // their densities recomputed; `upto` (merging) keeps vertex s2 on both sides.
-  std::vector<Vertex<N>> l2, c2;
-  // A vertex's wo points along its subpath, which depends on the cut.
-  auto towards = [&](int i, int j) { return at(j).infinite ? at(j).light_dir : normalize(at(j).point - at(i).point); };
-  auto split = [&](int s2, bool upto) {
-    l2.clear();
-    c2.clear();
-    for (int i = 0; i < s2 + (upto ? 1 : 0); ++i) {
-      Vertex<N> x = at(i);
-      x.pdf_fwd = p_light[static_cast<std::size_t>(i)];
-      x.pdf_rev = p_camera[static_cast<std::size_t>(i)];
-      x.tau_in = i > 0 ? tau[static_cast<std::size_t>(i - 1)] : 0.0;
-      if (i > 0) x.wo = towards(i, i - 1);
-      l2.push_back(x);
-    }
-    for (int i = n - 1; i >= s2; --i) {
-      Vertex<N> x = at(i);
-      x.pdf_fwd = p_camera[static_cast<std::size_t>(i)];
-      x.pdf_rev = p_light[static_cast<std::size_t>(i)];
-      x.tau_in = i < n - 1 ? tau[static_cast<std::size_t>(i)] : 0.0;
-      if (i < n - 1) x.wo = towards(i, i + 1);
-      c2.push_back(x);
-    }
-  };
-  double sum = 0.0;
-  for (int s2 = 0; s2 < n; ++s2) {
-    const int t2 = n - s2;
-    if (s2 == 0 && (t2 < 2 || is_delta_light(scene.lights[static_cast<std::size_t>(at(0).light)]))) continue;
-    if (s2 >= 1 && !at(s2 - 1).connectible()) continue;
-    if (!at(s2).connectible() || (s2 == 1 && t2 == 1)) continue;
-    split(s2, false);
-    if (l2.empty()) l2.emplace_back();
-    const double w = bdpt.mis_weight(l2, c2, nullptr, s2, t2, s2 > 0 ? tau[static_cast<std::size_t>(s2 - 1)] : 0.0);
-    sum += w;
-    if (s2 == s) out.max_weight_difference = std::max(out.max_weight_difference, std::abs(w - renderer_weight));
-  }
-  if (bdpt.merges())
-    for (int k = 1; k + 1 < n; ++k)
-      if (Bdpt<N>::mergeable(at(k))) {
-        split(k, true);
-        sum += merge_weight(bdpt, l2, c2);
-      }
-  out.sums.push_back(sum);
-}
-
-// The check of one camera sample's subpaths (bdpt_mis_check, vcm_mis_check): `merging` sets the
-// merging strategies' η, merge_weight as check_path's.
-template <std::size_t N, typename MergeWeight>
-void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample,
-               const Merging& merging, MergeWeight&& merge_weight, BdptMisCheck& out) {
-  const SpectralTables<N> tables(scene.spectra, settings.spectral);
-  const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene)};
-  const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(scene.camera.width_px) +
-                     static_cast<std::uint64_t>(x);
-  Rng rng = sample_rng(settings.seed, pixel, sample, 2);
-  SampledWavelengths<N> w = tables.wavelengths(0.0);
-  tables.restart(w, 0.0);
-  std::vector<double> sigma_mean;
-  SampledWavelengths<N> kept = w;
-  draw_hero(scene, w, rng);
-  begin_sample(view, w, rng.next_double(), rng, sigma_mean, kept);
-  const WalkMedia media{sigma_mean};
-  std::uint64_t rays = 0;
-  Bdpt<N> bdpt(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
-  bdpt.set_merging(merging);
-  std::vector<Vertex<N>> camera_path, light_path;
-  const auto [u, v] = subpixel(sample, settings.spp, rng);
-  bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, nullptr);
-  bdpt.light_subpath(light_path);
-  const int nc = static_cast<int>(camera_path.size()), nl = static_cast<int>(light_path.size());
-  for (int t = 1; t <= nc; ++t)
-    for (int s = 0; s <= nl; ++s) {
-      if (s == 1 || s + t < 3) continue;  // s = 1 draws its own light; (0, 2) and (1, 1) are alone
-      const Vertex<N>& pt = camera_path[static_cast<std::size_t>(t - 1)];
-      if (s == 0 && pt.kind != VertexKind::light) continue;
-      if (s > 0 && (pt.kind == VertexKind::light || !pt.connectible() ||
-                    !light_path[static_cast<std::size_t>(s - 1)].connectible()))
-        continue;
-      if (t == 1 && !camera.connect(light_path[static_cast<std::size_t>(s - 1)].point)) continue;
-      const Vertex<N>* qs = s > 0 ? &light_path[static_cast<std::size_t>(s - 1)] : nullptr;
-      double tau = 0.0;
-      if (qs && scene.scatters) {  // the connection's scattering depth, through the same medium as render
-        const Vec3 from = t == 1 ? camera.desc.position_m : pt.point;
-        const Vec3 d = qs->point - from;
-        const double length_m = std::sqrt(dot(d, d));
-        if (t > 1) {
-          const Vec3 wi = d / length_m;
-          const int m = pt.kind == VertexKind::surface ? pt.event.medium_towards(wi) : pt.medium;
-          tau = scattering_depth(view, media, m, pt.point, wi, length_m);
-        }
-        if (t == 1) continue;  // through media the lens connection's depth needs the crossings: skip
-      }
-      Vertex<N> lens;
-      const Vertex<N>* sampled = nullptr;
-      if (t == 1) {
-        const auto c = camera.connect(qs->point);
-        lens.kind = VertexKind::camera;
-        lens.point = qs->point + c->wi * c->distance_m;
-        lens.pdf_fwd = 1.0;
-        sampled = &lens;
-      }
-      const double w_render = bdpt.mis_weight(light_path, camera_path, sampled, s, t, tau);
-      check_path(bdpt, scene, light_path, camera_path, s, t, tau, w_render, out, merge_weight);
-    }
 }
 
 }  // namespace bouguer::bidir

@@ -28,19 +28,6 @@ void render_bdpt(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRe
 void render_vcm(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                 const RenderControl&, RenderStats&);
 
-// The bidirectional estimator's MIS, checked on the subpaths of one camera sample: for every full
-// path a connection makes, the weights of all strategies that could have made it, recomputed from
-// the geometry, summed (each must be 1), and the largest difference between the weight the
-// renderer gave the connection and the recomputed one.
-struct BdptMisCheck {
-  std::vector<double> sums;
-  double max_weight_difference = 0.0;
-};
-BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
-// The same for vertex connection and merging (vcm.cpp): the merging strategies at every vertex
-// where a path can merge are in each sum too (the radius of iteration `sample`).
-BdptMisCheck vcm_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
-
 // A camera sample's radiance into its pixel (and its spectrum, where the film keeps spectra).
 template <std::size_t N>
 void add_camera_sample(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavelengths<N>& w, int x, int y,

@@ -19,10 +19,10 @@
 // are stratified over the iterations instead of over a pixel's samples. (A camera subpath's tail,
 // which no photon meets, splits into walks of one wavelength by its pixel's own strata.)
 //
-// MIS. The weights are those of the connections (bidirectional.h's mis_weight, with the merging
-// terms on) and, for a merge, the same sum written from the photon's side: what it needs of the
-// light subpath behind it (the light strategies' sum B, its predecessor's place and densities) is
-// kept in the photon record, as Georgiev's recursive dVCM/dVM quantities keep it.
+// MIS. One formulation for every strategy (bidirectional.h's mis_weight and merge_weight,
+// Georgiev's recursion on the walk's area densities): the connections' weights count the merges
+// too, and a merge's is the same sum written from the photon's side, whose light subpath is
+// folded into one number in the photon record (MergeSource), as SmallVCM's photons keep dVCM/dVM.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -40,25 +40,9 @@ namespace {
 
 using bidir::Bdpt;
 using bidir::begin_sample;
-using bidir::is_delta_light;
-using bidir::sq;
 
 constexpr std::uint64_t kCameraSalt = 6, kLightSalt = 7, kIterationSalt = 8;
 constexpr double kAlpha = 0.75;
-
-double remap0(double p) { return p != 0.0 ? p : 1.0; }
-
-// What a merge needs of the light vertex before the photon: where it is (for the density of
-// sampling it from the merge point) and the density with which the light subpath made it.
-struct Predecessor {
-  Vec3 point, normal;
-  VertexKind kind = VertexKind::light;
-  double sigma_rho = 0.0;
-  bool infinite = false;
-  double pdf_fwd = 0.0;
-  bool delta = false;
-  bool on_surface() const { return normal != Vec3{}; }
-};
 
 template <std::size_t N>
 struct Photon {
@@ -66,10 +50,7 @@ struct Photon {
   Vec3 wo;             // unit, towards the predecessor
   int medium = -1;     // a medium photon's medium
   SampledSpectrum<N> beta, r_u;
-  double pdf_fwd = 0.0;  // the light subpath's density of this vertex
-  double b = 0.0;        // the light strategies' weight sum behind it (B_j, see light_sums)
-  double tau_in = 0.0;
-  Predecessor prev;
+  bidir::MergeSource mis;
   bool dispersed = false;
   int index = 0;  // its place in the light subpath (≥ 1)
   std::uint32_t path = 0;
@@ -131,31 +112,17 @@ class PhotonGrid {
   double radius_ = 0.0, cell_ = 1.0;
 };
 
-// B_j for every vertex j ≥ 1 of a light subpath: the sum, over the strategies that hold vertices
-// 0 … j−1 on the light side, of their squared density ratios to the connection (s = j), but for
-// the factor (p_rev/p_fwd)² of vertex j − 1, which depends on the camera subpath the photon
-// meets. B_1 = T_0, B_j = T_{j−1} + (p_rev/p_fwd)²_{j−2}·B_{j−1}, T_i the strategies at vertex i:
-// the connection before it (s = i) and merging at it.
+// The photon lookup of an iteration: the surface and the medium photons apart (kept by render
+// over the iterations, so that each iteration's photons replace the last's in place).
 template <std::size_t N>
-void light_sums(const Bdpt<N>& b, const RenderScene& scene, const std::vector<Vertex<N>>& lp,
-                std::vector<double>& sums) {
-  sums.assign(lp.size(), 0.0);
-  auto strategies_at = [&](std::size_t i) {
-    const Vertex<N>& x = lp[i];
-    const bool delta_before = i > 0 ? lp[i - 1].delta : is_delta_light(scene.lights[static_cast<std::size_t>(lp[0].light)]);
-    double t = !x.delta && !delta_before ? 1.0 : 0.0;
-    if (i > 0 && Bdpt<N>::mergeable(x)) t += sq(x.pdf_fwd * b.eta(x));
-    return t;
-  };
-  for (std::size_t j = 1; j < lp.size(); ++j)
-    sums[j] = strategies_at(j - 1) +
-              (j >= 2 ? sq(remap0(lp[j - 2].pdf_rev) / remap0(lp[j - 2].pdf_fwd)) * sums[j - 1] : 0.0);
-}
+struct PhotonLookup {
+  PhotonGrid<N> surfaces, media;
+};
 
 template <std::size_t N>
-Photon<N> make_photon(const std::vector<Vertex<N>>& lp, std::size_t j, double b, std::uint32_t path) {
+Photon<N> make_photon(const std::vector<Vertex<N>>& lp, std::size_t j, const std::vector<double>& sums,
+                      std::uint32_t path) {
   const Vertex<N>& x = lp[j];
-  const Vertex<N>& p = lp[j - 1];
   Photon<N> q;
   q.point = x.point;
   q.normal = x.normal;
@@ -163,55 +130,237 @@ Photon<N> make_photon(const std::vector<Vertex<N>>& lp, std::size_t j, double b,
   q.medium = x.kind == VertexKind::medium ? x.medium : -1;
   q.beta = x.beta;
   q.r_u = x.r_u;
-  q.pdf_fwd = x.pdf_fwd;
-  q.b = b;
-  q.tau_in = x.tau_in;
-  q.prev = {p.point, p.normal, p.kind, p.sigma_rho, p.infinite, p.pdf_fwd, p.delta};
+  q.mis = bidir::merge_source(lp, j, sums);
   q.dispersed = x.dispersed;
   q.index = static_cast<int>(j);
   q.path = path;
   return q;
 }
 
-// The density with which camera vertex x, reached along x.wo, samples direction wi (solid angle);
-// `reverse`: x reached along wi, sampling x.wo.
-template <std::size_t N>
-double direction_pdf(const RenderScene& scene, const Vertex<N>& x, const Vec3& wi, bool reverse) {
-  const Vec3 a = reverse ? wi : x.wo, b = reverse ? x.wo : wi;
-  if (x.kind == VertexKind::medium) return phase_value(scattering_medium(scene, x.medium)->phase, -a, b);
-  return x.event.pdf(a, b);
+// The radius of iteration `it` (0-based): r_1·(it + 1)^((α − 1)/2).
+double iteration_radius(double r1, int it) { return r1 * std::pow(static_cast<double>(it) + 1.0, 0.5 * (kAlpha - 1.0)); }
+
+std::uint64_t pixel_index(int x, int y, int width) {
+  return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) + static_cast<std::uint64_t>(x);
 }
 
-// The MIS weight of merging camera vertex camera[t − 1] with photon q: the merge's squared
-// density over the sum of all strategies for the same path, relative to the connection of q's
-// predecessor with the camera vertex (s = q.index, t).
+// One iteration of the estimator, in its stages: trace_light_subpaths (the photons),
+// build_photon_lookup (the grids), camera_pass (per pixel: connections and merges) and merge (one
+// camera vertex with the photons around it). Everything its paths share is fixed at construction;
+// its photons go into `lookup`.
 template <std::size_t N>
-double merge_weight(const Bdpt<N>& b, const RenderScene& scene, const std::vector<Vertex<N>>& camera, int t,
-                    const Photon<N>& q) {
-  const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
-  const double rev_prev = to_area_density(direction_pdf(scene, pt, q.wo, false), pt.point, q.prev, q.tau_in);
-  const double c = remap0(rev_prev) / remap0(q.prev.pdf_fwd);
-  double sum = (q.prev.delta ? 0.0 : 1.0) + c * c * q.b;
-  const double rev_before =
-      t >= 3 ? to_area_density(direction_pdf(scene, pt, q.wo, true), pt.point, camera[static_cast<std::size_t>(t - 2)],
-                               pt.tau_in)
-             : 0.0;
-  const double own = sq(q.pdf_fwd * b.eta(pt));
-  double ri = 1.0;
-  for (int i = t - 1; i > 0; --i) {
-    const Vertex<N>& x = camera[static_cast<std::size_t>(i)];
-    const double rev = i == t - 1 ? q.pdf_fwd : i == t - 2 ? rev_before : x.pdf_rev;
-    if (Bdpt<N>::mergeable(x)) sum += sq(ri * rev * b.eta(x));
-    ri *= remap0(rev) / remap0(x.pdf_fwd);
-    if (!x.delta && !camera[static_cast<std::size_t>(i - 1)].delta) sum += ri * ri;
+class Iteration {
+ public:
+  Iteration(const SceneView<N>& view, const RenderSettings& settings, int width, int height, int it, double r1,
+            const WavelengthStrata& strata, const WavelengthStrata& heroes, PhotonLookup<N>& lookup)
+      : view_(view), scene_(view.scene), settings_(settings), width_(width), height_(height), it_(it),
+        w_(view.tables.wavelengths(0.0)), kept_(w_), lookup_(lookup) {
+    // The iteration's wavelengths, hero, kept wavelength and σ̄_s, shared by all its paths.
+    const bool hero = settings.spectral == SpectralMode::hero;
+    Rng irng = sample_rng(settings.seed, 0, it, kIterationSalt);
+    view.tables.restart(w_, hero ? strata.u(it) / static_cast<double>(N) : 0.0);
+    // Every pixel of an iteration shares its hero, so a hero drawn at random tinted the whole
+    // image (a chromatic medium's light went to the wavelengths near the heroes drawn); strata
+    // over the iterations give each index its share.
+    draw_hero(scene_, w_, heroes.u(it));
+    const double dispersion_u = hero ? irng.next_double() : scene_.dispersive ? strata.u(it) : 0.0;
+    kept_ = w_;
+    keep_ = begin_sample(view, w_, dispersion_u, irng, sigma_mean_, kept_);
+    media_ = WalkMedia{sigma_mean_};
+    radius_m_ = iteration_radius(r1, it);
+    merging_ = bidir::vcm_merging(radius_m_, static_cast<double>(width) * height);
   }
-  return sum > 0.0 ? own / sum : 0.0;
+  Iteration(const Iteration&) = delete;  // media_ views sigma_mean_
+  Iteration& operator=(const Iteration&) = delete;
+  double radius_m() const { return radius_m_; }
+
+  // 1. One light subpath per pixel of the whole image, from its own random stream; its vertices
+  // where a path can merge become the photons (by tile, as the threads made them).
+  std::vector<std::vector<Photon<N>>> trace_light_subpaths(const RenderControl& control, RenderStats& stats) const {
+    std::vector<std::vector<Photon<N>>> tiles_photons;
+    std::mutex tiles_mutex;
+    for_each_tile(PixelRegion{0, 0, width_, height_}, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+      std::vector<Photon<N>> mine;
+      std::vector<Vertex<N>> lp;
+      std::vector<double> sums;
+      SampledWavelengths<N> wl = w_;
+      for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+          const std::uint64_t pixel = pixel_index(x, y, width_);
+          Rng lrng = sample_rng(settings_.seed, pixel, it_, kLightSalt);
+          Bdpt<N> b = bdpt(wl, lrng, rays);
+          b.light_subpath(lp, lrng);
+          b.subpath_sums(lp, true, sums);
+          for (std::size_t j = 1; j < lp.size(); ++j)
+            if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings_.max_depth)
+              mine.push_back(make_photon(lp, j, sums, static_cast<std::uint32_t>(pixel)));
+        }
+      const std::lock_guard<std::mutex> lock(tiles_mutex);
+      tiles_photons.push_back(std::move(mine));
+    });
+    return tiles_photons;
+  }
+
+  // 2. The photons sorted into grids of cells 2r wide (surfaces and media apart), in an order
+  // fixed by the paths alone.
+  void build_photon_lookup(std::vector<std::vector<Photon<N>>>&& tiles_photons) {
+    std::size_t count = 0;
+    for (const auto& t : tiles_photons) count += t.size();
+    require_memory(count * sizeof(Photon<N>) * 2,
+                   fmt::format("{}: {} photons of iteration {}", scene_.file.string(), count, it_ + 1));
+    std::vector<Photon<N>> on_surfaces, in_media;
+    for (auto& t : tiles_photons)
+      for (Photon<N>& q : t) (q.medium >= 0 ? in_media : on_surfaces).push_back(std::move(q));
+    tiles_photons.clear();
+    lookup_.surfaces.build(std::move(on_surfaces), radius_m_);
+    lookup_.media.build(std::move(in_media), radius_m_);
+  }
+  std::size_t photons() const { return lookup_.surfaces.size() + lookup_.media.size(); }
+
+  // 3. Per pixel of the region a camera subpath, connected to the light subpath of the same pixel
+  // (traced again from the same stream) by every bidirectional strategy, and merged at each of
+  // its vertices. Returns the merges made.
+  std::uint64_t camera_pass(PixelRegion region, const RenderControl& control, RenderStats& stats,
+                            FilmBuffer& film) const {
+    std::atomic<std::uint64_t> merges{0};
+    for_each_tile(region, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+      std::uint64_t merged = 0;
+      std::vector<Vertex<N>> camera_path, light_path;
+      SampledWavelengths<N> wc = w_;
+      for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x) {
+          const std::uint64_t pixel = pixel_index(x, y, width_);
+          Rng rng = sample_rng(settings_.seed, pixel, it_, kCameraSalt);
+          // The bins of the camera tail's splits (bidirectional.h), the pixel's own: no photon
+          // meets a tail, so they need not be the iteration's.
+          if (scene_.scatters) {
+            WavelengthStrata splits;
+            splits.reset(settings_.seed, pixel, settings_.spp, kSplitStrataSalt);
+            wc.split_u = splits.u(it_);
+          }
+          Rng lrng = sample_rng(settings_.seed, pixel, it_, kLightSalt);
+          Bdpt<N> b = bdpt(wc, rng, rays);
+          const auto [u, v] = subpixel(it_, settings_.spp, rng);
+          b.camera_subpath(view_.camera.generate_ray(x + u, y + v), camera_path, &keep_);
+          b.light_subpath(light_path, lrng);
+          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep_) + b.camera_tail();
+          for (int t = 2; t <= static_cast<int>(camera_path.size()); ++t) merge(b, camera_path, t, wc, l, merged);
+          add_camera_sample(film, view_.tables, wc, x, y, l);
+        }
+      merges += merged;
+    });
+    return merges.load();
+  }
+
+  // 4. Camera vertex camera[t − 1] merged with the photons within r: surfaces by the disc πr²,
+  // media by the ball 4/3·πr³, each merge weighted by Bdpt::merge_weight, added to l.
+  void merge(const Bdpt<N>& b, const std::vector<Vertex<N>>& camera, int t, const SampledWavelengths<N>& wc,
+             SampledSpectrum<N>& l, std::uint64_t& merged) const {
+    const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
+    if (!Bdpt<N>::mergeable(pt)) return;
+    const bool in_medium = pt.kind == VertexKind::medium;
+    SampledSpectrum<N> sigma_s;  // a medium vertex: σ_s(x) at the carried wavelengths
+    if (in_medium) {
+      const ScatteringMedium& sm = *scattering_medium(scene_, pt.medium);
+      sigma_s = view_.tables.at(sm.sigma_s, wc) * static_cast<float>(concentration_at(sm.density, pt.point));
+    }
+    const double norm = 1.0 / (in_medium ? merging_.eta_medium : merging_.eta_surface);
+    auto one = [&](const Photon<N>& q) {
+      if (q.index + t - 2 > settings_.max_depth) return;
+      SampledSpectrum<N> f;
+      if (in_medium) {
+        if (q.medium != pt.medium) return;
+        const float phase = static_cast<float>(phase_value(scattering_medium(scene_, pt.medium)->phase, -pt.wo, q.wo));
+        for (std::size_t k = 0; k < N; ++k) f[k] = sigma_s[k] > 0.0f ? phase / sigma_s[k] : 0.0f;
+        f *= static_cast<float>(norm);
+      } else {
+        if (dot(q.normal, pt.normal) <= 0.0) return;
+        // f·|cos θi| over the geometric cosine the photons' flux density is per (events.h).
+        const double cos_i = std::abs(dot(q.wo, pt.event.ng));
+        if (!(cos_i > 1e-8)) return;
+        f = b.f(pt, q.wo, TransportMode::radiance) * static_cast<float>(norm / cos_i);
+      }
+      const SampledSpectrum<N> c =
+          pt.beta * f * q.beta * ((pt.dispersed || q.dispersed) ? keep_ : SampledSpectrum<N>::constant(1.0f));
+      if (c.is_zero()) return;
+      ++merged;
+      l += c * static_cast<float>(b.merge_weight(camera, t, q.wo, q.mis) / mean_ratio(scene_, pt.r_u * q.r_u));
+    };
+    (in_medium ? lookup_.media : lookup_.surfaces).around(pt.point, one);
+  }
+
+ private:
+  Bdpt<N> bdpt(SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) const {
+    Bdpt<N> b(view_, media_, w, scene_.dispersive ? &kept_ : nullptr, rng, rays);
+    b.set_merging(merging_);
+    return b;
+  }
+
+  const SceneView<N>& view_;
+  const RenderScene& scene_;
+  const RenderSettings& settings_;
+  int width_, height_, it_;
+  SampledWavelengths<N> w_, kept_;
+  SampledSpectrum<N> keep_;
+  std::vector<double> sigma_mean_;
+  WalkMedia media_;
+  double radius_m_ = 0.0;
+  bidir::Merging merging_;
+  PhotonLookup<N>& lookup_;
+};
+
+template <std::size_t N>
+void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
+            SampleRange range, const RenderControl& control, RenderStats& stats) {
+  const SpectralTables<N> tables(scene.spectra, settings.spectral);
+  const Camera camera(scene.camera);
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene)};
+  const double r1 = bidir::vcm_initial_radius(scene, settings);
+  WavelengthStrata strata, heroes;
+  strata.reset(settings.seed, ~std::uint64_t{0}, settings.spp);
+  heroes.reset(settings.seed, ~std::uint64_t{0}, settings.spp, kHeroStrataSalt);
+  const int iterations = range.end - range.begin;
+  PhotonLookup<N> lookup;
+  for (int it = range.begin; it < range.end; ++it) {
+    if (control.cancel && control.cancel->load()) return;
+    // Each iteration's two halves report progress: the light subpaths, then the camera pass.
+    auto half = [&](int k) {
+      RenderControl c{control.threads, control.cancel, {}};
+      if (control.progress) {
+        const double done = static_cast<double>(it - range.begin) + 0.5 * k;
+        c.progress = [&, done](double f) { control.progress((done + 0.5 * f) / iterations); };
+      }
+      return c;
+    };
+    Iteration<N> iteration(view, settings, film.width(), film.height(), it, r1, strata, heroes, lookup);
+    auto photons = iteration.trace_light_subpaths(half(0), stats);
+    // Ctrl-C: the image keeps whole iterations only; the progress says how many, which the film's
+    // splat normalisation reads.
+    if (control.cancel && control.cancel->load()) {
+      if (control.progress) control.progress(static_cast<double>(it - range.begin) / iterations);
+      return;
+    }
+    iteration.build_photon_lookup(std::move(photons));
+    // An iteration begun is finished: its camera pass is not cancelled.
+    RenderControl camera_control = half(1);
+    camera_control.cancel = nullptr;
+    const std::uint64_t merges = iteration.camera_pass(region, camera_control, stats, film);
+    ++stats.iterations;
+    stats.light_paths += static_cast<std::uint64_t>(film.width()) * static_cast<std::uint64_t>(film.height());
+    stats.photons += iteration.photons();
+    stats.merges += merges;
+    stats.radius_m = iteration.radius_m();
+  }
 }
+
+}  // namespace
+
+namespace bidir {
 
 // r_1: the scene's, or two pixel footprints at the distance of the camera's look-at point (a cap
 // by the scene's size, as SmallVCM's 0.3 % of its radius, starves small images of photons: the
 // merges then are rare and heavy-tailed).
-double initial_radius(const RenderScene& scene, const RenderSettings& settings) {
+double vcm_initial_radius(const RenderScene& scene, const RenderSettings& settings) {
   if (settings.merge_radius_m > 0.0) return settings.merge_radius_m;
   const CameraDesc& c = scene.camera;
   const double pixels = std::min(c.width_px, c.height_px);
@@ -222,193 +371,16 @@ double initial_radius(const RenderScene& scene, const RenderSettings& settings) 
   return 2.0 * footprint;
 }
 
-// The merging strategies' η of an iteration with radius r over `light_paths` light subpaths.
-bidir::Merging merging_at(double r, double light_paths) {
+Merging vcm_merging(double r, double light_paths) {
   return {light_paths * std::numbers::pi * r * r, light_paths * 4.0 / 3.0 * std::numbers::pi * r * r * r};
 }
 
-// The radius of iteration `it` (0-based): r_1·(it + 1)^((α − 1)/2).
-double iteration_radius(double r1, int it) { return r1 * std::pow(static_cast<double>(it) + 1.0, 0.5 * (kAlpha - 1.0)); }
-
-template <std::size_t N>
-void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
-            SampleRange range, const RenderControl& control, RenderStats& stats) {
-  const SpectralTables<N> tables(scene.spectra, settings.spectral);
-  const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene)};
-  const int width = film.width(), height = film.height();
-  const double light_paths = static_cast<double>(width) * height;
-  const double r1 = initial_radius(scene, settings);
-  const bool hero = settings.spectral == SpectralMode::hero;
-  const bool stratify = hero || scene.dispersive;
-  WavelengthStrata strata, heroes;
-  strata.reset(settings.seed, ~std::uint64_t{0}, settings.spp);
-  heroes.reset(settings.seed, ~std::uint64_t{0}, settings.spp, kHeroStrataSalt);
-  const int iterations = range.end - range.begin;
-  PhotonGrid<N> surface_grid, medium_grid;
-  for (int it = range.begin; it < range.end; ++it) {
-    if (control.cancel && control.cancel->load()) return;
-    // The iteration's wavelengths, hero, kept wavelength and σ̄_s, shared by all its paths.
-    Rng irng = sample_rng(settings.seed, 0, it, kIterationSalt);
-    SampledWavelengths<N> w = tables.wavelengths(0.0);
-    tables.restart(w, hero ? strata.u(it) / static_cast<double>(N) : 0.0);
-    // Every pixel of an iteration shares its hero, so a hero drawn at random tinted the whole
-    // image (a chromatic medium's light went to the wavelengths near the heroes drawn); strata
-    // over the iterations give each index its share.
-    draw_hero(scene, w, heroes.u(it));
-    const double dispersion_u = hero ? irng.next_double() : stratify ? strata.u(it) : 0.0;
-    std::vector<double> sigma_mean;
-    SampledWavelengths<N> kept = w;
-    const SampledSpectrum<N> keep = begin_sample(view, w, dispersion_u, irng, sigma_mean, kept);
-    const WalkMedia media{sigma_mean};
-    const double r = iteration_radius(r1, it);
-    const bidir::Merging merging = merging_at(r, light_paths);
-    const SampledWavelengths<N>* kept_ptr = scene.dispersive ? &kept : nullptr;
-    auto stage = [&](int k) {
-      RenderControl c{control.threads, control.cancel, {}};
-      if (control.progress) {
-        const double done = static_cast<double>(it - range.begin) + 0.5 * k;
-        c.progress = [&, done](double f) { control.progress((done + 0.5 * f) / iterations); };
-      }
-      return c;
-    };
-
-    // 1. The photons: every pixel's light subpath.
-    std::vector<std::vector<Photon<N>>> tiles_photons;
-    std::mutex tiles_mutex;
-    for_each_tile(PixelRegion{0, 0, width, height}, stage(0), stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
-      // (Cancelled here, the iteration is dropped whole below.)
-      std::vector<Photon<N>> mine;
-      std::vector<Vertex<N>> lp;
-      std::vector<double> sums;
-      SampledWavelengths<N> wl = w;
-      for (int y = tile.y0; y < tile.y1; ++y)
-        for (int x = tile.x0; x < tile.x1; ++x) {
-          const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) + static_cast<std::uint64_t>(x);
-          Rng lrng = sample_rng(settings.seed, pixel, it, kLightSalt);
-          Bdpt<N> b(view, media, wl, kept_ptr, lrng, rays);
-          b.set_merging(merging);
-          b.light_subpath(lp, lrng);
-          light_sums(b, scene, lp, sums);
-          for (std::size_t j = 1; j < lp.size(); ++j)
-            if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings.max_depth)
-              mine.push_back(make_photon(lp, j, sums[j], static_cast<std::uint32_t>(pixel)));
-        }
-      const std::lock_guard<std::mutex> lock(tiles_mutex);
-      tiles_photons.push_back(std::move(mine));
-    });
-    // Ctrl-C: the image keeps whole iterations only; the progress says how many, which the film's
-    // splat normalisation reads.
-    if (control.cancel && control.cancel->load()) {
-      if (control.progress) control.progress(static_cast<double>(it - range.begin) / iterations);
-      return;
-    }
-    std::size_t count = 0;
-    for (const auto& t : tiles_photons) count += t.size();
-    require_memory(count * sizeof(Photon<N>) * 2,
-                   fmt::format("{}: {} photons of iteration {}", scene.file.string(), count, it + 1));
-    std::vector<Photon<N>> on_surfaces, in_media;
-    for (auto& t : tiles_photons)
-      for (Photon<N>& q : t) (q.medium >= 0 ? in_media : on_surfaces).push_back(std::move(q));
-    tiles_photons.clear();
-    surface_grid.build(std::move(on_surfaces), r);
-    medium_grid.build(std::move(in_media), r);
-
-    // 2. The camera subpaths of the region: connections and merges (not cancelled: an iteration
-    // begun is finished).
-    const double norm_surface = 1.0 / merging.eta_surface, norm_medium = 1.0 / merging.eta_medium;
-    RenderControl camera_control = stage(1);
-    camera_control.cancel = nullptr;
-    std::atomic<std::uint64_t> merges{0};
-    for_each_tile(region, camera_control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
-      std::uint64_t merged = 0;
-      std::vector<Vertex<N>> camera_path, light_path;
-      SampledWavelengths<N> wc = w;
-      for (int y = tile.y0; y < tile.y1; ++y)
-        for (int x = tile.x0; x < tile.x1; ++x) {
-          const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) + static_cast<std::uint64_t>(x);
-          Rng rng = sample_rng(settings.seed, pixel, it, kCameraSalt);
-          // The bins of the camera tail's splits (bidirectional.h), the pixel's own: no photon
-          // meets a tail, so they need not be the iteration's.
-          if (scene.scatters) {
-            WavelengthStrata splits;
-            splits.reset(settings.seed, pixel, settings.spp, kSplitStrataSalt);
-            wc.split_u = splits.u(it);
-          }
-          Rng lrng = sample_rng(settings.seed, pixel, it, kLightSalt);
-          Bdpt<N> b(view, media, wc, kept_ptr, rng, rays);
-          b.set_merging(merging);
-          const auto [u, v] = subpixel(it, settings.spp, rng);
-          b.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, &keep);
-          b.light_subpath(light_path, lrng);
-          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep) + b.camera_tail();
-          const int nc = static_cast<int>(camera_path.size());
-          for (int t = 2; t <= nc; ++t) {
-            const Vertex<N>& pt = camera_path[static_cast<std::size_t>(t - 1)];
-            if (!Bdpt<N>::mergeable(pt)) continue;
-            const bool in_medium = pt.kind == VertexKind::medium;
-            SampledSpectrum<N> sigma_s;  // a medium vertex: σ_s(x) at the carried wavelengths
-            if (in_medium) {
-              const ScatteringMedium& sm = *scattering_medium(scene, pt.medium);
-              sigma_s = tables.at(sm.sigma_s, wc) * static_cast<float>(concentration_at(sm.density, pt.point));
-            }
-            auto merge = [&](const Photon<N>& q) {
-              if (q.index + t - 2 > settings.max_depth) return;
-              SampledSpectrum<N> f;
-              if (in_medium) {
-                if (q.medium != pt.medium) return;
-                const float phase =
-                    static_cast<float>(phase_value(scattering_medium(scene, pt.medium)->phase, -pt.wo, q.wo));
-                for (std::size_t k = 0; k < N; ++k) f[k] = sigma_s[k] > 0.0f ? phase / sigma_s[k] : 0.0f;
-                f *= static_cast<float>(norm_medium);
-              } else {
-                if (dot(q.normal, pt.normal) <= 0.0) return;
-                // f·|cos θi| over the geometric cosine the photons' flux density is per (events.h).
-                const double cos_i = std::abs(dot(q.wo, pt.event.ng));
-                if (!(cos_i > 1e-8)) return;
-                f = b.f(pt, q.wo, TransportMode::radiance) * static_cast<float>(norm_surface / cos_i);
-              }
-              const SampledSpectrum<N> c =
-                  pt.beta * f * q.beta * ((pt.dispersed || q.dispersed) ? keep : SampledSpectrum<N>::constant(1.0f));
-              if (c.is_zero()) return;
-              ++merged;
-              l += c * static_cast<float>(merge_weight(b, scene, camera_path, t, q) /
-                                          mean_ratio(scene, pt.r_u * q.r_u));
-            };
-            (in_medium ? medium_grid : surface_grid).around(pt.point, merge);
-          }
-          add_camera_sample(film, tables, wc, x, y, l);
-        }
-      merges += merged;
-    });
-    ++stats.iterations;
-    stats.light_paths += static_cast<std::uint64_t>(light_paths);
-    stats.photons += count;
-    stats.merges += merges.load();
-    stats.radius_m = r;
-  }
+Merging vcm_merging(const RenderScene& scene, const RenderSettings& settings, int iteration) {
+  return vcm_merging(iteration_radius(vcm_initial_radius(scene, settings), iteration),
+                     static_cast<double>(scene.camera.width_px) * scene.camera.height_px);
 }
 
-}  // namespace
-
-BdptMisCheck vcm_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample) {
-  BdptMisCheck out;
-  with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    const double r = iteration_radius(initial_radius(scene, settings), sample);
-    const bidir::Merging merging =
-        merging_at(r, static_cast<double>(scene.camera.width_px) * scene.camera.height_px);
-    std::vector<double> sums;
-    bidir::mis_check<N>(
-        scene, settings, x, y, sample, merging,
-        [&](const Bdpt<N>& b, const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera) {
-          light_sums(b, scene, light, sums);
-          const std::size_t k = light.size() - 1;
-          return merge_weight(b, scene, camera, static_cast<int>(camera.size()), make_photon(light, k, sums[k], 0));
-        },
-        out);
-  });
-  return out;
-}
+}  // namespace bidir
 
 void render_vcm(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                 SampleRange range, const RenderControl& control, RenderStats& stats) {
