@@ -230,32 +230,6 @@ TEST(Bidirectional, WholeMilkBallMatchesThePathTracersReference) {
   }
 }
 
-// A glass tumbler of a dilute scattering liquid on a dark floor, lit only by a point light and a
-// spot: the path tracer's shadow rays stop at the glass and no sampled path finds a delta light,
-// so it leaves the liquid dark; the bidirectional estimator's light subpaths enter the glass and
-// their medium vertices are connected to the camera and to camera-path vertices.
-std::string lit_tumbler(const char* integrator) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, "60 mm", "260 mm"], "look_at": [0, "45 mm", 0], "fov_deg": 22, "resolution": [16, 16]}},
-    "render": {{"integrator": "{}", "spectral": "hero", "max_depth": 64}},
-    "world_medium": "air",
-    "media": {{"glass": {{"ior": 1.52}},
-               "haze": {{"ior": 1.33, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
-                                                    "value": [30, 15], "phase": {{"type": "henyey_greenstein", "g": 0.3}}}}}}}},
-    "objects": [
-      {{"name": "tumbler", "shape": {{"type": "vessel", "wall": "2 mm", "fill": 0.8, "segments": 64,
-                                    "profile": [[0, 0], ["30 mm", 0], ["32 mm", "90 mm"]]}},
-        "inside": "glass", "contents": "haze"}},
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.05}}}}
-    ],
-    "lights": [{{"type": "point", "position": ["-150 mm", "120 mm", "80 mm"], "spectrum": "A", "scale": 0.02}},
-               {{"type": "spot", "position": ["200 mm", "50 mm", 0], "look_at": [0, "40 mm", 0], "cone_deg": 12,
-                 "falloff_deg": 8, "spectrum": "D65", "scale": 0.05}}]
-  }})",
-                     integrator);
-}
-
 // The liquid seen through the glass (green), from two seeds of one estimator: the mean of the two
 // renders over the region and its standard error from each pixel's two values (a pixel's
 // (a − b)²/2 estimates its variance; the region's 48 pixels are independent).
@@ -281,7 +255,7 @@ test::Estimate liquid_estimate(const SceneDesc& desc, IntegratorType integrator,
 // lost its medium connections behind glass leaves the liquid as dark as the path tracer does.
 // Measured: path 0.0009, bdpt 0.034 ± 0.0035.
 TEST(Bidirectional, LightsALiquidInGlassThatThePathTracerLeavesDark) {
-  const SceneDesc desc = parse_scene(lit_tumbler("bdpt"), "tumbler.json");
+  const SceneDesc desc = parse_scene(test::lit_tumbler("bdpt"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
   const double p = test::channel_estimate(path, 1, kLiquidX0, kLiquidY0, kLiquidX1, kLiquidY1).mean;
   const test::Estimate b = liquid_estimate(desc, IntegratorType::bdpt, 2048);
@@ -296,7 +270,7 @@ TEST(Bidirectional, LightsALiquidInGlassThatThePathTracerLeavesDark) {
 // 3.4 %: it converges where bdpt's 1/d² connections do not) and its lower bound (less 4 standard
 // errors) is above ten times the path tracer's (as bdpt's above).
 TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
-  const SceneDesc desc = parse_scene(lit_tumbler("vcm"), "tumbler.json");
+  const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
   const double p = test::channel_estimate(path, 1, kLiquidX0, kLiquidY0, kLiquidX1, kLiquidY1).mean;
   const test::Estimate v = liquid_estimate(desc, IntegratorType::vcm, 1024);
@@ -310,7 +284,7 @@ TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
 // 2048: ± 10 %): a merge counted twice or a connection that vcm shares with bdpt dropped is off by
 // more. About three minutes on 2 loaded cores: `long`.
 TEST(VertexMergingLong, LightsALiquidInGlassLikeBdpt) {
-  const SceneDesc desc = parse_scene(lit_tumbler("vcm"), "tumbler.json");
+  const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const test::Estimate v = liquid_estimate(desc, IntegratorType::vcm, 8192);
   const test::Estimate b = liquid_estimate(desc, IntegratorType::bdpt, 16384);
   const double se = std::hypot(v.standard_error, b.standard_error);
