@@ -8,7 +8,7 @@ FUZZ_TARGETS ?=
 FUZZ_LONG_SECONDS ?= 3600
 ASAN_BUILD ?= build-asan
 
-.PHONY: all deps configure build demo test bench convergence estimators fuzz fuzz-long test-asan clean blender-addon
+.PHONY: all deps configure build demo test test-long bench convergence estimators fuzz fuzz-long test-asan clean blender-addon
 
 all: build
 
@@ -21,12 +21,17 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-# Until the renderer lands (#3): the colours of the standard illuminants.
+# The paper's scenes in full spectrum and in its RGB approach, side by side with their CIEDE2000 map (out/).
 demo: build
 	@bash scripts/demo.sh $(BUILD)
 
+# Every test but those labelled `long` (under 5 minutes on 2 loaded cores).
 test: build
-	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) -LE long
+
+# The tests labelled `long`: high sample counts that a small test cannot replace (minutes).
+test-long: build
+	@ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) -L long
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)

@@ -20,6 +20,10 @@ std::string room_scene(const char* integrator, int spp, std::uint64_t seed);
 // through the glass).
 std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed);
 
+// A glass tumbler of a dilute scattering liquid on a dark floor, lit only by a point light and a
+// spot (16 × 16, hero): only light subpaths reach the liquid through the glass.
+std::string lit_tumbler(const char* integrator);
+
 extern const char* const kChromaticSigmaS;  // a strongly chromatic σ_s: blue scatters 5× as much as red
 
 // White furnace: a medium that scatters without absorbing (albedo 1, chromatic σ_s, HG g = 0.7)

@@ -1,6 +1,6 @@
 #pragma once
-// The front seam: every front end (the JSON loader today; glTF and Python later) describes a
-// scene through one SceneBuilder. Each part is checked where it is added — the physical checks
+// The front seam: every front end (the JSON loader, the glTF reader, the Python module) describes
+// a scene through one SceneBuilder. Each part is checked where it is added — the physical checks
 // live with the types they check — and its errors are one line naming the source and the place
 // the front end gives (`where`, a Source: a file and a key path such as "objects[2]", or a
 // command-line option); build() then checks what parts refer to (medium names) and returns the

@@ -23,7 +23,6 @@
 
 namespace bouguer {
 
-// A glTF material's factors (textures ignored), with the extensions Bouguer reads.
 // A material's texture: its image decoded (OpenImageIO, through io/texture_image.h), its
 // KHR_texture_transform, its sampler's wrapS and wrapT (as the builder's names: "repeat", "clamp",
 // "mirror") and magFilter NEAREST, and its place in the asset for messages.
@@ -35,6 +34,7 @@ struct GltfTexture {
   bool nearest_magnification = false;
 };
 
+// A glTF material's factors and textures, with the extensions Bouguer reads.
 struct GltfMaterial {
   std::string name;
   Vec3 base_color{1, 1, 1};  // linear

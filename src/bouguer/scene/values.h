@@ -1,6 +1,6 @@
 #pragma once
-// What a front end's values mean, in one place for every front end (the JSON loader today, glTF
-// and Python later): lengths with units, library names, RGB colours and how each use lifts them
+// What a front end's values mean, in one place for every front end (the JSON loader, the glTF
+// reader, the Python module): lengths with units, library names, RGB colours and how each use lifts them
 // to a spectrum, spectrum tables and the CSV files they come in, absorption in its units and
 // material files, and the assembly of a medium from its parts. A front end reads its own format
 // into these plain inputs (no JSON here) and the functions below — or SceneBuilder::medium —
