@@ -9,6 +9,7 @@
 #include <openvdb/Metadata.h>
 #include <openvdb/io/Compression.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/points/StreamCompression.h>
 
 #include <algorithm>
 #include <array>
@@ -116,15 +117,19 @@ void header(Cursor& c) {
 }
 
 // One blosc header (blosc.h: nbytes at byte 4, cbytes at byte 12) of a chunk of `chunk` bytes that
-// must decompress to `expected` bytes.
-void blosc_header(Cursor& c, std::uint64_t chunk, std::uint64_t expected, std::string_view what) {
+// must decompress to `expected` bytes, or with `padded` (points/StreamCompression's bloscCompress,
+// which the delayed-load metadata uses) to BLOSC_PAD_BYTES where fewer were compressed.
+void blosc_header(Cursor& c, std::uint64_t chunk, std::uint64_t expected, std::string_view what,
+                  bool padded = false) {
   c.need(chunk, what);
   if (chunk < 16) c.fail("{} at byte {} is {} bytes, shorter than a blosc header", what, c.pos(), chunk);
   const std::string h = c.bytes(16, what);
   std::uint32_t nbytes = 0, cbytes = 0;
   std::memcpy(&nbytes, h.data() + 4, 4);
   std::memcpy(&cbytes, h.data() + 12, 4);
-  if (nbytes != expected || cbytes != chunk)
+  constexpr std::uint64_t kPad = openvdb::compression::BLOSC_PAD_BYTES;
+  const bool pad_ok = padded && expected < kPad && nbytes == kPad;
+  if ((nbytes != expected && !pad_ok) || cbytes != chunk)
     c.fail("{} at byte {}: its blosc header says {} bytes from {}, where the chunk holds {} and its node needs {}",
            what, c.pos() - 16, nbytes, cbytes, chunk, expected);
   c.skip(chunk - 16, what);
@@ -138,7 +143,7 @@ void delayed_load(Cursor& c, std::uint32_t value_bytes) {
   const auto count = c.get<std::uint32_t>("the delayed-load count");
   if (std::uint64_t{count} * 64 > c.size()) c.fail("its delayed-load metadata counts {} leaves", count);
   const auto part = [&](std::uint32_t bytes, std::uint64_t raw, std::string_view what) {
-    if (bytes > 0) blosc_header(c, bytes, raw, what);
+    if (bytes > 0) blosc_header(c, bytes, raw, what, /*padded=*/true);
     else c.skip(raw, what);
   };
   part(c.get<std::uint32_t>("the delayed-load mask size"), count, "the delayed-load mask");
