@@ -361,7 +361,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
   const RenderScene& compiled = *scene.compiled;
   const bool keep_spectra = a.spectra || a.spectral_exr;
   check_settings(compiled, settings, keep_spectra);
-  FilmBuffer buffer = make_film(compiled, settings, keep_spectra);
+  FilmBuffer buffer = make_film(compiled, keep_spectra);
   RenderStats stats;
   PassState st;
   const bool stopped = render_waiting(scene, compiled, settings, buffer, a, stats, st);

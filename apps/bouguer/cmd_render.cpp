@@ -160,7 +160,7 @@ int run_render(const RenderCli& o) {
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
-  FilmBuffer buffer = make_film(scene, settings, keep_spectra);
+  FilmBuffer buffer = make_film(scene, keep_spectra);
   Progress progress(o.quiet);
   RenderStats stats;
   Passes passes;

@@ -40,16 +40,16 @@ OneAndMerged render_one_and_merged(const RenderScene& scene, const RenderSetting
   RenderControl control;
   control.threads = 2;
   RenderStats stats;
-  FilmBuffer one = make_film(scene, settings, spectra);
+  FilmBuffer one = make_film(scene, spectra);
   render_into(scene, settings, one, PixelRegion::whole(scene.camera), {0, settings.spp}, control, stats);
   std::vector<FilmBuffer> films;
-  for (int i = 0; i < parts; ++i) films.push_back(make_film(scene, settings, spectra));
+  for (int i = 0; i < parts; ++i) films.push_back(make_film(scene, spectra));
   // Bands of two rows, as the ranks of distributed/ take them, in an order no rank would keep.
   const int bands = (one.height() + 1) / 2;
   for (int b = 0; b < bands; ++b)
     render_into(scene, settings, films[static_cast<std::size_t>(b * 7 % parts)], {0, 2 * b, one.width(), 2 * b + 2},
                 {0, settings.spp}, control, stats);
-  FilmBuffer merged = make_film(scene, settings, spectra);
+  FilmBuffer merged = make_film(scene, spectra);
   for (const FilmBuffer& f : films) merged.merge(FilmBuffer::deserialise(f.serialise(), "a part"));
   return {one.serialise(), merged.serialise(), resolve(one, settings.spp)};
 }
@@ -81,7 +81,7 @@ TEST(FilmMerge, PiecesMergedEqualOneRenderBitForBitForEveryIntegrator) {
 std::vector<std::byte> example_bytes() {
   const SceneDesc desc = small_example(IntegratorType::light, SpectralMode::full);
   const RenderScene scene = compile(desc);
-  FilmBuffer film = make_film(scene, desc.render, true);
+  FilmBuffer film = make_film(scene, true);
   film.add_sample(1, 2, {0.5, 0.25, 0.125}, 1.0);
   RenderStats stats;
   render_into(scene, desc.render, film, {0, 0, 4, 4}, {0, 1}, {}, stats);

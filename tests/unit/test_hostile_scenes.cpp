@@ -300,7 +300,7 @@ TEST(HostileScene, ARenderTooLargeForMemoryIsRefusedBeforeItAllocates) {
         SceneDesc desc = parse_scene(scene(), "s.json");
         desc.camera.width_px = desc.camera.height_px = 16384;
         const RenderScene s = compile(desc);
-        (void)make_film(s, desc.render, false);
+        (void)make_film(s, false);
       },
       std::size_t{1} << 30);
   EXPECT_TRUE(has(outcome, "error: s.json: a 16384x16384 image needs about 20.0 GiB of memory; ")) << outcome;

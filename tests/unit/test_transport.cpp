@@ -435,12 +435,12 @@ TEST(Splits, SampleRangesAndPixelRegionsGiveTheWholeRenderBitForBit) {
       for (float v : whole.rgb) sum += v;
       ASSERT_GT(sum, 0.0) << integrator << " " << spectral;
 
-      FilmBuffer by_samples = make_film(scene, settings, false);
+      FilmBuffer by_samples = make_film(scene, false);
       for (int s = 0; s < 8; s += 2)  // 4 sample ranges, one after another
         render_into(scene, settings, by_samples, PixelRegion::whole(scene.camera), {s, s + 2}, RenderControl{}, stats);
       EXPECT_TRUE(bit_identical(whole, resolve(by_samples, 8))) << integrator << " " << spectral << ": sample ranges";
 
-      FilmBuffer by_regions = make_film(scene, settings, false);
+      FilmBuffer by_regions = make_film(scene, false);
       const int w = scene.camera.width_px, h = scene.camera.height_px;
       for (const PixelRegion r : {PixelRegion{0, 0, 7, 5}, PixelRegion{7, 0, w, 5}, PixelRegion{0, 5, 11, h},
                                   PixelRegion{11, 5, w, h}})

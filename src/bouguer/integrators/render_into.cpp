@@ -35,7 +35,7 @@ void render_into(const RenderScene& scene, const RenderSettings& settings, FilmB
 Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
             RenderStats& stats, bool keep_spectra) {
   check_settings(scene, settings, keep_spectra);
-  FilmBuffer film = make_film(scene, settings, keep_spectra);
+  FilmBuffer film = make_film(scene, keep_spectra);
   render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, control, stats);
   return resolve(film, settings.spp);
 }

@@ -66,7 +66,7 @@ void check_settings(const RenderScene& scene, const RenderSettings& settings, bo
                scene.file.string(), surface.object, scene.media[static_cast<std::size_t>(m)].name, integrator.name);
 }
 
-FilmBuffer make_film(const RenderScene& scene, const RenderSettings& /*settings*/, bool keep_spectra) {
+FilmBuffer make_film(const RenderScene& scene, bool keep_spectra) {
   std::vector<double> wavelengths;
   if (keep_spectra) {
     const auto basis = make_full_basis();

@@ -9,7 +9,7 @@
 namespace bouguer {
 
 // The film a render of this scene fills; spectra at the full mode's bin centres when asked.
-FilmBuffer make_film(const RenderScene& scene, const RenderSettings& settings, bool keep_spectra);
+FilmBuffer make_film(const RenderScene& scene, bool keep_spectra);
 
 // Checks that the settings fit the scene (an Error naming the scene file otherwise).
 void check_settings(const RenderScene& scene, const RenderSettings& settings, bool keep_spectra);
