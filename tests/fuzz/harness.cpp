@@ -1,8 +1,8 @@
 // The libFuzzer entry point for one reader: built once per target in targets.cpp as
 // fuzz_<name>, with BOUGUER_FUZZ_TARGET naming it (tests/fuzz/CMakeLists.txt). The environment
 // variable BOUGUER_FUZZ_TARGET picks another target, so one binary can be carried to another
-// machine for all (scripts/fuzz-one.sh). A bouguer::Error is the expected answer to bad input;
-// anything else escapes and is a crash.
+// machine for all (FUZZ_BIN and FUZZ_NO_BUILD in scripts/fuzz-lib.sh and fuzz-long.sh). A
+// bouguer::Error is the expected answer to bad input; anything else escapes and is a crash.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>

@@ -49,6 +49,15 @@ void write_vdb_file(const std::filesystem::path& path, const std::vector<VdbTest
   openvdb::io::File(path.string()).write(out);
 }
 
+void write_vdb_file_with_instance(const std::filesystem::path& path, const VdbTestGrid& grid,
+                                  const std::string& instance) {
+  initialize_once();
+  const auto g = make_grid<openvdb::FloatGrid>(grid, [](float v) { return v; });
+  const openvdb::GridBase::Ptr copy = g->copyGrid();
+  copy->setName(instance);
+  openvdb::io::File(path.string()).write(openvdb::GridPtrVec{g, copy});
+}
+
 std::vector<double> openvdb_box_samples(const std::filesystem::path& path, const std::string& name,
                                         const std::vector<Vec3>& points_m) {
   initialize_once();

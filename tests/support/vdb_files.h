@@ -24,6 +24,9 @@ struct VdbTestGrid {
 };
 
 void write_vdb_file(const std::filesystem::path& path, const std::vector<VdbTestGrid>& grids);
+// The grid, then an instance of it named `instance` (a copy sharing its tree, as OpenVDB writes it).
+void write_vdb_file_with_instance(const std::filesystem::path& path, const VdbTestGrid& grid,
+                                  const std::string& instance);
 
 // OpenVDB's BoxSampler (trilinear) of the file's grid at world points.
 std::vector<double> openvdb_box_samples(const std::filesystem::path& path, const std::string& grid,

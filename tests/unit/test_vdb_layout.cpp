@@ -4,6 +4,7 @@
 // first file below makes OpenVDB ask for 140 TB (ASan stops in bloscFromStream).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 #include "bouguer/io/vdb.h"
@@ -51,6 +52,18 @@ TEST(VdbLayout, RefusesAGridPastTheEndOfTheFile) {
 TEST(VdbLayout, RefusesATopologyChunkThatDoesNotDecompress) {
   const fs::path file = kVdbCorpus / "found_zip_flag_on_blosc_chunks.vdb";
   expect_one_line_naming(refusal(file), file, "the zip chunk at byte 8836 does not decompress to the 131072 bytes");
+}
+
+// A grid instance (a second grid sharing the first one's tree) is what OpenVDB writes by default
+// for grids that share a tree; its descriptor leaves the block position at 0. Both grids read.
+TEST(VdbLayout, ReadsAGridInstance) {
+  const fs::path file = test::scratch_dir("vdb_layout_instance") / "instance.vdb";
+  test::write_vdb_file_with_instance(file, test::VdbTestGrid{}, "copy");
+  auto names = vdb_grid_names(file);
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"copy", "density"}));
+  EXPECT_EQ(refusal(file), "");
+  EXPECT_NO_THROW((void)read_vdb_grid(file, "copy"));
 }
 
 // A file cut at any length is refused with one line (a file whose data OpenVDB would read past

@@ -199,7 +199,11 @@ std::vector<Descriptor> descriptors(Cursor& c) {
     const auto grid_pos = c.get<std::int64_t>("a grid position");
     const auto block_pos = c.get<std::int64_t>("a grid position");
     const auto end_pos = c.get<std::int64_t>("a grid position");
-    if (grid_pos != static_cast<std::int64_t>(c.pos()) || block_pos < grid_pos || end_pos < block_pos ||
+    // An instance (Archive::writeGridInstance) shares its parent's tree and never sets its block
+    // position, which stays 0.
+    const bool instance_block = !d.parent.empty() && block_pos == 0;
+    if (grid_pos != static_cast<std::int64_t>(c.pos()) ||
+        (!instance_block && (block_pos < grid_pos || end_pos < block_pos)) || end_pos < grid_pos ||
         static_cast<std::uint64_t>(end_pos) > c.size())
       c.fail("grid descriptor {} at byte {} places its grid at bytes {}, {}, {} in a file of {}", i, c.pos() - 24,
              grid_pos, block_pos, end_pos, c.size());
