@@ -144,6 +144,13 @@ TEST(VertexMerging, ScatteringWhiteFurnaceHomogeneous) {
     EXPECT_NEAR(e.mean, 1.0, 0.01) << "full ch " << c;
     EXPECT_LT(3.0 * e.standard_error, 0.01) << "full ch " << c << ": too few samples for the tolerance";
   }
+}
+
+// The same furnace in hero mode, whose error needs 8 seeds' renders (above): 45 s on 2 loaded
+// cores, so `long`. test_vcm_hero.cpp's strongly chromatic furnace checks hero mode too.
+TEST(VertexMergingLong, ScatteringWhiteFurnaceHomogeneousHero) {
+  SceneDesc desc = parse_scene(test::furnace_scene("", "vcm"), "furnace.json");
+  desc.render.merge_radius_m = 0.001;
   constexpr int kSeeds = 8;
   std::array<std::array<double, kSeeds>, 3> means{};
   for (int seed = 1; seed <= kSeeds; ++seed) {
