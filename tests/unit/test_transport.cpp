@@ -225,10 +225,10 @@ TEST(ExitGuide, StopsWhereTheWalkWould) {
   for (int i = 0; i < 2000; ++i) {
     Rng a(1, static_cast<std::uint64_t>(i)), b(1, static_cast<std::uint64_t>(i));
     const Vec3 arrived = normalize(Vec3{1.0, 0.2, 0.1});
-    if (!environment_through_interfaces(v, x, arrived, phase, milky, guide, w, a, rays, 0, ThroughInterfaces{1, 0})
+    if (!environment_through_interfaces(v, MediumPoint{x, arrived, phase, milky}, guide, w, a, rays, ThroughInterfaces{1, 0})
              .is_zero())
       ++found_one;
-    if (!environment_through_interfaces(v, x, arrived, phase, milky, guide, w, b, rays, 0, ThroughInterfaces{2, 0})
+    if (!environment_through_interfaces(v, MediumPoint{x, arrived, phase, milky}, guide, w, b, rays, ThroughInterfaces{2, 0})
              .is_zero())
       ++found_two;
   }
@@ -323,13 +323,14 @@ TEST(WalkDeep, TakesTheCollisionTheRayWouldHaveGiven) {
       state.medium = milky;
       state.beta = SampledSpectrum<kFullBins>{};
       state.beta[static_cast<std::size_t>(bin)] = 1.5f;
-      state.near.centre = p + Vec3{0.0003, 0, 0};
-      state.near.radius_m = state.near.surface_m = scene.rays.distance_to_surfaces(state.near.centre, 1.0);
+      SurfaceDistance near;
+      near.centre = p + Vec3{0.0003, 0, 0};
+      near.radius_m = near.surface_m = scene.rays.distance_to_surfaces(near.centre, 1.0);
       Rng rng(7, static_cast<std::uint64_t>(i));
       ++tried;
       WalkState<kFullBins> deep = state;
       Rng deep_rng = rng;
-      const auto x = walk_deep(v, deep, w, deep_rng);
+      const auto x = walk_deep(v, deep, near, w, deep_rng);
       if (!x) {  // declined: nothing drawn, nothing changed
         Rng fresh = rng;
         EXPECT_EQ(deep_rng.next_u32(), fresh.next_u32()) << i;
@@ -362,17 +363,18 @@ template <std::size_t N>
 struct RecordVertices {
   static constexpr bool kReverse = false;
   const SceneView<N>& v;
-  WalkState<N>& state;
   const SampledWavelengths<N>& w;
   bool keep_bound;
   std::vector<Vec3> points;
   std::vector<float> betas;
+  SurfaceDistance near;
+  const SurfaceDistance& surface_distance() const { return near; }
   bool vertex(const Vertex<N>& x) {
     points.push_back(x.point);
     betas.push_back(x.beta[static_cast<std::size_t>(w.single)]);
     if (x.kind == VertexKind::medium) {
-      nee_probability_in_medium(v, x.medium, x.point, w, state.near);
-      if (!keep_bound) state.near = {};
+      nee_probability_in_medium(v, x.medium, x.point, w, near);
+      if (!keep_bound) near = {};
     }
     return x.kind != VertexKind::light && points.size() < 20000;
   }
@@ -401,7 +403,7 @@ TEST(WalkDeep, RandomWalksAreTheSameWithAndWithoutIt) {
         state.medium = scene.world_medium;
         state.beta = SampledSpectrum<kFullBins>{};
         state.beta[static_cast<std::size_t>(bin)] = 1.0f;
-        keep.push_back(std::make_unique<RecordVertices<kFullBins>>(RecordVertices<kFullBins>{v, state, w, k == 0, {}, {}}));
+        keep.push_back(std::make_unique<RecordVertices<kFullBins>>(RecordVertices<kFullBins>{v, w, k == 0, {}, {}, {}}));
         runs[static_cast<std::size_t>(k)] = keep.back().get();
         SampledWavelengths<kFullBins> wk = w;
         random_walk(v, WalkMedia{}, TransportMode::radiance, state, wk, rngs[static_cast<std::size_t>(k)],

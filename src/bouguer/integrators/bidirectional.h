@@ -231,14 +231,19 @@ struct KeepThenTrace {
   }
   // Walks of one wavelength (only in the tail): one that has not crossed a dispersive interface
   // follows its own wavelength's indices from here, as the path tracer's do.
-  Radiance<N> split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r) {
+  Radiance<N> split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) {
     if (!s.dispersed) s.kept = nullptr;
-    return tail.split(s, wk, r);
+    return tail.split(s, wk, r, weight);
   }
   void join(const Radiance<N>& child) { tail.join(child); }
+  float split_weight() const { return tail.split_weight(); }
+  // The tail's exit guide and distance bound (radiance.h): neither is set before the tail begins.
+  GuideTrail& exit_guide_trail() { return tail.exit_guide_trail(); }
+  const SurfaceDistance& surface_distance() const { return tail.surface_distance(); }
 };
 static_assert(WalkVisitor<KeepThenTrace<kFullBins>, kFullBins> && KeepsRecords<KeepThenTrace<kFullBins>> &&
-              ChoosesReverse<KeepThenTrace<kFullBins>> && SplitsWalks<KeepThenTrace<kFullBins>, kFullBins>);
+              ChoosesReverse<KeepThenTrace<kFullBins>> && SplitsWalks<KeepThenTrace<kFullBins>, kFullBins> &&
+              GuidesExits<KeepThenTrace<kFullBins>> && BoundsSurfaceDistance<KeepThenTrace<kFullBins>>);
 
 template <std::size_t N>
 void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep_spectrum) {

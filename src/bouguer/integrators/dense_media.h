@@ -79,7 +79,7 @@ bool splits_wavelengths(const SceneView<N>& v, int medium, const SampledWaveleng
 // Makes `w` and `beta` those of split walk i (of kSplitCount<N>); u_nm places a full-mode bin's
 // wavelength within the bin (the one its geometry follows at a dispersive interface). Returns the
 // weight given to the bin (1 but in full mode), which the roulette leaves out (walk.h:
-// WalkState::split_weight).
+// SplitsWalks).
 template <std::size_t N>
 double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, SampledSpectrum<N>& beta, std::size_t i,
                            double u_nm);

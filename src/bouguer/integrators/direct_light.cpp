@@ -157,18 +157,16 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
 }
 
 template <std::size_t N>
-SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
-                                          const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          InsideSet inside) {
-  // Light arriving along −wi continues along `direction` after the event.
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  // Light arriving along −wi leaves the event along −direction, back along the camera walk.
   auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
-    phase_pdf = phase_value(phase, -wi, -direction);
+    phase_pdf = phase_value(at.phase, -wi, -at.direction);
     return SampledSpectrum<N>::constant(static_cast<float>(phase_pdf));
   };
   return direct_light_at(
-      v, PathVertex{x, nullptr, inside}, phase_towards, [&](const Vec3&) { return medium; }, w, path_r_u, rng, rays,
-      NextEvent::lights_and_map_weighted);
+      v, PathVertex{at.x, nullptr, at.inside}, phase_towards, [&](const Vec3&) { return at.medium; }, w, path_r_u,
+      rng, rays, NextEvent::lights_and_map_weighted);
 }
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
@@ -177,9 +175,8 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, 
   template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
       const ThroughInterfaces*); \
-  template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const Vec3&, const Vec3&, \
-      const PhaseFunction&, int, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, \
-      InsideSet);
+  template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const MediumPoint&, \
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&);
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kHeroCount)

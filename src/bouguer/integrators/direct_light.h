@@ -90,13 +90,10 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
                                 std::uint64_t& rays, NextEvent next_event,
                                 const ThroughInterfaces* through = nullptr);
 
-// The same at a scattering event at `x` inside scattering medium `medium`, for light travelling
-// along `direction`: the phase function in place of the BSDF, by the path tracer's strategies
-// (NextEvent::lights_and_map_weighted).
+// The same at a scattering event of a camera walk: the phase function in place of the BSDF, by the
+// path tracer's strategies (NextEvent::lights_and_map_weighted).
 template <std::size_t N>
-SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
-                                          const PhaseFunction& phase, int medium, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          InsideSet inside = 0);
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays);
 
 }  // namespace bouguer

@@ -107,21 +107,20 @@ std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide&
 }
 
 template <std::size_t N>
-SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
-                                                  const PhaseFunction& phase, int medium, const ExitGuide& guide,
+SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const MediumPoint& at, const ExitGuide& guide,
                                                   const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                                                  InsideSet inside, ThroughInterfaces through) {
+                                                  ThroughInterfaces through) {
   const RenderScene& s = v.scene;
   const double u1 = rng.next_double(), u2 = rng.next_double();
   const auto wi = sample_exit_guide(s, guide, u1, u2);
   if (!wi) return {};
   const double guide_pdf = exit_guide_pdf(s, guide, *wi);
-  // As in direct_light_in_medium: light arriving along −wi goes on along `direction`.
-  const double phase_pdf = phase_value(phase, -*wi, -direction);
+  // As in direct_light_in_medium: light arriving along −wi leaves along −direction.
+  const double phase_pdf = phase_value(at.phase, -*wi, -at.direction);
   if (!(guide_pdf > 0.0) || !(phase_pdf > 0.0)) return {};
   // (A walk of one wavelength: exit_guide_at.)
   const SampledSpectrum<N> l =
-      carry_to_environment(v, RaySegment{Ray{x, *wi}, x, medium, inside, through.crossings},
+      carry_to_environment(v, RaySegment{Ray{at.x, *wi}, at.x, at.medium, at.inside, through.crossings},
                            SampledSpectrum<N>::constant(static_cast<float>(phase_pdf)), w, rays, through.surfaces_left,
                            ScatteringMedia::closed_form);
   return l * static_cast<float>(power_heuristic(guide_pdf, phase_pdf) / guide_pdf);
@@ -132,9 +131,8 @@ SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const V
       const SampledWavelengths<N>&, std::uint64_t&, int, ScatteringMedia); \
   template ExitGuide exit_guide_at(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, \
       SurfaceDistance&, InsideSet); \
-  template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const Vec3&, const Vec3&, \
-      const PhaseFunction&, int, const ExitGuide&, const SampledWavelengths<N>&, Rng&, std::uint64_t&, InsideSet, \
-      ThroughInterfaces);
+  template SampledSpectrum<N> environment_through_interfaces(const SceneView<N>&, const MediumPoint&, \
+      const ExitGuide&, const SampledWavelengths<N>&, Rng&, std::uint64_t&, ThroughInterfaces);
 BOUGUER_EXIT_GUIDE_INSTANTIATE(kFullBins)
 BOUGUER_EXIT_GUIDE_INSTANTIATE(3)
 BOUGUER_EXIT_GUIDE_INSTANTIATE(kHeroCount)

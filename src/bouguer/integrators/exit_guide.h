@@ -49,8 +49,8 @@ SampledSpectrum<N> carry_to_environment(const SceneView<N>& v, RaySegment seg, S
 // (environment_through_interfaces). The guess only shapes a density: where it is wrong the
 // connection is noisier, never biased. The walk's own paths that leave the same way (a
 // phase-function direction, no event before the surface, refractions only) are weighted against
-// it by the power heuristic (the walk keeps the guide of its last medium vertex: walk.h,
-// WalkState::guide).
+// it by the power heuristic (the walk keeps the guide of its last medium vertex: GuideTrail,
+// below).
 inline constexpr double kExitGuideDepth = 3.0;
 inline constexpr std::uint64_t kExitGuideStream = 0x65786974;  // "exit"
 // Unless the scene says (RenderSettings::exit_guide), the guide runs where the map's contrast
@@ -91,20 +91,35 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
 // scattering medium, no wavelength kept at a dispersive interface on the way) are weighted against
 // it as unblocked ones are against next-event estimation (radiance.h, walk.h).
 inline ExitGuide surface_exit_guide() { return {Vec3{}, 1.0, true}; }
+// The guide a walk carries from its last medium or non-specular surface vertex (walk.h:
+// GuidesExits; the path tracer's visitor holds it, radiance.h), the direction drawn there and its
+// phase or BSDF density: a walk that leaves from there through smooth interfaces only, to the map,
+// is weighted against the guide. Cleared at any other vertex but a smooth interface's refraction;
+// a surface's also in a scattering medium and where the walk keeps one wavelength at a dispersive
+// interface.
+struct GuideTrail {
+  ExitGuide guide;
+  Vec3 dir;
+  double phase_pdf = 0.0;
+  void clear() { guide = {}; }
+  void drew(const Vec3& d, double pdf) {
+    dir = d;
+    phase_pdf = pdf;
+  }
+};
 // The guide's solid-angle density of the direction wi out of the vertex: the map's density of the
 // direction wi refracts into at the plane, times |dω_out/dω_in| = η²·cos θin / cos θout; 0 for
 // a direction into the medium or one the plane reflects totally.
 double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi);
 // A direction drawn from it (the map's sample carried back through the plane), or none.
 std::optional<Vec3> sample_exit_guide(const RenderScene& scene, const ExitGuide& guide, double u1, double u2);
-// The connection itself at medium vertex x (as direct_light_in_medium's arguments): what reaches
-// the map along a direction drawn from the guide, through at least one smooth interface,
+// The connection itself at a camera walk's medium vertex (direct_light.h: MediumPoint): what
+// reaches the map along a direction drawn from the guide, through at least one smooth interface,
 // MIS-weighted against the phase function's direction; zero where it meets any other surface.
 // It stops where the walk would (`through`).
 template <std::size_t N>
-SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const Vec3& x, const Vec3& direction,
-                                                  const PhaseFunction& phase, int medium, const ExitGuide& guide,
+SampledSpectrum<N> environment_through_interfaces(const SceneView<N>& v, const MediumPoint& at, const ExitGuide& guide,
                                                   const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays,
-                                                  InsideSet inside, ThroughInterfaces through);
+                                                  ThroughInterfaces through);
 
 }  // namespace bouguer

@@ -34,7 +34,8 @@ struct SplatToCamera {
     if (x.kind == VertexKind::medium) {
       if (++scatterings > kMaxScatterings) return false;
       const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
-      splat_medium_to_camera(v, x.point, -x.wo, phase, x.medium, x.beta, w, x.r_u, rng, film, rays, x.inside);
+      splat_medium_to_camera(v, MediumPoint{x.point, -x.wo, phase, x.medium, x.inside}, x.beta, w, x.r_u, rng, film,
+                             rays);
       return true;
     }
     if (++surfaces > v.max_depth) return false;

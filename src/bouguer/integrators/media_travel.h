@@ -133,6 +133,17 @@ struct RaySegment {
   int crossings = 0;
 };
 
+// A scattering event as the connections from it read it (direct_light.h, exit_guide.h, splats.h): where it is, the direction the walk
+// arrived along (a camera walk's: light leaves the event along its reverse; a light walk's: light
+// arrives along it), the phase function, the medium and the nested objects the walk was inside.
+struct MediumPoint {
+  Vec3 x;
+  Vec3 direction;
+  const PhaseFunction& phase;
+  int medium = -1;
+  InsideSet inside = 0;
+};
+
 // The head of a path, what its next step changes: its ray segment (the ray it goes on along, the
 // medium that ray travels in) and the throughput (walk.h's WalkState is one).
 template <std::size_t N>

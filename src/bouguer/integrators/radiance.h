@@ -25,6 +25,17 @@ struct Radiance {
   // contribution of a path that has crossed a dispersive interface is multiplied by (N at the
   // kept wavelength, 0 elsewhere). None in the path tracer, which keeps one wavelength instead.
   const SampledSpectrum<N>* dispersed_keep = nullptr;
+  // What only this visitor reads of the walk (walk.h: its abilities): the exit guide carried from
+  // the last guided vertex (GuidesExits), the last bound on the distance to the surfaces near the
+  // walk (BoundsSurfaceDistance: next-event estimation's thinning keeps it, dense_media.h), and a
+  // split walk's bin weight (SplitsWalks).
+  GuideTrail trail = {};
+  SurfaceDistance near = {};
+  float bin_weight = 1.0f;
+
+  GuideTrail& exit_guide_trail() { return trail; }
+  const SurfaceDistance& surface_distance() const { return near; }
+  float split_weight() const { return bin_weight; }
 
   void add(const SampledSpectrum<N>& c) { l += dispersed_keep && state.dispersed ? c * *dispersed_keep : c; }
 
@@ -37,15 +48,14 @@ struct Radiance {
       // Through smooth interfaces from a guided vertex: against the guide (exit_guide.h). A surface's
       // guide is next-event estimation's own sample carried on, so it is weighted as that is.
       auto against_the_guide = [&] {
-        const ExitGuide& g = state.guide;
-        const double guide_pdf = exit_guide_pdf(scene, g, state.guide_dir);
-        return g.from_surface
-                   ? spectral_power_heuristic(scene, state.guide_phase_pdf, state.mis.r_u, guide_pdf, state.mis.r_l)
-                   : power_heuristic(state.guide_phase_pdf, guide_pdf);
+        const ExitGuide& g = trail.guide;
+        const double guide_pdf = exit_guide_pdf(scene, g, trail.dir);
+        return g.from_surface ? spectral_power_heuristic(scene, trail.phase_pdf, state.mis.r_u, guide_pdf, state.mis.r_l)
+                              : power_heuristic(trail.phase_pdf, guide_pdf);
       };
       double weight = 1.0;
       if (arrived == 0.0) {
-        if (state.guide.active()) weight = against_the_guide();
+        if (trail.guide.active()) weight = against_the_guide();
       } else if (scene.environment) {
         weight = spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
       }
@@ -61,8 +71,8 @@ struct Radiance {
 
   // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
   // to nothing yet; join() takes what it found.
-  Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r) const {
-    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep};
+  Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight};
   }
   void join(const Radiance& child) { l += child.l; }
 
@@ -80,7 +90,7 @@ struct Radiance {
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
       add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays,
                                 NextEvent::lights_and_map_weighted, guided ? &through : nullptr));
-      if (guided) state.guide = surface_exit_guide();
+      if (guided) trail.guide = surface_exit_guide();
     }
     moved_to(x.point);
     return true;
@@ -91,23 +101,21 @@ struct Radiance {
     const RenderScene& scene = v.scene;
     if (++scatterings > kMaxScatterings) return false;
     const int medium = state.medium;
-    const Vec3 direction = state.ray.direction;  // the one it arrived along
-    const PhaseFunction& phase = scattering_medium(scene, medium)->phase;
+    // (the direction it arrived along: the walk replaces the ray's after this)
+    const MediumPoint at{point, state.ray.direction, scattering_medium(scene, medium)->phase, medium, state.inside};
     // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
-    const double q = nee_probability_in_medium(v, medium, point, w, state.near);
+    const double q = nee_probability_in_medium(v, medium, point, w, near);
     if (q >= 1.0 || rng.next_double() < q)
-      add(state.beta *
-          direct_light_in_medium(v, point, direction, phase, medium, w, state.mis.r_u, rng, rays, state.inside) *
-          static_cast<float>(1.0 / q));
+      add(state.beta * direct_light_in_medium(v, at, w, state.mis.r_u, rng, rays) * static_cast<float>(1.0 / q));
     // Near the boundary, through it (exit_guide.h: ExitGuide). Its numbers come from a stream of its
     // own, so the walk's moves on by one however many the connection takes.
     // (None where the walk could not cross one more surface.)
-    state.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, state.near, state.inside) : ExitGuide{};
-    if (state.guide.active()) {
+    trail.guide = surfaces < v.max_depth ? exit_guide_at(v, medium, point, w, near, state.inside) : ExitGuide{};
+    if (trail.guide.active()) {
       Rng side(rng.next_u32(), kExitGuideStream);
       add(state.beta *
-          environment_through_interfaces(v, point, direction, phase, medium, state.guide, w, side, rays,
-                                         state.inside, ThroughInterfaces{v.max_depth - surfaces, state.crossings}) *
+          environment_through_interfaces(v, at, trail.guide, w, side, rays,
+                                         ThroughInterfaces{v.max_depth - surfaces, state.crossings}) *
           static_cast<float>(1.0 / mean_ratio(scene, state.mis.r_u)));
     }
     moved_to(point);
@@ -120,6 +128,7 @@ struct Radiance {
   }
 };
 static_assert(WalkVisitor<Radiance<kFullBins>, kFullBins> && TakesMediumPoints<Radiance<kFullBins>> &&
-              SplitsWalks<Radiance<kFullBins>, kFullBins>);
+              SplitsWalks<Radiance<kFullBins>, kFullBins> && GuidesExits<Radiance<kFullBins>> &&
+              BoundsSurfaceDistance<Radiance<kFullBins>>);
 
 }  // namespace bouguer

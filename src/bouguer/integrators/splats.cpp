@@ -34,14 +34,13 @@ void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const Surfac
 }
 
 template <std::size_t N>
-void splat_medium_to_camera(const SceneView<N>& v, const Vec3& x, const Vec3& direction, const PhaseFunction& phase,
-                            int medium, const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
-                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays,
-                            InsideSet inside) {
-  const auto c = v.camera.connect(x);
+void splat_medium_to_camera(const SceneView<N>& v, const MediumPoint& at, const SampledSpectrum<N>& beta,
+                            const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                            FilmBuffer& film, std::uint64_t& rays) {
+  const auto c = v.camera.connect(at.x);
   if (!c) return;
-  const auto p = static_cast<float>(phase_value(phase, direction, c->wi));
-  splat_towards(v, PathVertex{x, nullptr, inside}, *c, medium, beta * p, w, path_r_u, rng, film, rays);
+  const auto p = static_cast<float>(phase_value(at.phase, at.direction, c->wi));
+  splat_towards(v, PathVertex{at.x, nullptr, at.inside}, *c, at.medium, beta * p, w, path_r_u, rng, film, rays);
 }
 
 template <std::size_t N>
@@ -59,9 +58,8 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
   template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
       const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, \
       std::uint64_t&); \
-  template void splat_medium_to_camera(const SceneView<N>&, const Vec3&, const Vec3&, const PhaseFunction&, int, \
-      const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, \
-      std::uint64_t&, InsideSet); \
+  template void splat_medium_to_camera(const SceneView<N>&, const MediumPoint&, const SampledSpectrum<N>&, \
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&); \
   template void splat_light_to_camera(const SceneView<N>&, const Hit&, const AreaLight&, int, \
       const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&, std::uint64_t&);
 BOUGUER_SPLATS_INSTANTIATE(kFullBins)

@@ -26,12 +26,12 @@ void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const Surfac
                              const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
                              const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays);
 
-// The same for a scattering event at `x` in `medium` of a light path travelling along `direction`.
+// The same for a scattering event of a light path (direct_light.h: MediumPoint, its direction the
+// one the light arrived along).
 template <std::size_t N>
-void splat_medium_to_camera(const SceneView<N>& v, const Vec3& x, const Vec3& direction, const PhaseFunction& phase,
-                            int medium, const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
-                            const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays,
-                            InsideSet inside = 0);
+void splat_medium_to_camera(const SceneView<N>& v, const MediumPoint& at, const SampledSpectrum<N>& beta,
+                            const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                            FilmBuffer& film, std::uint64_t& rays);
 
 // A light path's first vertex on an area light (the lamp seen directly): `beta` is the emitted
 // radiance over the densities of choosing the light and the point; medium is the one in front.

@@ -97,26 +97,10 @@ struct WalkState : PathHead<N> {
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
   int events = 0;  // vertices so far (Russian roulette)
-  // A lower bound on the distance to every surface near the walk (dense_media.h: the path tracer's
-  // next-event estimation keeps it): deep in a homogeneous medium, a walk of one wavelength whose
-  // next collision falls within it needs no ray.
-  SurfaceDistance near;
-  // The weight the split gave a walk's bin (full mode: 1/(4·P(bin)); 1 otherwise). It is a
-  // choice of spectral sample, not a path's attenuation: the roulette judges the throughput
-  // without it, as it judged the path before the split (without this, full mode's split walks,
-  // at about 24 times their path's throughput, never played it; dense_media.h: kSplitCount).
-  float split_weight = 1.0f;
-  float single_mean_ratio = 0.0f;  // the mean of the ratios once one wavelength is left (0: not yet)
-  // The exit guide the visitor set at the last medium or non-specular surface vertex (the path
-  // tracer's next-event estimation through the interfaces, exit_guide.h: ExitGuide and
-  // surface_exit_guide), the direction drawn there and its phase or BSDF density: a walk that
-  // leaves from there through smooth interfaces only, to the map, is weighted against the guide.
-  // Cleared at any other vertex but a smooth interface's refraction; a surface's also in a
-  // scattering medium and where the walk keeps one wavelength at a dispersive interface.
-  ExitGuide guide;
-  Vec3 guide_dir;
-  double guide_phase_pdf = 0.0;
 };
+// What only the path tracer reads (the bound that lets walk_deep go without a ray, the exit guide,
+// a split walk's bin weight) is its visitor's (radiance.h), which the walk asks for by the
+// abilities below (BoundsSurfaceDistance, GuidesExits, SplitsWalks).
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
 // a light at infinity), times the segment's distance density. `to`: a Vertex, or any record with
@@ -138,25 +122,26 @@ double to_area_density(double pdf_dir, const Vec3& from, const V& to, double tau
   return pdf;
 }
 
-// A walk of one wavelength deep in a homogeneous scattering medium (#20): when the bound in
-// state.near (the distance from its last query point to the nearest surface, less how far the
-// walk has moved from there, less a float margin) exceeds where the next collision falls (read
-// from a copy of the stream), the collision comes before any surface, so it is taken without a
-// ray: the same vertex, from the same numbers, as the ray would have given. Nothing otherwise
+// A walk of one wavelength deep in a homogeneous scattering medium (#20): when the bound `near`
+// (the visitor's last distance from a query point to the nearest surface, dense_media.h: less how
+// far the walk has moved from there, less a float margin) exceeds where the next collision falls
+// (read from a copy of the stream), the collision comes before any surface, so it is taken without
+// a ray: the same vertex, from the same numbers, as the ray would have given. Nothing otherwise
 // (more than one wavelength carried, a varying density, a medium no object encloses, no bound
 // yet, a collision beyond it). This holds where the scene's media agree: the ray takes the medium
 // from the surface it will meet (medium_arrived_through), walk_deep keeps the vertex's, and the
 // two differ only where two surfaces disagree about the medium between them.
 template <std::size_t N>
-std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const SampledWavelengths<N>& w, Rng& rng) {
-  if (!w.secondary_terminated() || !(state.near.radius_m > 0.0)) return std::nullopt;
+std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const SurfaceDistance& near,
+                              const SampledWavelengths<N>& w, Rng& rng) {
+  if (!w.secondary_terminated() || !(near.radius_m > 0.0)) return std::nullopt;
   const ScatteringMedium* sm = scattering_medium(v.scene, state.medium);
   if (!sm || !v.scene.media[static_cast<std::size_t>(state.medium)].enclosed) return std::nullopt;
   const Vec3& p = state.start;
   // The ray's hit point is on the double-precision triangle within float rounding of the scene's
   // coordinates.
   const double margin_m = 1e-5 * v.scene.rays.rounding_scale_m(p);
-  const double safe_m = state.near.radius_m - length(p - state.near.centre) - margin_m;
+  const double safe_m = near.radius_m - length(p - near.centre) - margin_m;
   if (!(safe_m > 0.0)) return std::nullopt;
   const auto single = static_cast<std::size_t>(w.single);
   if (!(first_collision_m(*sm, v.tables, w, single, rng) < safe_m)) return std::nullopt;
@@ -203,16 +188,37 @@ template <typename V>
 concept TakesMediumPoints = requires(V& visit, const Vec3& point) {
   { visit.medium_vertex(point) } -> std::same_as<bool>;
 };
-// SplitsWalks: split(state, wavelengths, rng) -> child and join(child): at a dense chromatic
-//   medium (dense_media.h: kSplitCount) a walk of one wavelength from here for each of the split's
-//   wavelengths, each walked by its own child visitor (itself a WalkVisitor) from a copy of the
-//   state and of the random stream, then joined back.
+// SplitsWalks: split(state, wavelengths, rng, bin_weight) -> child and join(child): at a dense
+//   chromatic medium (dense_media.h: kSplitCount) a walk of one wavelength from here for each of
+//   the split's wavelengths, each walked by its own child visitor (itself a WalkVisitor) from a
+//   copy of the state and of the random stream, then joined back; split_weight() -> float, the
+//   weight its own bin was given (1 for a walk never split; full mode: 1/(4·P(bin)) times its
+//   parent's), which the roulette leaves out: a choice of spectral sample, not a path's
+//   attenuation (without it, full mode's split walks, at about 24 times their path's throughput,
+//   never played the roulette). The child of bin weight b is given b times the parent's.
 template <typename V, std::size_t N>
-concept SplitsWalks = requires(V& visit, WalkState<N>& s, SampledWavelengths<N>& w, Rng& r) {
-  visit.join(visit.split(s, w, r));
+concept SplitsWalks = requires(V& visit, const V& cvisit, WalkState<N>& s, SampledWavelengths<N>& w, Rng& r) {
+  visit.join(visit.split(s, w, r, 1.0f));
+  { cvisit.split_weight() } -> std::same_as<float>;
 } && WalkVisitor<decltype(std::declval<V&>().split(std::declval<WalkState<N>&>(),
-                                                    std::declval<SampledWavelengths<N>&>(), std::declval<Rng&>())),
+                                                    std::declval<SampledWavelengths<N>&>(), std::declval<Rng&>(), 1.0f)),
                  N>;
+// BoundsSurfaceDistance: surface_distance() -> const SurfaceDistance&, the visitor's last bound
+//   on the distance to every surface near the walk (dense_media.h: the path tracer's next-event
+//   estimation keeps it), from which walk_deep takes collisions deep in a medium without a ray.
+template <typename V>
+concept BoundsSurfaceDistance = requires(const V& visit) {
+  { visit.surface_distance() } -> std::same_as<const SurfaceDistance&>;
+};
+// GuidesExits: exit_guide_trail() -> GuideTrail&, the exit guide the visitor sets at its vertices
+//   (exit_guide.h: the path tracer's next-event estimation through smooth interfaces), which the
+//   walk carries on: it records the direction drawn at each medium or non-specular surface vertex
+//   and its density, and clears the guide where the walk's own way no longer matches the guide's
+//   connection (random_walk says where).
+template <typename V>
+concept GuidesExits = requires(V& visit) {
+  { visit.exit_guide_trail() } -> std::same_as<GuideTrail&>;
+};
 
 // Whether a visitor wants every vertex as a record just now (KeepsRecords).
 template <typename Visitor>
@@ -234,6 +240,15 @@ bool wants_reverse(const Visitor& visit) {
     return true;
 }
 
+// The bin weight of a walk (SplitsWalks; 1 for a visitor that never splits).
+template <typename Visitor>
+float split_weight(const Visitor& visit) {
+  if constexpr (requires { { visit.split_weight() } -> std::same_as<float>; })
+    return visit.split_weight();
+  else
+    return 1.0f;
+}
+
 // Walks on from `state` in the transport mode of the subpath (radiance: from the camera, which
 // then also meets lamps and escapes to a light at infinity; importance: from a light), and hands
 // each vertex to the visitor (Tungsten's TraceBase, pbrt-v4's RandomWalk; the visitor's contract:
@@ -248,6 +263,11 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   const RenderScene& scene = v.scene;
   double tau = 0.0;  // along the segment from the last vertex, across index-matched boundaries
   int& events = state.events;
+  // The visitor's exit guide (GuidesExits) and distance bound (BoundsSurfaceDistance), if it has them.
+  GuideTrail* trail = nullptr;
+  if constexpr (GuidesExits<Visitor>) trail = &visit.exit_guide_trail();
+  const SurfaceDistance* near = nullptr;
+  if constexpr (BoundsSurfaceDistance<Visitor>) near = &visit.surface_distance();
   auto make = [&](VertexKind kind, const Vec3& point) {
     Vertex<N> x;
     x.kind = kind;
@@ -271,23 +291,26 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     ++events;
   };
   // What the roulette divides the throughput by (the mean of the path's ratios, and a split walk's
-  // bin weight: WalkState::split_weight), and the one wavelength carried (−1: several).
+  // bin weight: SplitsWalks), and the one wavelength carried (−1: several).
   // A walk of one wavelength no longer changes its ratios (media/scattering.h: sample_scattering),
   // so their mean, 96 additions in full mode, is taken once.
+  const float bin_weight = split_weight(visit);
+  float single_mean_ratio = 0.0f;  // (0: not yet)
   auto roulette_divisor = [&] {
-    if (!w.secondary_terminated()) return mean_ratio(scene, state.mis.r_u) * state.split_weight;
-    if (!(state.single_mean_ratio > 0.0f)) state.single_mean_ratio = mean_ratio(scene, state.mis.r_u);
-    return state.single_mean_ratio * state.split_weight;
+    if (!w.secondary_terminated()) return mean_ratio(scene, state.mis.r_u) * bin_weight;
+    if (!(single_mean_ratio > 0.0f)) single_mean_ratio = mean_ratio(scene, state.mis.r_u);
+    return single_mean_ratio * bin_weight;
   };
   auto roulette = [&] { return RouletteReading{roulette_divisor(), w.secondary_terminated() ? w.single : -1}; };
   // A vertex in the medium at x, reached along d (by the ray's segment, or by walk_deep without a
   // ray): record it, then the phase function's direction and the roulette. False ends the walk.
-  auto medium_vertex = [&](const Vec3& x, const Vec3& d) -> bool {
+  // (d by value: the phase function replaces the ray's direction before the reverse density reads d.)
+  auto medium_vertex = [&](const Vec3& x, const Vec3 d) -> bool {
     state.cone_width_m += state.cone_spread_rad * length(x - state.ray.origin);
     tau += scattering_depth(v, media, state.medium, state.start, d, length(x - state.start));
     if (state.beta.is_zero()) return false;
     const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
-    state.guide = {};
+    if (trail) trail->clear();
     // A visitor that reads a medium vertex from the state alone (the path tracer's) is handed its
     // point: no record of 2 KB to fill and copy at each of a dense walk's thousands of collisions.
     bool by_point = false;
@@ -307,8 +330,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if constexpr (Visitor::kReverse)
       if (wants_reverse(visit)) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
     state.pdf_dir = *phase_pdf;
-    state.guide_dir = state.ray.direction;
-    state.guide_phase_pdf = *phase_pdf;
+    if (trail) trail->drew(state.ray.direction, *phase_pdf);
     moved_on(x);
     return true;
   };
@@ -317,13 +339,12 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   // and each segment up to a surface may end in a collision (through_medium), split into walks of
   // one wavelength, or end the walk (nothing left, a lamp).
   std::optional<Vec3> collision;  // a medium vertex before the next surface
-  // The direction a collision on a ray's segment arrived along (a copy: medium_vertex reads it
-  // after the phase function has drawn the next one). walk_deep's collision is handed the ray's
-  // own direction, state.ray.direction, as it was before this loop was shared.
+  // The direction a collision on a ray's segment arrived along (the segment's own, a copy of the
+  // ray's); walk_deep's collision arrived along the ray's direction.
   Vec3 arrived;
   bool on_segment = false;
   auto before_ray = [&] {
-    collision = walk_deep(v, state, w, rng);
+    collision = near ? walk_deep(v, state, *near, w, rng) : std::nullopt;
     on_segment = false;
     return !collision;
   };
@@ -331,7 +352,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!hit) return true;  // (a camera subpath may end on a light at infinity: below)
     state.medium = medium_arrived_through(*seen, state.ray, *hit, state.medium);
     // A surface's guide goes through no scattering medium (exit_guide.h: surface_exit_guide).
-    if (state.guide.from_surface && scattering_medium(scene, state.medium)) state.guide = {};
+    if (trail && trail->guide.from_surface && scattering_medium(scene, state.medium)) trail->clear();
     const Vec3 d = state.ray.direction;
     // A visitor that can split (the path tracer's) does so at a dense chromatic medium (dense_media.h:
     // kSplitCount): each walk takes this segment again from the same state and a copy of the same
@@ -347,8 +368,8 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
           WalkState<N> sub = state;
           SampledWavelengths<N> wk = w;
           Rng r = common;
-          sub.split_weight = static_cast<float>(keep_split_wavelength(v, wk, sub.beta, i, u_nm)) * state.split_weight;
-          auto child = visit.split(sub, wk, r);
+          const float weight = static_cast<float>(keep_split_wavelength(v, wk, sub.beta, i, u_nm)) * bin_weight;
+          auto child = visit.split(sub, wk, r, weight);
           random_walk(v, media, mode, sub, wk, r, rays, child);
           visit.join(child);
         }
@@ -401,7 +422,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     const Vec3 d = state.ray.direction;
     // A surface's guide goes through no dispersive interface while several wavelengths ride on the
     // path (exit_guide.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
-    if (state.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, seen)) state.guide = {};
+    if (trail && trail->guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, seen)) trail->clear();
     if (!state.kept)
       keep_one_wavelength(v, seen, w, state.beta, state.dispersion_u, rng);
     else if (!state.dispersed && is_dispersive(scene, seen))
@@ -413,17 +434,17 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     vx.event = surface_event(v, hit, seen, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
-    if (!vx.delta) state.guide = {};  // (the visitor may set a surface's: radiance.h)
+    if (trail && !vx.delta) trail->clear();  // (the visitor may set a surface's: radiance.h)
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, hit, e, wo, mode, events, state, rng, roulette());
     if (!bsdf_pdf) return;
-    if (!vx.delta) {
-      state.guide_dir = state.ray.direction;  // (kept only where the visitor set a guide)
-      state.guide_phase_pdf = *bsdf_pdf;
-    } else if (seen.surface.kind != SurfaceKind::interface ||
-               dot(d, hit.normal) * dot(state.ray.direction, hit.normal) <= 0.0) {
-      state.guide = {};  // a reflection, or a thin sheet: the guide's connection crosses neither
+    if (trail) {
+      if (!vx.delta)
+        trail->drew(state.ray.direction, *bsdf_pdf);  // (read only where the visitor set a guide)
+      else if (seen.surface.kind != SurfaceKind::interface ||
+               dot(d, hit.normal) * dot(state.ray.direction, hit.normal) <= 0.0)
+        trail->clear();  // a reflection, or a thin sheet: the guide's connection crosses neither
     }
     state.inside = inside_towards(scene, hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
