@@ -50,8 +50,12 @@ const char* kNested = R"({"name": "tumbler", "shape": {"type": "vessel", "wall":
 // Mean ΔE00 of the nested glass against the vessel. With the same seed the two renders draw the
 // same random numbers (a false intersection draws none), so their noise cancels and what is left
 // is the difference of the two models (the wine 0.02 mm wider, and the paths that this sends
-// another way): at most `tolerance`. At another seed, the nested glass may differ from the vessel
-// no more than the vessel differs from itself (the seed-to-seed spread, 5 % and 0.05 of slack).
+// another way): at most `tolerance` (measured 0.018–0.029 ΔE00 for path, Whitted and bdpt;
+// tolerance 0.1). At another seed, the nested glass may differ from the vessel no more than the
+// vessel differs from itself (the seed-to-seed spread, 5 % and 0.05 of slack), and that spread is
+// capped at 1.5 ΔE00 (measured 0.64, 1.11 and 1.17), so the slack stays under 0.125 ΔE00: a nested
+// model that changed the image beyond the noise (a wrong medium in the overlap) cannot hide in
+// a noisier render.
 void expect_like_the_vessel(const char* integrator, int spp, double tolerance) {
   const Film vessel = test::render_text(wine_scene(kVessel, integrator, spp, 1));
   const Film vessel2 = test::render_text(wine_scene(kVessel, integrator, spp, 2));
@@ -66,14 +70,15 @@ void expect_like_the_vessel(const char* integrator, int spp, double tolerance) {
               "the vessel seed to seed %.3f\n",
               integrator, spp, same_seed.mean, same_seed.p95, other_seed.mean, noise.mean);
   EXPECT_LT(same_seed.mean, tolerance) << integrator;
+  EXPECT_LT(noise.mean, 1.5) << integrator << ": too noisy for the other seed's comparison";
   EXPECT_LT(other_seed.mean, 1.05 * noise.mean + 0.05) << integrator;
 }
 
-TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselPathTracer) { expect_like_the_vessel("path", 512, 0.5); }
+TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselPathTracer) { expect_like_the_vessel("path", 512, 0.1); }
 
-TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselWhitted) { expect_like_the_vessel("whitted", 16, 0.5); }
+TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselWhitted) { expect_like_the_vessel("whitted", 16, 0.1); }
 
-TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselBidirectional) { expect_like_the_vessel("bdpt", 128, 0.5); }
+TEST(NestedMedia, OverlappingGlassAndWineRenderLikeTheVesselBidirectional) { expect_like_the_vessel("bdpt", 128, 0.1); }
 
 }  // namespace
 }  // namespace bouguer

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace bouguer::test {
 
@@ -181,6 +182,12 @@ Estimate difference_estimate(const Film& a, const Film& b, int channel) {
       sum2 += d * d;
     }
   return from_sums(sum, sum2, a.width * a.height);
+}
+
+Estimate seeds_estimate(std::span<const Film> films, int channel, int x0, int y0, int x1, int y1) {
+  std::vector<double> means;
+  for (const Film& f : films) means.push_back(channel_estimate(f, channel, x0, y0, x1, y1).mean);
+  return mean_estimate(means);
 }
 
 Estimate mean_estimate(std::span<const double> values) {

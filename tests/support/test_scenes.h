@@ -51,5 +51,10 @@ Estimate channel_estimate(const Film& f, int channel, int x0, int y0, int x1, in
 Estimate difference_estimate(const Film& a, const Film& b, int channel);
 // Mean and standard error of independent values (the image means of several seeds).
 Estimate mean_estimate(std::span<const double> values);
+// One channel's mean over pixels [x0, x1) × [y0, y1), averaged over renders of independent seeds,
+// and its standard error from their spread (K − 1 degrees of freedom). For an estimator whose
+// pixels share random numbers, vcm's (every pixel of an iteration merges the same photons and, in
+// hero mode, shares its wavelengths), one image's pixels understate the error; the seeds do not.
+Estimate seeds_estimate(std::span<const Film> films, int channel, int x0, int y0, int x1, int y1);
 
 }  // namespace bouguer::test

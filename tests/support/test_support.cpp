@@ -128,6 +128,20 @@ Film render_desc(const SceneDesc& desc, int threads) {
   return render(compile(desc), desc.render, control, stats);
 }
 
+std::vector<Film> render_seeds(const SceneDesc& desc, int seeds, std::uint64_t first_seed, int threads) {
+  const RenderScene scene = compile(desc);
+  RenderControl control;
+  control.threads = threads;
+  RenderSettings settings = desc.render;
+  std::vector<Film> films;
+  for (int k = 0; k < seeds; ++k) {
+    settings.seed = first_seed + static_cast<std::uint64_t>(k);
+    RenderStats stats;
+    films.push_back(render(scene, settings, control, stats));
+  }
+  return films;
+}
+
 Film render_text(const std::string& json, int threads) { return render_desc(parse_scene(json, "test.json"), threads); }
 
 fs::path test_data(const std::string& relative) { return fs::path(BOUGUER_SOURCE_DIR) / "tests" / "data" / relative; }

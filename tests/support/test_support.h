@@ -1,5 +1,6 @@
 #pragma once
 // Helpers shared by the tests: scratch folders, running the bouguer binary.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -44,6 +45,9 @@ namespace bouguer::test {
 
 // Compiles the description and renders it with its own settings on `threads` threads (0: all).
 Film render_desc(const SceneDesc& desc, int threads = 0);
+// Renders of one scene with the seeds first_seed, first_seed + 1, ... (`seeds` of them), each at
+// desc.render's spp, the scene compiled once.
+std::vector<Film> render_seeds(const SceneDesc& desc, int seeds, std::uint64_t first_seed, int threads = 0);
 // The same from scene-file text.
 Film render_text(const std::string& json, int threads = 0);
 
