@@ -263,11 +263,22 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   const RenderScene& scene = v.scene;
   double tau = 0.0;  // along the segment from the last vertex, across index-matched boundaries
   int& events = state.events;
-  // The visitor's exit guide (GuidesExits) and distance bound (BoundsSurfaceDistance), if it has them.
-  GuideTrail* trail = nullptr;
-  if constexpr (GuidesExits<Visitor>) trail = &visit.exit_guide_trail();
-  const SurfaceDistance* near = nullptr;
-  if constexpr (BoundsSurfaceDistance<Visitor>) near = &visit.surface_distance();
+  // The visitor's exit guide (GuidesExits) and distance bound (BoundsSurfaceDistance); for one
+  // without them, a guide of the walk's own that nothing reads and no bound (radius < 0).
+  GuideTrail unread;
+  GuideTrail& trail = [&]() -> GuideTrail& {
+    if constexpr (GuidesExits<Visitor>)
+      return visit.exit_guide_trail();
+    else
+      return unread;
+  }();
+  const SurfaceDistance none;
+  const SurfaceDistance& near = [&]() -> const SurfaceDistance& {
+    if constexpr (BoundsSurfaceDistance<Visitor>)
+      return visit.surface_distance();
+    else
+      return none;
+  }();
   auto make = [&](VertexKind kind, const Vec3& point) {
     Vertex<N> x;
     x.kind = kind;
@@ -304,13 +315,12 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   auto roulette = [&] { return RouletteReading{roulette_divisor(), w.secondary_terminated() ? w.single : -1}; };
   // A vertex in the medium at x, reached along d (by the ray's segment, or by walk_deep without a
   // ray): record it, then the phase function's direction and the roulette. False ends the walk.
-  // (d by value: the phase function replaces the ray's direction before the reverse density reads d.)
-  auto medium_vertex = [&](const Vec3& x, const Vec3 d) -> bool {
+  auto medium_vertex = [&](const Vec3& x, const Vec3& d) -> bool {
     state.cone_width_m += state.cone_spread_rad * length(x - state.ray.origin);
     tau += scattering_depth(v, media, state.medium, state.start, d, length(x - state.start));
     if (state.beta.is_zero()) return false;
     const ScatteringMedium& sm = *scattering_medium(scene, state.medium);
-    if (trail) trail->clear();
+    trail.clear();
     // A visitor that reads a medium vertex from the state alone (the path tracer's) is handed its
     // point: no record of 2 KB to fill and copy at each of a dense walk's thousands of collisions.
     bool by_point = false;
@@ -324,13 +334,17 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       vx.sigma_rho = media.sigma(state.medium) * concentration_at(sm.density, x);
       if (!record(vx)) return false;
     }
+    // (d may be the ray's own direction, which the phase function replaces: the reverse density
+    // reads a copy, taken only for a visitor that reads reverse densities.)
+    [[maybe_unused]] Vec3 arrived_along;
+    if constexpr (Visitor::kReverse) arrived_along = d;
     // (The roulette counts this vertex as the surfaces' continuation does not: as before the walk.)
     const auto phase_pdf = continue_from_medium(scene, sm, x, events + 1, state, rng, mode, roulette());
     if (!phase_pdf) return false;
     if constexpr (Visitor::kReverse)
-      if (wants_reverse(visit)) visit.reverse(phase_value(sm.phase, -state.ray.direction, -d));
+      if (wants_reverse(visit)) visit.reverse(phase_value(sm.phase, -state.ray.direction, -arrived_along));
     state.pdf_dir = *phase_pdf;
-    if (trail) trail->drew(state.ray.direction, *phase_pdf);
+    trail.drew(state.ray.direction, *phase_pdf);
     moved_on(x);
     return true;
   };
@@ -344,7 +358,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   Vec3 arrived;
   bool on_segment = false;
   auto before_ray = [&] {
-    collision = near ? walk_deep(v, state, *near, w, rng) : std::nullopt;
+    collision = walk_deep(v, state, near, w, rng);
     on_segment = false;
     return !collision;
   };
@@ -352,7 +366,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!hit) return true;  // (a camera subpath may end on a light at infinity: below)
     state.medium = medium_arrived_through(*seen, state.ray, *hit, state.medium);
     // A surface's guide goes through no scattering medium (exit_guide.h: surface_exit_guide).
-    if (trail && trail->guide.from_surface && scattering_medium(scene, state.medium)) trail->clear();
+    if (trail.guide.from_surface && scattering_medium(scene, state.medium)) trail.clear();
     const Vec3 d = state.ray.direction;
     // A visitor that can split (the path tracer's) does so at a dense chromatic medium (dense_media.h:
     // kSplitCount): each walk takes this segment again from the same state and a copy of the same
@@ -422,7 +436,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     const Vec3 d = state.ray.direction;
     // A surface's guide goes through no dispersive interface while several wavelengths ride on the
     // path (exit_guide.h: surface_exit_guide), whether the walk keeps one here or defers it (bdpt, vcm).
-    if (trail && trail->guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, seen)) trail->clear();
+    if (trail.guide.from_surface && !w.secondary_terminated() && is_dispersive(scene, seen)) trail.clear();
     if (!state.kept)
       keep_one_wavelength(v, seen, w, state.beta, state.dispersion_u, rng);
     else if (!state.dispersed && is_dispersive(scene, seen))
@@ -434,17 +448,16 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     vx.event = surface_event(v, hit, seen, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
-    if (trail && !vx.delta) trail->clear();  // (the visitor may set a surface's: radiance.h)
+    if (!vx.delta) trail.clear();  // (the visitor may set a surface's: radiance.h)
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
     const auto bsdf_pdf = continue_path(scene, hit, e, wo, mode, events, state, rng, roulette());
     if (!bsdf_pdf) return;
-    if (trail) {
-      if (!vx.delta)
-        trail->drew(state.ray.direction, *bsdf_pdf);  // (read only where the visitor set a guide)
-      else if (seen.surface.kind != SurfaceKind::interface ||
-               dot(d, hit.normal) * dot(state.ray.direction, hit.normal) <= 0.0)
-        trail->clear();  // a reflection, or a thin sheet: the guide's connection crosses neither
+    if (!vx.delta) {
+      trail.drew(state.ray.direction, *bsdf_pdf);  // (read only where the visitor set a guide)
+    } else if (seen.surface.kind != SurfaceKind::interface ||
+               dot(d, hit.normal) * dot(state.ray.direction, hit.normal) <= 0.0) {
+      trail.clear();  // a reflection, or a thin sheet: the guide's connection crosses neither
     }
     state.inside = inside_towards(scene, hit, state.inside, state.ray.direction);
     if constexpr (Visitor::kReverse)
