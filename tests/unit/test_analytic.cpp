@@ -373,7 +373,9 @@ TEST(AnalyticSurface, SphereSetUpCostsNoMoreThanABox) {
 }
 
 // The scene format: analytic by default, "tessellate" for triangles; a sphere or cylinder bounds a
-// medium, a disk does not; emitters stay triangles.
+// medium, a disk does not; an emitting sphere stays exact (one SphereLight, sampled by its solid
+// angle) where it emits one-sided, untextured, and a transform keeps it a sphere; other emitters
+// are triangles.
 TEST(AnalyticSurface, SceneFormat) {
   auto compiled = [](const std::string& objects) {
     return compile(parse_scene(fmt::format(R"({{"camera": {{"resolution": [8, 8]}},
@@ -385,8 +387,25 @@ TEST(AnalyticSurface, SceneFormat) {
       compiled(R"({"name": "rod", "shape": {"type": "cylinder", "radius": 0.01, "height": 0.05}, "inside": "glass"})");
   EXPECT_TRUE(cylinder.rays.mesh(0).triangles.empty());
   const RenderScene lamp = compiled(R"({"name": "lamp", "shape": {"type": "sphere", "radius": 0.01},
+                                        "transform": [{"scale": 2}, {"rotate_deg": [30, [1, 2, 3]]},
+                                                      {"translate": [0.1, 0.2, 0.3]}],
                                         "emission": {"spectrum": "D65"}})");
-  EXPECT_FALSE(lamp.rays.mesh(0).triangles.empty());
+  EXPECT_TRUE(lamp.rays.mesh(0).triangles.empty());
+  ASSERT_EQ(lamp.surfaces[0].first_light, 0);
+  const auto* sphere = std::get_if<SphereLight>(&lamp.lights[0]);
+  ASSERT_NE(sphere, nullptr);
+  EXPECT_NEAR(sphere->radius_m, 0.02, 1e-15);
+  EXPECT_NEAR(length(sphere->centre_m - Vec3{0.1, 0.2, 0.3}), 0.0, 1e-15);
+  for (const char* lamp_json : {R"({"name": "lamp", "shape": {"type": "sphere", "radius": 0.01},
+                                   "emission": {"spectrum": "D65", "two_sided": true}})",
+                                R"({"name": "lamp", "shape": {"type": "sphere", "radius": 0.01},
+                                   "transform": [{"scale": [1, 2, 1]}], "emission": {"spectrum": "D65"}})",
+                                R"({"name": "lamp", "shape": {"type": "sphere", "radius": 0.01, "tessellate": true},
+                                   "emission": {"spectrum": "D65"}})"}) {
+    const RenderScene tessellated = compiled(lamp_json);
+    EXPECT_FALSE(tessellated.rays.mesh(0).triangles.empty()) << lamp_json;
+    EXPECT_TRUE(std::holds_alternative<AreaLight>(tessellated.lights[0])) << lamp_json;
+  }
   const RenderScene disk = compiled(R"({"name": "d", "shape": {"type": "disk", "radius": 0.01, "tessellate": true},
                                         "material": {"type": "diffuse", "reflectance": 0.5}})");
   EXPECT_EQ(disk.rays.mesh(0).triangles.size(), 128u);

@@ -302,7 +302,7 @@ template <std::size_t N>
 double Bdpt<N>::pdf_light(const Vertex<N>& y, const Vertex<N>& next, double tau) const {
   const Light& light = s_.lights[static_cast<std::size_t>(y.light)];
   if (y.infinite) return to_area_density(pdf_le(light, s_.bounds, -y.light_dir).pos, next.point - y.light_dir, next, tau, true);
-  return to_area_density(pdf_le(light, s_.bounds, normalize(next.point - y.point)).dir, y.point, next, tau);
+  return to_area_density(pdf_le(light, s_.bounds, normalize(next.point - y.point), y.normal).dir, y.point, next, tau);
 }
 
 // The density with which the camera's rays reach `next`.
@@ -515,6 +515,7 @@ SampledSpectrum<N> Bdpt<N>::connect(const std::vector<Vertex<N>>& light, const s
     y.light_dir = li->wi;
     if (!y.infinite) y.point = pt.point + li->wi * li->distance_m;
     if (const auto* a = std::get_if<AreaLight>(&lamp)) y.normal = a->normal;
+    if (const auto* sp = std::get_if<SphereLight>(&lamp)) y.normal = normalize(y.point - sp->centre_m);
     y.pdf_fwd = pdf_light_origin(y);
     return l * static_cast<float>(mis_weight(light, camera, &y, 1, t, tr->tau) / mean_ratio(s_, pt.r_u, tr->ratios.r_l));
   }

@@ -53,8 +53,8 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
   WalkState<N> state;
   if (!start_light_subpath(v, w, rng, y, state)) return;
   state.dispersion_u = dispersion_u;
-  if (const auto* area = std::get_if<AreaLight>(&v.scene.lights[static_cast<std::size_t>(y.light)]))
-    splat_light_to_camera(v, y.hit, *area, state.medium, y.beta, w, rng, film, rays);
+  if (const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)]; on_a_surface(lamp))
+    splat_light_to_camera(v, y.hit, lamp, state.medium, y.beta, w, rng, film, rays);
   SplatToCamera<N> splat{v, w, rng, film, rays};
   random_walk(v, WalkMedia{}, TransportMode::importance, state, w, rng, rays, splat);
 }

@@ -39,9 +39,11 @@ inline SampledSpectrum<N> escaped(const SceneView<N>& v, int medium, const Vec3&
   return v.tables.at(b.radiance, w);
 }
 
-inline const AreaLight& area_light_at(const RenderScene& scene, const Hit& hit) {
+// The light of an emitter hit: its triangle's area light, or the emitting sphere (one light, its
+// hits' primitive 0: AnalyticPart::side).
+inline const Light& surface_light_at(const RenderScene& scene, const Hit& hit) {
   const Surface& s = scene.surfaces[hit.geometry];
-  return std::get<AreaLight>(scene.lights[static_cast<std::size_t>(s.first_light) + hit.primitive]);
+  return scene.lights[static_cast<std::size_t>(s.first_light) + hit.primitive];
 }
 
 // An area light's radiance spectrum at texture coordinates uv: its spectrum, times its emission
@@ -65,10 +67,11 @@ inline SampledSpectrum<N> sample_radiance(const SceneView<N>& v, const LightSamp
 // Radiance an emitter hit sends back along wo (zero behind a one-sided emitter).
 template <std::size_t N>
 inline SampledSpectrum<N> emitted(const SceneView<N>& v, const Hit& hit, const Vec3& wo, const SampledWavelengths<N>& w) {
-  const AreaLight& light = area_light_at(v.scene, hit);
-  const double factor = emitted_factor(light, wo);
+  const Light& light = surface_light_at(v.scene, hit);
+  const double factor = emitted_factor(light, wo, hit.normal);
   if (factor == 0.0) return {};
-  return area_radiance(v, light.radiance, light.texture, hit.uv, w) * static_cast<float>(factor);
+  const EmitterRadiance r = emitter_radiance(light);
+  return area_radiance(v, r.spectrum, r.texture, hit.uv, w) * static_cast<float>(factor);
 }
 
 // What undoes, for Russian roulette, the scaling of radiance by (η_o/η_i)² at each refraction

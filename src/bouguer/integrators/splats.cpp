@@ -44,12 +44,12 @@ void splat_medium_to_camera(const SceneView<N>& v, const MediumPoint& at, const 
 }
 
 template <std::size_t N>
-void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight& light, int medium,
+void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const Light& light, int medium,
                            const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, Rng& rng,
                            FilmBuffer& film, std::uint64_t& rays) {
   const auto c = v.camera.connect(at.point);
   if (!c) return;
-  const double factor = emitted_factor(light, c->wi) * std::abs(dot(c->wi, light.normal));
+  const double factor = emitted_factor(light, c->wi, at.normal) * std::abs(dot(c->wi, at.normal));
   splat_towards(v, PathVertex{at.point, &at}, *c, medium, beta * static_cast<float>(factor), w,
                 SampledSpectrum<N>::constant(1.0f), rng, film, rays);
 }
@@ -60,7 +60,7 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight
       std::uint64_t&); \
   template void splat_medium_to_camera(const SceneView<N>&, const MediumPoint&, const SampledSpectrum<N>&, \
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&); \
-  template void splat_light_to_camera(const SceneView<N>&, const Hit&, const AreaLight&, int, \
+  template void splat_light_to_camera(const SceneView<N>&, const Hit&, const Light&, int, \
       const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&, std::uint64_t&);
 BOUGUER_SPLATS_INSTANTIATE(kFullBins)
 BOUGUER_SPLATS_INSTANTIATE(3)

@@ -33,10 +33,11 @@ void splat_medium_to_camera(const SceneView<N>& v, const MediumPoint& at, const 
                             const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
                             FilmBuffer& film, std::uint64_t& rays);
 
-// A light path's first vertex on an area light (the lamp seen directly): `beta` is the emitted
-// radiance over the densities of choosing the light and the point; medium is the one in front.
+// A light path's first vertex on a surface emitter (an area light or a sphere: the lamp seen
+// directly), `at` with the emitter's outward normal: `beta` is the emitted radiance over the
+// densities of choosing the light and the point; medium is the one in front.
 template <std::size_t N>
-void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const AreaLight& light, int medium,
+void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const Light& light, int medium,
                            const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, Rng& rng,
                            FilmBuffer& film, std::uint64_t& rays);
 

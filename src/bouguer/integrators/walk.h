@@ -471,6 +471,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
 // lamp inside an object: the first boundary the walk meets from inside sets it right).
 inline int emission_medium(const RenderScene& scene, const Light& light) {
   if (const auto* a = std::get_if<AreaLight>(&light)) return scene.surfaces[a->geometry].medium_front;
+  if (const auto* sp = std::get_if<SphereLight>(&light)) return scene.surfaces[sp->geometry].medium_front;
   return scene.world_medium;
 }
 
@@ -503,6 +504,10 @@ bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, 
     y.hit.geometry = a->geometry;
     y.hit.primitive = a->primitive;
     y.hit.uv = le->uv;
+  } else if (const auto* sp = std::get_if<SphereLight>(&light)) {
+    y.hit.point = le->ray.origin;
+    y.hit.normal = le->normal;
+    y.hit.geometry = sp->geometry;
   }
   y.light_dir = -le->ray.direction;
   y.beta = radiance * static_cast<float>(1.0 / (pmf * le->pdf_pos));

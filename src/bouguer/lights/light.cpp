@@ -63,11 +63,40 @@ double cos_cone(const SpotProfile& s) { return std::cos(s.cone_deg * kPi / 180.0
 // Infinite lights leave from a disk facing the scene: density of the origin per m².
 double disk_pdf(const SceneBounds& b) { return 1.0 / (kPi * b.radius_m * b.radius_m); }
 
+// The cone of directions a sphere subtends from p outside it: sin²θmax and 1 − cos θmax, the
+// latter as sin²θmax / (1 + cos θmax), which does not cancel for a small cone (1 − √(1 − sin²θmax)
+// loses all its digits below about 1e-8 sr; pbrt-v4 takes a Taylor term there, 2e-4 off at its
+// threshold); nothing from inside or on the sphere.
+struct SphereCone {
+  double sin2_max = 0.0, one_minus_cos_max = 0.0;
+};
+std::optional<SphereCone> sphere_cone(const SphereLight& sp, const Vec3& p) {
+  const Vec3 to_centre = sp.centre_m - p;
+  const double dc2 = dot(to_centre, to_centre), r2 = sp.radius_m * sp.radius_m;
+  if (!(dc2 > r2)) return std::nullopt;
+  const double sin2_max = r2 / dc2;
+  return SphereCone{sin2_max, sin2_max / (1.0 + std::sqrt(1.0 - sin2_max))};
+}
+
+double safe_sqrt(double x) { return std::sqrt(std::max(0.0, x)); }
+
 }  // namespace
 
 double emitted_factor(const AreaLight& light, const Vec3& direction) {
   if (!light.two_sided && dot(direction, light.normal) <= 0.0) return 0.0;
   return light.spot ? spot_falloff(*light.spot, direction) : 1.0;
+}
+
+double emitted_factor(const Light& light, const Vec3& direction, const Vec3& normal) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) return emitted_factor(*a, direction);
+  if (std::holds_alternative<SphereLight>(light)) return dot(direction, normal) > 0.0 ? 1.0 : 0.0;
+  return 0.0;
+}
+
+EmitterRadiance emitter_radiance(const Light& light) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) return {a->radiance, a->texture};
+  if (const auto* sp = std::get_if<SphereLight>(&light)) return {sp->radiance, -1};
+  return {};
 }
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2) {
@@ -84,6 +113,24 @@ std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double
     s.texture = a->texture;
     s.uv = q.uv;
     return s;
+  }
+  if (const auto* sp = std::get_if<SphereLight>(&light)) {
+    // A direction of the cone (θ from its axis, uniform in cos θ: 1 − cos θ = u·(1 − cos θmax),
+    // and sin²θ from it without cancellation), then the point of the near cap it meets, by the
+    // angle α at the centre between the direction back to p and its normal.
+    const auto cone = sphere_cone(*sp, p);
+    if (!cone) return std::nullopt;  // (the inside does not emit)
+    const double one_minus_cos = u1 * cone->one_minus_cos_max, cos_theta = 1.0 - one_minus_cos;
+    const double sin2_theta = one_minus_cos * (2.0 - one_minus_cos);
+    const double cos_alpha = sin2_theta / std::sqrt(cone->sin2_max) +
+                             cos_theta * safe_sqrt(1.0 - sin2_theta / cone->sin2_max);
+    const double sin_alpha = safe_sqrt(1.0 - cos_alpha * cos_alpha), phi = 2.0 * kPi * u2;
+    const Vec3 n = Frame(normalize(sp->centre_m - p))
+                       .to_world(Vec3{-sin_alpha * std::cos(phi), -sin_alpha * std::sin(phi), -cos_alpha});
+    const Vec3 to = sp->centre_m + n * sp->radius_m - p;
+    const double d = length(to);
+    if (!(d > 0.0)) return std::nullopt;
+    return li_sample(to / d, d, 1.0 / (2.0 * kPi * cone->one_minus_cos_max), false, 1.0, sp->radiance);
   }
   if (const auto* pt = std::get_if<PointLight>(&light)) {
     const Vec3 to = pt->position_m - p;
@@ -117,6 +164,10 @@ double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q) 
     const double d2 = dot(to, to), cos_light = std::abs(dot(a->normal, wi));
     return cos_light > 0.0 ? d2 / (cos_light * a->area_m2) : 0.0;
   }
+  if (const auto* sp = std::get_if<SphereLight>(&light)) {  // (wi meets the sphere: q is on it)
+    const auto cone = sphere_cone(*sp, p);
+    return cone ? 1.0 / (2.0 * kPi * cone->one_minus_cos_max) : 0.0;
+  }
   if (std::holds_alternative<BackgroundLight>(light)) return 1.0 / (4.0 * kPi);
   if (const auto* e = std::get_if<EnvironmentLight>(&light)) return e->map->pdf(wi);
   return 0.0;  // delta lights are never found by chance
@@ -145,6 +196,16 @@ std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bo
     s.pdf_pos = 1.0 / a->area_m2;
     s.pdf_dir = side * local.z / kPi;
     s.spectrum = a->radiance;
+    return s;
+  }
+  if (const auto* sp = std::get_if<SphereLight>(&light)) {
+    const Vec3 n = uniform_sphere(u1, u2), local = sample_cosine_hemisphere(u3, u4);
+    if (local.z <= 0.0) return std::nullopt;
+    s.ray = {sp->centre_m + n * sp->radius_m, Frame(n).to_world(local)};
+    s.normal = n;
+    s.pdf_pos = 1.0 / (4.0 * kPi * sp->radius_m * sp->radius_m);
+    s.pdf_dir = local.z / kPi;
+    s.factor = 1.0, s.spectrum = sp->radiance;
     return s;
   }
   if (const auto* pt = std::get_if<PointLight>(&light)) {
@@ -190,12 +251,14 @@ std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bo
   return s;
 }
 
-LightLePdf pdf_le(const Light& light, const SceneBounds& bounds, const Vec3& direction) {
+LightLePdf pdf_le(const Light& light, const SceneBounds& bounds, const Vec3& direction, const Vec3& normal) {
   if (const auto* a = std::get_if<AreaLight>(&light)) {
     const double c = dot(direction, a->normal);
     if (!a->two_sided && c <= 0.0) return {1.0 / a->area_m2, 0.0};
     return {1.0 / a->area_m2, std::abs(c) / kPi * (a->two_sided ? 0.5 : 1.0)};
   }
+  if (const auto* sp = std::get_if<SphereLight>(&light))
+    return {1.0 / (4.0 * kPi * sp->radius_m * sp->radius_m), std::max(0.0, dot(direction, normal)) / kPi};
   if (std::holds_alternative<PointLight>(light)) return {1.0, 1.0 / (4.0 * kPi)};
   if (const auto* sp = std::get_if<SpotLight>(&light)) {
     const double c = cos_cone(sp->profile);

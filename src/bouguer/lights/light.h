@@ -1,6 +1,7 @@
 #pragma once
-// Lights as a closed set: area emitters (one per triangle), point, spot and distant lights, a
-// constant background and an environment map, each a small plain struct with the same verbs.
+// Lights as a closed set: area emitters (one per triangle), emitting spheres, point, spot and
+// distant lights, a constant background and an environment map, each a small plain struct with
+// the same verbs.
 // Spectra are ids into the scene's spectral tables: a light sample returns the id and a scalar
 // factor on it, so lights hold nothing per spectral mode. Radiance and intensity spectra use the
 // normalisation of spectra/cie.h.
@@ -13,6 +14,8 @@
 //       area light).
 //   sample_le(light, bounds, u): a ray leaving the light, the densities of its origin (per m²)
 //       and direction (per sr), 1 for a delta in either, and the factor on the spectrum.
+//   emitted_factor(light, direction, normal): the factor on a surface emitter's radiance (an area
+//       light or a sphere) leaving a point with outward normal `normal` in `direction`.
 //   power(light, ...): emitted flux as luminance (lm-like units of the normalisation), for
 //       choosing lights in proportion to what they give.
 #include <array>
@@ -47,6 +50,18 @@ struct AreaLight {
   double texture_mean = 1.0;                    // > 0
 };
 
+// An emitting sphere (analytic, not tessellated), radiating outward only with the radiance
+// `radiance`, uniform over its surface. Seen from outside it is sampled by the cone of directions
+// it subtends (pbrt-v4's Sphere::Sample: every direction of the cone meets it, and none of the
+// points that face away is drawn); its light paths leave from a point drawn uniformly by area,
+// cosine-distributed about the normal.
+struct SphereLight {
+  std::uint32_t geometry = 0;
+  Vec3 centre_m;
+  double radius_m = 0.0;
+  int radiance = -1;  // spectrum id
+};
+
 struct PointLight {
   Vec3 position_m;
   int intensity = -1;
@@ -73,7 +88,12 @@ struct EnvironmentLight {
   const EnvironmentMap* map = nullptr;
 };
 
-using Light = std::variant<AreaLight, PointLight, SpotLight, DistantLight, BackgroundLight, EnvironmentLight>;
+using Light = std::variant<AreaLight, SphereLight, PointLight, SpotLight, DistantLight, BackgroundLight, EnvironmentLight>;
+
+// Whether a light is a surface that rays meet (an area light or a sphere: SurfaceKind::emitter).
+inline bool on_a_surface(const Light& light) {
+  return std::holds_alternative<AreaLight>(light) || std::holds_alternative<SphereLight>(light);
+}
 
 // A sphere that holds every surface: where lights at infinity start their rays.
 struct SceneBounds {
@@ -110,14 +130,15 @@ std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double
 double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q);
 std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
                                        double u3, double u4);
-// The densities with which sample_le draws a ray leaving `light` from `origin` in `direction`
-// (area lights: `origin` on the triangle; lights at infinity: `direction` the one light travels,
-// the origin any point of the disk): of the origin (per m², 1 for a delta) and of the direction
-// (per sr, 1 for a delta). The bidirectional estimators weigh their strategies with these.
+// The densities with which sample_le draws a ray leaving `light` in `direction` (area lights and
+// spheres: from a point of theirs whose outward normal is `normal`; lights at infinity:
+// `direction` the one light travels, the origin any point of the disk): of the origin (per m², 1
+// for a delta) and of the direction (per sr, 1 for a delta). The bidirectional estimators weigh
+// their strategies with these.
 struct LightLePdf {
   double pos = 0.0, dir = 0.0;
 };
-LightLePdf pdf_le(const Light& light, const SceneBounds& bounds, const Vec3& direction);
+LightLePdf pdf_le(const Light& light, const SceneBounds& bounds, const Vec3& direction, const Vec3& normal = {});
 
 // `luminance` gives the luminance of a spectrum id (the scene's tables know them).
 template <typename Luminance>
@@ -126,6 +147,14 @@ double power(const Light& light, const SceneBounds& bounds, Luminance luminance)
 // The factor on an area light's radiance for light leaving in `direction` (1 but for spot disks;
 // 0 behind a one-sided emitter).
 double emitted_factor(const AreaLight& light, const Vec3& direction);
+// The same for a surface emitter (on_a_surface) at a point with outward normal `normal` (a
+// sphere: 1 outward, 0 inward); 0 for any other light.
+double emitted_factor(const Light& light, const Vec3& direction, const Vec3& normal);
+// A surface emitter's radiance spectrum id and emission texture (-1: none).
+struct EmitterRadiance {
+  int spectrum = -1, texture = -1;
+};
+EmitterRadiance emitter_radiance(const Light& light);
 
 // Lights drawn in proportion to their power (a CDF, searched by bisection): the pmf of each of
 // the scene's lights (0 for lights outside the set) and a draw.
@@ -153,6 +182,8 @@ double power(const Light& light, const SceneBounds& bounds, Luminance luminance)
   if (const auto* a = std::get_if<AreaLight>(&light))
     return pi * a->area_m2 * luminance(a->radiance) * a->texture_mean * (a->two_sided ? 2.0 : 1.0) *
            (a->spot ? spot_cosine_power(*a->spot) : 1.0);
+  if (const auto* sp = std::get_if<SphereLight>(&light))
+    return pi * 4.0 * pi * sp->radius_m * sp->radius_m * luminance(sp->radiance);
   if (const auto* p = std::get_if<PointLight>(&light)) return 4.0 * pi * luminance(p->intensity);
   if (const auto* s = std::get_if<SpotLight>(&light)) return 2.0 * pi * luminance(s->intensity) * spot_cone_power(s->profile);
   if (const auto* d = std::get_if<DistantLight>(&light)) return disk * luminance(d->irradiance);

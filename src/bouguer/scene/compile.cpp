@@ -435,10 +435,29 @@ void check_priority_ties(const RenderScene& s, const std::vector<NestedRange>& r
     }
 }
 
-// A sphere, cylinder or disk that is not an emitter stays exact: emitters are sampled by
-// triangle (lights/light.h), so they are always tessellated.
+// Whether an emitting object is an exact emitting sphere (lights/light.h: SphereLight, sampled by
+// the solid angle it subtends): an analytic sphere whose emission is one-sided, untextured and
+// without a spot profile, placed by a transform that keeps it a sphere (a rotation, a uniform
+// scale and a translation).
+bool emitting_sphere(const ObjectDesc& o) {
+  const auto* sphere = std::get_if<SphereShape>(&o.shape);
+  if (!sphere || sphere->tessellate || !o.emission || o.inside || o.emission->two_sided || o.emission->spot ||
+      o.emission->texture)
+    return false;
+  const Mat3& l = o.transform.linear;
+  const Vec3 a = l * Vec3{1, 0, 0}, b = l * Vec3{0, 1, 0}, c = l * Vec3{0, 0, 1};
+  const double scale = length(a), tolerance = 1e-9 * scale;
+  return scale > 0.0 && std::abs(length(b) - scale) <= tolerance && std::abs(length(c) - scale) <= tolerance &&
+         std::abs(dot(a, b)) <= tolerance * scale && std::abs(dot(b, c)) <= tolerance * scale &&
+         std::abs(dot(a, c)) <= tolerance * scale;
+}
+
+// A sphere, cylinder or disk that is not an emitter stays exact, and so does an emitting sphere
+// (emitting_sphere); other emitters are sampled by triangle (lights/light.h: AreaLight), so they
+// are tessellated.
 std::optional<AnalyticShape> analytic_shape(const ObjectDesc& o, const SceneDesc& desc) {
-  if (o.emission || o.normal_map) return std::nullopt;  // a normal map needs the triangles' tangents
+  if (o.normal_map) return std::nullopt;  // a normal map needs the triangles' tangents
+  if (o.emission && !emitting_sphere(o)) return std::nullopt;
   const auto surface = analytic_surface(o.shape, fmt::format("{}: object '{}'", desc.file.string(), o.name));
   if (!surface) return std::nullopt;
   return AnalyticShape{*surface, o.transform};
@@ -454,6 +473,13 @@ void add_analytic(RenderScene& s, const ObjectDesc& o, const AnalyticShape& shap
   set_interface_optics(s, surface, albedo_index);
   const std::uint32_t id = s.rays.add(shape);
   if (id != s.surfaces.size()) fail("internal error: geometry ids out of order");
+  if (surface.kind == SurfaceKind::emitter) {  // an emitting sphere: one light, its hits' primitive 0
+    surface.first_light = static_cast<int>(s.lights.size());
+    const double radius_m =
+        std::get<SphereSurface>(shape.surface).radius_m * length(shape.to_world.linear * Vec3{1, 0, 0});
+    s.lights.push_back(SphereLight{id, shape.to_world.apply(Vec3{}), radius_m,
+                                   add_spectrum(s, o.emission->radiance, SpectrumRole::radiance)});
+  }
   const auto [lo, hi] = s.rays.bounds(id);
   Mesh corners;
   corners.positions = {lo, hi};

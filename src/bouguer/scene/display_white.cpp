@@ -29,7 +29,8 @@ std::optional<Vec3> light_xyz(const RenderScene& scene, const Light& light) {
   const int id = std::visit(
       [](const auto& l) -> int {
         using L = std::decay_t<decltype(l)>;
-        if constexpr (std::is_same_v<L, AreaLight> || std::is_same_v<L, BackgroundLight>)
+        if constexpr (std::is_same_v<L, AreaLight> || std::is_same_v<L, SphereLight> ||
+                      std::is_same_v<L, BackgroundLight>)
           return l.radiance;
         else if constexpr (std::is_same_v<L, PointLight> || std::is_same_v<L, SpotLight>)
           return l.intensity;

@@ -86,7 +86,7 @@ void set_emission_scale(RenderScene& scene, const SceneDesc& desc, const std::st
       where.fail("no emitter '{}' in the scene (emitters: {}; or \"background\")", object, emitters.empty() ? "none" : emitters);
     for (const Surface& s : scene.surfaces)
       if (s.kind == SurfaceKind::emitter && s.object == object && s.first_light >= 0) {
-        spectrum = std::get<AreaLight>(scene.lights[static_cast<std::size_t>(s.first_light)]).radiance;
+        spectrum = emitter_radiance(scene.lights[static_cast<std::size_t>(s.first_light)]).spectrum;
         break;
       }
     if (spectrum < 0) where.fail("the emitter '{}' has no area in the compiled scene", object);
@@ -106,7 +106,7 @@ void set_light_distributions(RenderScene& s) {
   s.light_power.clear();
   for (const Light& l : s.lights) {
     s.light_power.push_back(power(l, s.bounds, [&](int id) { return id < 0 ? 0.0 : luminance_of[static_cast<std::size_t>(id)]; }));
-    area.push_back(std::holds_alternative<AreaLight>(l));
+    area.push_back(on_a_surface(l));
   }
   s.area_lights = LightDistribution::by_power(s.light_power, area);
   s.emitters = LightDistribution::by_power(s.light_power, all);
