@@ -14,25 +14,23 @@ spp=${SPP:-64}
 resolution=${RESOLUTION:-96x72}
 threads=${THREADS:-2}
 radius=${RADIUS:-"5 mm"}
+repo=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# tests/data/red_ball_lamp, its lamp as RADIUS says, tessellated or not.
 scene() {  # scene TESSELLATE
-  cat <<JSON
-{
-  "camera": {"position": [0.12, 0.1, 0.2], "look_at": [0, 0.01, 0], "fov_deg": 35, "resolution": [96, 72]},
-  "render": {"integrator": "path", "spectral": "full", "spp": 16, "max_depth": 16, "merge_radius": "1 mm"},
-  "world_medium": "vacuum",
-  "media": {"red": {"ior": 1.5, "absorption": {"library": "red-glass", "concentration": 0.5}}},
-  "objects": [
-    {"name": "floor", "shape": {"type": "quad", "size": [1, 1]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
-     "material": {"type": "diffuse", "reflectance": 0.8}},
-    {"name": "ball", "shape": {"type": "sphere", "radius": "20 mm"}, "transform": [{"translate": [0, 0.02, 0]}],
-     "inside": "red"},
-    {"name": "lamp", "shape": {"type": "sphere", "radius": "$radius", "segments": 48, "tessellate": $1},
-     "transform": [{"translate": [-0.04, 0.12, -0.03]}], "emission": {"spectrum": "D65", "scale": 2000}}
-  ]
-}
-JSON
+  python3 - "$repo/tests/data/red_ball_lamp/scene.json" "$1" "$radius" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+for o in scene["objects"]:
+    if o["name"] == "lamp":
+        o["shape"]["tessellate"] = sys.argv[2] == "true"
+        o["shape"]["radius"] = sys.argv[3]
+        o["emission"]["scale"] = 2000
+scene["render"]["max_depth"] = 16
+scene.pop("background")
+print(json.dumps(scene))
+PY
 }
 scene false >"$tmp/exact.json"
 scene true >"$tmp/tessellated.json"

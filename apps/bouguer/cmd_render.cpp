@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <cstdio>
 #include <mutex>
+#include <optional>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "bouguer/core/error.h"
@@ -17,6 +19,7 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/output_set.h"
 #include "bouguer/integrators/render_into.h"
+#include "bouguer/render/adaptive.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/display_white.h"
 #include "bouguer/scene/gltf.h"
@@ -28,10 +31,11 @@ namespace {
 
 struct RenderCli {
   std::vector<std::string> outputs = {"render.png"};
-  std::string scene, spectral_exr, stats_json;
+  std::string scene, spectral_exr, stats_json, spp_map;
   SceneOverrides overrides;
   int threads = 0;
   double time_s = 0.0;  // --time: a budget of seconds (0: none)
+  double noise = 0.0;   // --noise: adaptive sampling's target, ΔE00 (0: none)
   bool quiet = false;
 };
 
@@ -95,16 +99,27 @@ struct InterruptGuard {
 // that will, at the rate measured so far, and none is begun when not one more would: any split
 // into passes gives the same image, so the image is that of the samples done (which then depend
 // on the machine's speed).
+// With a noise target (--noise: render/adaptive.h), after each pass the pixels whose error
+// estimate is within it stop (their flags in `active` cleared) and the render ends when none is
+// left; `complete` is then the samples of the pixels that took the most.
 struct Passes {
   int complete = 0, partial = 0;
   double partial_fraction = 0.0;  // of the interrupted pass's tiles that finished
+  std::size_t active_left = 0;    // adaptive: the pixels that had not reached the target
+};
+
+struct Adaptive {
+  NoiseTarget target;
+  const SceneDesc* desc = nullptr;  // its display block: the exposure the error is measured at
+  std::vector<std::uint8_t> active;
 };
 
 Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
-                     Progress& progress, RenderStats& stats, double budget_s = 0.0) {
+                     Progress& progress, RenderStats& stats, double budget_s = 0.0, Adaptive* adaptive = nullptr) {
   const int spp = settings.spp;
   const auto start = std::chrono::steady_clock::now();
   Passes p;
+  if (adaptive) p.active_left = adaptive->active.size();
   for (int begin = 0; begin < spp;) {
     int end = std::min(spp, begin + std::max(begin, 1));
     if (budget_s > 0.0 && begin > 0) {
@@ -117,6 +132,7 @@ Passes render_passes(const RenderScene& scene, const RenderSettings& settings, F
     RenderControl control;
     control.threads = threads;
     control.cancel = &g_interrupted;
+    if (adaptive) control.active = &adaptive->active;
     control.progress = [&](double f) {
       fraction = f;
       if (budget_s > 0.0)  // the budget ends the render first unless the samples do
@@ -133,6 +149,12 @@ Passes render_passes(const RenderScene& scene, const RenderSettings& settings, F
       return p;
     }
     p.complete = begin = end;
+    if (adaptive) {
+      // The display as the film so far resolves it (an automatic exposure is measured on it).
+      adaptive->target.display = display_transform(scene, adaptive->desc->display, film.resolve(0.0));
+      p.active_left = retire_converged(film, adaptive->target, end, adaptive->active);
+      if (p.active_left == 0) return p;
+    }
   }
   return p;
 }
@@ -144,6 +166,11 @@ OutputSet checked_outputs(const RenderCli& o) {
   for (const auto& output : o.outputs) outputs.add("-o", output, kImageExtensions);
   if (!o.spectral_exr.empty()) outputs.add("--spectral-exr", o.spectral_exr, kExr);
   if (!o.stats_json.empty()) outputs.add("--stats-json", o.stats_json);
+  static constexpr std::string_view kFloatImages[] = {".exr", ".pfm"};
+  if (!o.spp_map.empty()) {
+    if (o.noise <= 0.0) fail_usage("--spp-map: only with --noise (adaptive sampling)");
+    outputs.add("--spp-map", o.spp_map, kFloatImages);
+  }
   return outputs;
 }
 
@@ -154,9 +181,17 @@ int run_render(const RenderCli& o) {
     fail_usage("--time: not under mpirun, whose pieces take every sample of their pixels; give --spp");
   const SceneDesc desc = load_scene_with(o.scene, o.overrides);
   RenderSettings settings = desc.render;
-  // A budget of seconds without --spp: as many samples as the budget allows.
-  constexpr int kTimedSpp = 1 << 20;
+  if (o.noise > 0.0 && distributed::launched_by_mpirun())
+    fail_usage("--noise: not under mpirun, whose pieces take every sample of their pixels");
+  // A budget of seconds without --spp: as many samples as the budget allows; a noise target without
+  // --spp: at most kNoiseSpp (Cycles' default cap with adaptive sampling).
+  constexpr int kTimedSpp = 1 << 20, kNoiseSpp = 4096;
   if (o.time_s > 0.0 && !o.overrides.spp) settings.spp = kTimedSpp;
+  if (o.noise > 0.0 && !o.overrides.spp) settings.spp = o.time_s > 0.0 ? kTimedSpp : kNoiseSpp;
+  if (o.noise > 0.0 && integrator_info(settings.integrator).splats)
+    fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel (path or whitted); "
+               "{} adds light paths' splats anywhere on the film",
+               integrator_info(settings.integrator).name);
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
@@ -171,7 +206,16 @@ int run_render(const RenderCli& o) {
     passes.complete = settings.spp;
   } else {
     const InterruptGuard guard;
-    passes = render_passes(scene, settings, buffer, o.threads, progress, stats, o.time_s);
+    std::optional<Adaptive> adaptive;
+    if (o.noise > 0.0) {
+      buffer.keep_halves();
+      adaptive.emplace();
+      adaptive->target.delta_e00 = o.noise;
+      adaptive->desc = &desc;
+      adaptive->active.assign(static_cast<std::size_t>(buffer.width()) * static_cast<std::size_t>(buffer.height()), 1);
+    }
+    passes = render_passes(scene, settings, buffer, o.threads, progress, stats, o.time_s,
+                           adaptive ? &*adaptive : nullptr);
   }
   const bool interrupted = g_interrupted && passes.complete < settings.spp;
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
@@ -203,6 +247,14 @@ int run_render(const RenderCli& o) {
                               {"threads", o.threads},
                               {"exposure_scale", display.scale}};
     nlohmann::json jv = j;
+    if (o.noise > 0.0) {
+      double samples = 0.0;
+      for (int y = 0; y < buffer.height(); ++y)
+        for (int x = 0; x < buffer.width(); ++x) samples += buffer.weight_at(x, y);
+      jv["adaptive"] = {{"noise_delta_e00", o.noise},
+                        {"mean_spp", samples / (static_cast<double>(buffer.width()) * buffer.height())},
+                        {"pixels_above_target", passes.active_left}};
+    }
     if (stats.iterations > 0)
       jv["vcm"] = {{"iterations", stats.iterations}, {"light_paths", stats.light_paths}, {"photons", stats.photons},
                    {"merges", stats.merges}, {"last_radius_m", stats.radius_m}};
@@ -216,7 +268,8 @@ int run_render(const RenderCli& o) {
                         if (display.leaves_floats()) write_spectral_exr(p, film);  // no copy of the spectra
                         else write_spectral_exr(p, exposed(film, display));
                       }},
-                     {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }}});
+                     {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }},
+                     {"--spp-map", [&](const Path& p) { write_image(p, samples_map(buffer), DisplayTransform{}); }}});
   if (interrupted) {
     fmt::print(stderr, "bouguer: interrupted: wrote the image after {} of {} samples per pixel{} -> {}\n",
                passes.complete, settings.spp,
@@ -336,6 +389,11 @@ Command add_render_command(CLI::App& parent) {
                   "Render whole passes for at most SECONDS, then write the image (with --spp: whichever ends first; "
                   "the image then depends on the machine)")
       ->check(CLI::PositiveNumber);
+  app->add_option("--noise", o->noise,
+                  "Adaptive sampling: a pixel stops once its error estimate (from two half buffers) is at most this "
+                  "CIEDE2000 on the display colour; --spp (default 4096 with --noise) and --time cap it (path, whitted)")
+      ->check(CLI::PositiveNumber);
+  app->add_option("--spp-map", o->spp_map, "With --noise: write the samples each pixel took (.exr or .pfm)");
   app->add_option("--stats-json", o->stats_json, "Write seconds, rays, rays_per_second, spp, resolution as JSON");
   add_display_options(*app, over, true);
   app->add_flag("--quiet", o->quiet, "No progress and no summary line");

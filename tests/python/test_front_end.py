@@ -261,9 +261,17 @@ def test_light_paths_land_where_a_shifted_camera_looks():
         light = bouguer.render(s, integrator="light", spp=64)[..., 1]
         lit = path > 0.5 * path.max()
         assert 10 < lit.sum() < lit.size - 10
-        # Where the path tracer sees the quad, light tracing puts its light; nowhere else.
+        # Where the path tracer sees the quad, light tracing puts its light; nowhere else: not beyond a
+        # pixel of where the path tracer saw any of it (a pixel the quad's edge barely covers may
+        # have no camera sample on it, as its light paths land there).
         assert light[lit].mean() > 0.8 * path[lit].mean()
-        assert light[~(path > 0)].max() == 0.0 if (~(path > 0)).any() else True
+        seen = path > 0
+        near = seen.copy()
+        near[1:, :] |= seen[:-1, :]
+        near[:-1, :] |= seen[1:, :]
+        near[:, 1:] |= seen[:, :-1]
+        near[:, :-1] |= seen[:, 1:]
+        assert not (~near).any() or light[~near].max() == 0.0
 
 
 def test_many_instances_of_a_large_mesh_are_refused_before_memory_runs_out():

@@ -110,7 +110,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
   Bdpt<N> bdpt(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
   bdpt.set_merging(merging);
   std::vector<Vertex<N>> camera_path, light_path, lens_path;
-  const auto [u, v] = subpixel(sample, settings.spp, rng);
+  const auto [u, v] = subpixel(sample, settings.spp, settings.seed, pixel, rng);
   bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, nullptr);
   bdpt.light_subpath(light_path);
   const int nc = static_cast<int>(camera_path.size()), nl = static_cast<int>(light_path.size());

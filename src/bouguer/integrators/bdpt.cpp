@@ -23,10 +23,10 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
         const SampledSpectrum<N> keep = begin_sample(view, w, dispersion_u, rng, sigma_mean, kept);
         const WalkMedia media{sigma_mean};
         Bdpt<N> bdpt(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
-        const auto [u, v] = subpixel(s, settings.spp, rng);
+        const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel_index(x, y, film.width()), rng);
         bdpt.camera_subpath(camera.generate_ray(x + u, y + v), camera_path, &keep);
         bdpt.light_subpath(light_path);
-        add_camera_sample(film, tables, w, x, y,
+        add_camera_sample(film, tables, w, x, y, s,
                           bdpt.connect_all(light_path, camera_path, film, keep) + bdpt.camera_tail());
       });
 }

@@ -28,15 +28,17 @@ void render_bdpt(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRe
 void render_vcm(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                 const RenderControl&, RenderStats&);
 
-// A camera sample's radiance into its pixel (and its spectrum, where the film keeps spectra).
+// Camera sample s's radiance into its pixel (and its spectrum, where the film keeps spectra; s's
+// parity: the half it belongs to, where the film keeps halves).
 template <std::size_t N>
 void add_camera_sample(FilmBuffer& film, const SpectralTables<N>& tables, const SampledWavelengths<N>& w, int x, int y,
-                       const SampledSpectrum<N>& l) {
+                       int s, const SampledSpectrum<N>& l) {
   const Vec3 rgb = tables.to_linear_rgb(l, w);
+  const bool odd = (s & 1) != 0;
   if (film.has_spectra())
-    film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N));
+    film.add_sample(x, y, rgb, 1.0, std::span<const float>(l.v.data(), N), odd);
   else
-    film.add_sample(x, y, rgb, 1.0);
+    film.add_sample(x, y, rgb, 1.0, {}, odd);
 }
 
 // Sample s's wavelengths and hero (media_travel.h: draw_hero): hero mode's four wavelengths from
@@ -75,6 +77,7 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
       for (int x = tile.x0; x < tile.x1; ++x) {
         const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(film_width) +
                            static_cast<std::uint64_t>(x);
+        if (control.active && !(*control.active)[pixel]) continue;  // (adaptive sampling: done)
         const bool stratify = hero || (kDispersion && scene.dispersive);
         if (stratify) strata.reset(settings.seed, pixel, settings.spp);
         if (scene.scatters) {
@@ -103,10 +106,10 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
   for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, range, control, stats, 0,
                            [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                std::uint64_t& rays) {
-                             const auto [u, v] = subpixel(s, settings.spp, rng);
+                             const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel_index(x, y, film.width()), rng);
                              const SampledSpectrum<N> l =
                                  li(view, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
-                             add_camera_sample(film, tables, w, x, y, l);
+                             add_camera_sample(film, tables, w, x, y, s, l);
                            });
 }
 

@@ -140,10 +140,6 @@ Photon<N> make_photon(const std::vector<Vertex<N>>& lp, std::size_t j, const std
 // The radius of iteration `it` (0-based): r_1·(it + 1)^((α − 1)/2).
 double iteration_radius(double r1, int it) { return r1 * std::pow(static_cast<double>(it) + 1.0, 0.5 * (kAlpha - 1.0)); }
 
-std::uint64_t pixel_index(int x, int y, int width) {
-  return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) + static_cast<std::uint64_t>(x);
-}
-
 // One iteration of the estimator, in its stages: trace_light_subpaths (the photons),
 // build_photon_lookup (the grids), camera_pass (per pixel: connections and merges) and merge (one
 // camera vertex with the photons around it). Everything its paths share is fixed at construction;
@@ -240,12 +236,12 @@ class Iteration {
           }
           Rng lrng = sample_rng(settings_.seed, pixel, it_, kLightSalt);
           Bdpt<N> b = bdpt(wc, rng, rays);
-          const auto [u, v] = subpixel(it_, settings_.spp, rng);
+          const auto [u, v] = subpixel(it_, settings_.spp, settings_.seed, pixel, rng);
           b.camera_subpath(view_.camera.generate_ray(x + u, y + v), camera_path, &keep_);
           b.light_subpath(light_path, lrng);
           SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep_) + b.camera_tail();
           for (int t = 2; t <= static_cast<int>(camera_path.size()); ++t) merge(b, camera_path, t, wc, l, merged);
-          add_camera_sample(film, view_.tables, wc, x, y, l);
+          add_camera_sample(film, view_.tables, wc, x, y, it_, l);
         }
       merges += merged;
     });

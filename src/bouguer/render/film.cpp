@@ -26,9 +26,30 @@ FilmBuffer::FilmBuffer(FilmBuffer&& other) noexcept
       rgb_sum_(std::move(other.rgb_sum_)),
       weight_sum_(std::move(other.weight_sum_)),
       spectral_sum_(std::move(other.spectral_sum_)),
+      odd_rgb_sum_(std::move(other.odd_rgb_sum_)),
+      odd_weight_sum_(std::move(other.odd_weight_sum_)),
       splat_rgb_(std::move(other.splat_rgb_)),
       splat_spectral_(std::move(other.splat_spectral_)),
       saturated_(other.saturated_.load()) {}
+
+void FilmBuffer::keep_halves() {
+  if (keeps_halves()) return;
+  odd_rgb_sum_.assign(rgb_sum_.size(), 0.0);
+  odd_weight_sum_.assign(weight_sum_.size(), 0.0);
+}
+
+std::array<Vec3, 2> FilmBuffer::half_means(int x, int y) const {
+  const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+  std::array<Vec3, 2> out{};
+  if (!keeps_halves()) return out;
+  const double odd = odd_weight_sum_[p], even = weight_sum_[p] - odd;
+  for (std::size_t c = 0; c < 3; ++c) {
+    const double odd_sum = odd_rgb_sum_[3 * p + c];
+    if (even > 0.0) out[0][c] = (rgb_sum_[3 * p + c] - odd_sum) / even;
+    if (odd > 0.0) out[1][c] = odd_sum / odd;
+  }
+  return out;
+}
 
 std::uint64_t FilmBuffer::bytes_needed(int width_px, int height_px, std::size_t spectrum_wavelengths) {
   const auto pixels = static_cast<std::uint64_t>(width_px) * static_cast<std::uint64_t>(height_px);

@@ -1,5 +1,6 @@
 #pragma once
 // Accumulating a render: FilmBuffer, resolved into the Film image of io/image.h.
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -40,14 +41,33 @@ class FilmBuffer {
   bool has_spectra() const { return !wavelengths_nm_.empty(); }
 
   // One camera sample of pixel (x, y): its linear Rec.709 value and, when the film keeps
-  // spectra, its values at the spectrum wavelengths.
-  void add_sample(int x, int y, const Vec3& rgb, double weight, std::span<const float> spectrum = {}) {
+  // spectra, its values at the spectrum wavelengths. `odd`: an odd-numbered sample (kept apart
+  // too where the film keeps halves).
+  void add_sample(int x, int y, const Vec3& rgb, double weight, std::span<const float> spectrum = {},
+                  bool odd = false) {
     const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
     for (std::size_t c = 0; c < 3; ++c) rgb_sum_[3 * p + c] += weight * rgb[c];
     weight_sum_[p] += weight;
     const std::size_t n = wavelengths_nm_.size();
     for (std::size_t i = 0; i < n && i < spectrum.size(); ++i) spectral_sum_[n * p + i] += weight * spectrum[i];
+    if (odd && !odd_weight_sum_.empty()) {
+      for (std::size_t c = 0; c < 3; ++c) odd_rgb_sum_[3 * p + c] += weight * rgb[c];
+      odd_weight_sum_[p] += weight;
+    }
   }
+
+  // Adaptive sampling (render/adaptive.h): from now on the odd-numbered camera samples are also
+  // summed apart, so that every pixel has two independent half estimates (Cycles' two buffers).
+  // Not serialised: a film that keeps halves is not merged across processes.
+  void keep_halves();
+  bool keeps_halves() const { return !odd_weight_sum_.empty(); }
+  // The camera samples' weight in pixel (x, y) (camera samples weigh 1: their count).
+  double weight_at(int x, int y) const {
+    return weight_sum_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)];
+  }
+  // The means of the pixel's even- and odd-numbered samples (keeps_halves; zero where a half has
+  // none).
+  std::array<Vec3, 2> half_means(int x, int y) const;
   // Light arriving at a film position (pixels) from a light path; safe from any thread.
   void add_splat(double film_x, double film_y, const Vec3& rgb, std::span<const float> spectrum = {});
 
@@ -76,6 +96,7 @@ class FilmBuffer {
   int width_ = 0, height_ = 0;
   std::vector<double> wavelengths_nm_;
   std::vector<double> rgb_sum_, weight_sum_, spectral_sum_;
+  std::vector<double> odd_rgb_sum_, odd_weight_sum_;  // keep_halves
   std::vector<std::int64_t> splat_rgb_, splat_spectral_;
   std::atomic<std::uint64_t> saturated_{0};
 };

@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "bouguer/render/film.h"
 #include "bouguer/scene/compile.h"
@@ -33,6 +34,10 @@ struct RenderControl {
   const std::atomic<bool>* cancel = nullptr;
   // Called now and then with the fraction of this call's tiles done (from any thread).
   std::function<void(double fraction_done)> progress;
+  // Adaptive sampling (render/adaptive.h): one flag per pixel, row-major; the pixels flagged 0
+  // take no more samples. Null: every pixel does. Only the estimators whose samples stay in their
+  // pixel read it (those without splats: IntegratorInfo::splats).
+  const std::vector<std::uint8_t>* active = nullptr;
 };
 
 struct RenderStats {

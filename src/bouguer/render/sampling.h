@@ -25,13 +25,27 @@ inline Rng sample_rng(std::uint64_t seed, std::uint64_t pixel, int sample, std::
   return Rng(mix(seed ^ mix(key)), key);
 }
 
-// Sample s of spp: the first m² samples fill an m×m grid of strata (m = ⌊√spp⌋) with one
-// jittered point each; the rest are uniform.
-inline std::array<double, 2> subpixel(int s, int spp, Rng& rng) {
+inline std::uint32_t permutation_element(std::uint32_t i, std::uint32_t n, std::uint32_t key);
+
+// A pixel's index in the film, row-major: what seeds its samples (sample_rng) and strata.
+inline std::uint64_t pixel_index(int x, int y, int width) {
+  return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(width) + static_cast<std::uint64_t>(x);
+}
+
+// Sample s of spp of the pixel `pixel` (y·width + x): the first m² samples fill an m×m grid of
+// strata (m = ⌊√spp⌋) with one jittered point each, in an order permuted per pixel and seed, so
+// that every prefix of them is spread over the whole pixel (a render cut short by --time or an
+// interruption, or a pixel that adaptive sampling stops, sees all of it; taken in row order, the
+// first samples of 1024 saw only its top row of strata, a shift of the image by almost half a
+// pixel); the rest are uniform.
+inline std::array<double, 2> subpixel(int s, int spp, std::uint64_t seed, std::uint64_t pixel, Rng& rng) {
   const int m = static_cast<int>(std::sqrt(static_cast<double>(spp)));
   const double jx = rng.next_double(), jy = rng.next_double();
-  if (s < m * m) return {(s % m + jx) / m, (s / m + jy) / m};
-  return {jx, jy};
+  if (s >= m * m) return {jx, jy};
+  const auto key = static_cast<std::uint32_t>((seed * 0x9e3779b97f4a7c15ULL + pixel) * 0xbf58476d1ce4e5b9ULL >> 32);
+  const auto k = static_cast<int>(
+      permutation_element(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(m * m), key));
+  return {(k % m + jx) / m, (k / m + jy) / m};
 }
 
 // Element i of a pseudo-random permutation of [0, n) chosen by `key`, in O(1) and without
