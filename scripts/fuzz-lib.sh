@@ -24,8 +24,8 @@ fuzz_environment() {
 }
 
 fuzz_table_head() {
-  echo "| target | seconds | executions | corpus | findings |"
-  echo "| --- | ---: | ---: | ---: | ---: |"
+  echo "| target | seconds | executions | corpus | findings | slow inputs |"
+  echo "| --- | ---: | ---: | ---: | ---: | ---: |"
 }
 
 # fuzz_one BUILD SECONDS TARGET: runs fuzz_TARGET (or $FUZZ_BIN with BOUGUER_FUZZ_TARGET=TARGET) for
@@ -47,7 +47,14 @@ fuzz_one() {
   : >"$dict"
   for p in "${parts[@]}"; do cat "tests/fuzz/dict/$p.dict" >>"$dict"; done
   local before start rc
-  before=$(find "$findings" -type f | wc -l)
+  # Findings: crashes, leaks, timeouts, allocations past the limits. Slow inputs (libFuzzer's
+  # slow-unit-*, over -report_slow_units seconds of wall clock: on a loaded machine, ordinary
+  # inputs) are counted apart, to be replayed.
+  count() { find "$findings" -type f ! -name 'slow-unit-*' | wc -l; }
+  slow_count() { find "$findings" -type f -name 'slow-unit-*' | wc -l; }
+  before=$(count)
+  local slow_before
+  slow_before=$(slow_count)
   start=$(date +%s)
   set +e
   # shellcheck disable=SC2086
@@ -60,9 +67,9 @@ fuzz_one() {
   local runs corpus found
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   corpus=$(grep -o 'corp: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
-  found=$(( $(find "$findings" -type f | wc -l) - before ))
+  found=$(( $(count) - before ))
   [ "$rc" -eq 0 ] || [ "$found" -gt 0 ] || found="exit $rc"
-  echo "| $t | $took | ${runs:-?} | ${corpus:-?} | $found |"
+  echo "| $t | $took | ${runs:-?} | ${corpus:-?} | $found | $(( $(slow_count) - slow_before )) |"
   if [ "$rc" -ne 0 ]; then
     grep -m3 -E "ERROR|SUMMARY|Test unit written" "$log" >&2 || tail -5 "$log" >&2
     return 1

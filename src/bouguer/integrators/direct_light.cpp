@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bouguer/integrators/exit_guide.h"
+#include "bouguer/integrators/manifold.h"
 
 namespace bouguer {
 
@@ -26,7 +27,7 @@ template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
                                             std::uint64_t& rays, std::span<const double> sigma_mean,
-                                            bool* by_smooth_interface) {
+                                            bool* by_smooth_interface, Hit* blocker) {
   const RenderScene& s = v.scene;
   Transmission<N> out;
   double remaining = distance_m;
@@ -57,6 +58,7 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   if (by_smooth_interface && stop.seen)  // blocked: by a surface, or by one crossing too many
     *by_smooth_interface = !stop.seen->index_matched && stop.seen->surface.kind == SurfaceKind::interface &&
                            stop.seen->surface.roughness == 0.0;
+  if (blocker && stop.hit) *blocker = *stop.hit;
   return std::nullopt;
 }
 
@@ -71,8 +73,9 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                    const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
                                    NextEvent next_event, const ThroughInterfaces* through = nullptr) {
   const RenderScene& s = v.scene;
-  const bool mis = next_event == NextEvent::lights_and_map_weighted;
-  const bool environment = next_event == NextEvent::lights_and_map_weighted;
+  const bool mis = next_event != NextEvent::lights;
+  const bool environment = next_event != NextEvent::lights;
+  const bool planes = next_event == NextEvent::lights_map_and_planes;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
   auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
@@ -103,8 +106,15 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
     double vertex_pdf = 0.0;
     const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
     if (f.is_zero()) continue;
-    if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays))
+    bool glass = false;
+    Hit blocker;
+    if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays, {},
+                                    planes ? &glass : nullptr, planes ? &blocker : nullptr))
       sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
+    else if (glass)  // through a flat interface to the lamp (manifold.h; no scattering: ratios of 1)
+      sum += delta_light_through_plane(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards, w, rng,
+                                       rays) *
+             (1.0f / light_ratio(Transmission<N>{}));
   }
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
@@ -171,7 +181,7 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
   template std::optional<Transmission<N>> transmission(const SceneView<N>&, const PathVertex&, const Vec3&, double, \
-      int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*); \
+      int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*, Hit*); \
   template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
       const ThroughInterfaces*); \

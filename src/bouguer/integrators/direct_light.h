@@ -63,12 +63,13 @@ struct Transmission {
 // With `sigma_mean` (σ̄_s by medium), it also sums the segment's mean scattering optical depth for
 // the MIS weights of the bidirectional estimators (Tungsten's generalised shadow ray with pdfs).
 // With `by_smooth_interface`, it also says whether what blocked it was a smooth interface (glass,
-// a liquid's surface): what next-event estimation through the interfaces may go on through.
+// a liquid's surface): what next-event estimation through the interfaces may go on through; with
+// `blocker`, where it was blocked.
 template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
                                             std::uint64_t& rays, std::span<const double> sigma_mean = {},
-                                            bool* by_smooth_interface = nullptr);
+                                            bool* by_smooth_interface = nullptr, Hit* blocker = nullptr);
 
 // Which strategies next-event estimation combines at a vertex.
 enum class NextEvent : std::uint8_t {
@@ -78,6 +79,10 @@ enum class NextEvent : std::uint8_t {
   // The path tracer's: those and one direction of the environment map, each MIS-weighted against
   // the vertex's own sampling of its direction by the power heuristic.
   lights_and_map_weighted,
+  // The same, and a point or spot light that a smooth planar interface hides reached through it
+  // (manifold.h), for the path tracer alone: no other strategy of its reaches those paths, where
+  // the bidirectional estimators' light subpaths do (their tails keep lights_and_map_weighted).
+  lights_map_and_planes,
 };
 
 // Direct light at a non-specular surface event, towards wo, by the strategies `next_event`

@@ -32,6 +32,9 @@ struct Radiance {
   GuideTrail trail = {};
   SurfaceDistance near = {};
   float bin_weight = 1.0f;
+  // Its next-event estimation at surfaces: the path tracer's own adds lamps behind flat interfaces
+  // (direct_light.h: NextEvent::lights_map_and_planes), a bidirectional tail does not.
+  NextEvent next_event = NextEvent::lights_and_map_weighted;
 
   GuideTrail& exit_guide_trail() { return trail; }
   const SurfaceDistance& surface_distance() const { return near; }
@@ -72,7 +75,8 @@ struct Radiance {
   // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
-    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight};
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight,
+                    next_event};
   }
   void join(const Radiance& child) { l += child.l; }
 
@@ -89,7 +93,7 @@ struct Radiance {
       const bool guided = surfaces < v.max_depth && exit_guide_runs(v);
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
       add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays,
-                                NextEvent::lights_and_map_weighted, guided ? &through : nullptr));
+                                next_event, guided ? &through : nullptr));
       if (guided) trail.guide = surface_exit_guide();
     }
     moved_to(x.point);
