@@ -1,25 +1,18 @@
 #include "bouguer/render/adaptive.h"
 
-#include <algorithm>
-
-#include "bouguer/spectra/cielab.h"
-#include "bouguer/spectra/color_space.h"
+#include "bouguer/render/compare.h"
 
 namespace bouguer {
 namespace {
 
-Lab lab_of(const Vec3& rgb, const DisplayTransform& d) {
-  Vec3 v = rgb;
-  if (d.balanced) v = d.white_balance * v;
-  v = v * d.scale;
-  return xyz_to_lab(linear_rgb_to_xyz(kRec709, {std::max(0.0, v.x), std::max(0.0, v.y), std::max(0.0, v.z)}));
-}
+// A linear colour as the display shows it, before its curve: white-balanced and exposed.
+Vec3 displayed(const Vec3& rgb, const DisplayTransform& d) { return (d.balanced ? d.white_balance * rgb : rgb) * d.scale; }
 
 }  // namespace
 
 double pixel_error_de00(const FilmBuffer& film, int x, int y, const DisplayTransform& display) {
   const auto [even, odd] = film.half_means(x, y);
-  return 0.5 * ciede2000(lab_of(even, display), lab_of(odd, display));
+  return 0.5 * delta_e00(displayed(even, display), displayed(odd, display));
 }
 
 std::size_t retire_converged(const FilmBuffer& film, const NoiseTarget& target, int samples_done,

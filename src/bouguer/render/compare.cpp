@@ -17,11 +17,13 @@ double percentile(std::vector<double> v, double p) {
   return v[k];
 }
 
-Lab lab_of(const Vec3f& rgb) {
-  return xyz_to_lab(linear_rgb_to_xyz(kRec709, {std::max(0.0f, rgb.x), std::max(0.0f, rgb.y), std::max(0.0f, rgb.z)}));
+Lab lab_of(const Vec3& rgb) {
+  return xyz_to_lab(linear_rgb_to_xyz(kRec709, {std::max(0.0, rgb.x), std::max(0.0, rgb.y), std::max(0.0, rgb.z)}));
 }
 
 }  // namespace
+
+double delta_e00(const Vec3& a, const Vec3& b) { return ciede2000(lab_of(a), lab_of(b)); }
 
 ImageDifference compare_images(const Film& a, const Film& b) {
   if (a.width != b.width || a.height != b.height)
@@ -37,7 +39,7 @@ ImageDifference compare_images(const Film& a, const Film& b) {
         if (!std::isfinite(pa[c]) || !std::isfinite(pb[c]))
           fail("pixel ({}, {}) of the {} image is not finite ({}): a difference needs finite images", x, y,
                std::isfinite(pa[c]) ? "second" : "first", std::isfinite(pa[c]) ? pb[c] : pa[c]);
-      const double e = ciede2000(lab_of(pa), lab_of(pb));
+      const double e = delta_e00(Vec3{pa.x, pa.y, pa.z}, Vec3{pb.x, pb.y, pb.z});
       if (!std::isfinite(e)) fail("pixel ({}, {}): the colour difference is not finite", x, y);
       d.delta_e.push_back(e);
       sum += e;

@@ -16,6 +16,10 @@ struct ImageDifference {
 
 ImageDifference compare_images(const Film& a, const Film& b);
 
+// CIEDE2000 between two linear Rec.709 colours (negative channels read as 0), as compare_images
+// takes it per pixel.
+double delta_e00(const Vec3& a, const Vec3& b);
+
 // ΔE00 from 0 (black) through blue, green, yellow, red to white at `max_delta_e` and above.
 Film delta_e_heatmap(const ImageDifference& d, double max_delta_e);
 
