@@ -56,4 +56,13 @@ Mesh transformed(Mesh m, const Transform& t) {
   return m;
 }
 
+double Transform::similarity_scale() const {
+  const Vec3 a = linear * Vec3{1, 0, 0}, b = linear * Vec3{0, 1, 0}, c = linear * Vec3{0, 0, 1};
+  const double scale = length(a), tolerance = 1e-9 * scale;
+  const bool similar = scale > 0.0 && std::abs(length(b) - scale) <= tolerance &&
+                       std::abs(length(c) - scale) <= tolerance && std::abs(dot(a, b)) <= tolerance * scale &&
+                       std::abs(dot(b, c)) <= tolerance * scale && std::abs(dot(a, c)) <= tolerance * scale;
+  return similar ? scale : 0.0;
+}
+
 }  // namespace bouguer

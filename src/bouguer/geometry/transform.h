@@ -17,6 +17,9 @@ struct Transform {
   // This transform followed by `next`.
   Transform then(const Transform& next) const;
   double determinant() const;
+  // The factor every length is scaled by where the transform is a similarity (a rotation or
+  // mirror, a uniform scale and a translation: a sphere stays a sphere), to 1e-9; 0 otherwise.
+  double similarity_scale() const;
 };
 
 // Applies t to every vertex; a mirroring transform (negative determinant) also reverses the

@@ -35,16 +35,26 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   auto t_max = [&] { return std::isinf(remaining) ? remaining : remaining * (1.0 - 1e-4); };
   RaySegment seg{Ray{from.origin_towards(wi), wi, t_max()}, from.point, medium,
                  from.hit ? inside_towards(s, *from.hit, from.inside, wi) : from.inside};
+  // Once nothing gets through (ratio tracking's estimate can be 0 in a scattering medium), a caller
+  // that asks what blocks the ray still learns it: the ray goes on without tracking. (Stopping
+  // there left a lamp behind glass unlit from every vertex in a fog whose tracking had ended the
+  // straight shadow ray: 12 % dark at an optical depth of 0.2.)
+  bool nothing_through = false;
   auto segment = [&](const Hit* hit, const SurfaceSeen*) {
     const double length_m = hit ? length(hit->point - seg.start) : remaining;
-    if (const ScatteringMedium* sm = scattering_medium(s, seg.medium)) {
+    if (nothing_through) {
+    } else if (const ScatteringMedium* sm = scattering_medium(s, seg.medium)) {
       ratio_track(*sm, v.tables, Ray{seg.start, wi}, length_m, w, rng, out.tr, out.ratios);
       if (!sigma_mean.empty() && std::isfinite(length_m))
         out.tau += sigma_mean[static_cast<std::size_t>(seg.medium)] *
                    scattering_column_density(*sm, Ray{seg.start, wi}, 0.0, length_m);
-    } else
+    } else {
       out.tr *= travel(v, seg.medium, Ray{seg.start, wi}, length_m, w);
-    if (out.tr.is_zero()) return false;
+    }
+    if (out.tr.is_zero()) {
+      if (!by_smooth_interface) return false;
+      nothing_through = true;
+    }
     remaining = std::max(0.0, remaining - length_m);  // (read only if it crosses here)
     seg.ray.t_max = t_max();
     return true;
@@ -52,6 +62,7 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   const RayStop stop = advance_to_surface(s, seg, rays, segment);
   // (An infinite path through a medium that only absorbs carries nothing, at every wavelength, as
   // escaped() says, even where its σ_a is 0.)
+  if (stop.at == RayStop::At::escape && nothing_through) return std::nullopt;
   if (stop.at == RayStop::At::escape)
     return std::isinf(distance_m) && absorbs(s, seg.medium) && !scattering_medium(s, seg.medium) ? std::nullopt
                                                                                                   : std::optional(out);
@@ -75,7 +86,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   const RenderScene& s = v.scene;
   const bool mis = next_event != NextEvent::lights;
   const bool environment = next_event != NextEvent::lights;
-  const bool planes = next_event == NextEvent::lights_map_and_planes;
+  const bool planes = next_event == NextEvent::lights_map_and_interfaces;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
   auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
@@ -84,7 +95,15 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   };
   SampledSpectrum<N> sum;
   const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
-  if (const auto chosen = s.area_lights.sample(u_light)) {
+  const auto chosen = s.area_lights.sample(u_light);
+  // Through the casters (exact glass spheres): every delta light, and the area light drawn, at a
+  // point drawn by area (manifold.h). Its own numbers, so the connections below draw as before.
+  if (planes && !s.casters.empty()) {
+    Rng side(rng.next_u32(), kManifoldStream);
+    const double v1 = side.next_double(), v2 = side.next_double();
+    sum += through_casters(v, at, towards, chosen, v1, v2, w, path_r_u, side, rays);
+  }
+  if (chosen) {
     const auto& [index, p_choice] = *chosen;
     if (const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, u1, u2)) {
       double vertex_pdf = 0.0;
@@ -111,10 +130,9 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
     if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays, {},
                                     planes ? &glass : nullptr, planes ? &blocker : nullptr))
       sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
-    else if (glass)  // through a flat interface to the lamp (manifold.h; no scattering: ratios of 1)
-      sum += delta_light_through_plane(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards, w, rng,
-                                       rays) *
-             (1.0f / light_ratio(Transmission<N>{}));
+    else if (glass)  // through the interface to the lamp (manifold.h)
+      sum += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards, w,
+                                           path_r_u, rng, rays);
   }
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
@@ -168,7 +186,8 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
 
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          bool through_interfaces) {
   // Light arriving along −wi leaves the event along −direction, back along the camera walk.
   auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
     phase_pdf = phase_value(at.phase, -wi, -at.direction);
@@ -176,7 +195,7 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
   };
   return direct_light_at(
       v, PathVertex{at.x, nullptr, at.inside}, phase_towards, [&](const Vec3&) { return at.medium; }, w, path_r_u,
-      rng, rays, NextEvent::lights_and_map_weighted);
+      rng, rays, through_interfaces ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted);
 }
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
@@ -186,7 +205,7 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
       const ThroughInterfaces*); \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const MediumPoint&, \
-      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&);
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool);
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kHeroCount)

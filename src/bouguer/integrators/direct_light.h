@@ -79,10 +79,11 @@ enum class NextEvent : std::uint8_t {
   // The path tracer's: those and one direction of the environment map, each MIS-weighted against
   // the vertex's own sampling of its direction by the power heuristic.
   lights_and_map_weighted,
-  // The same, and a point or spot light that a smooth planar interface hides reached through it
-  // (manifold.h), for the path tracer alone: no other strategy of its reaches those paths, where
-  // the bidirectional estimators' light subpaths do (their tails keep lights_and_map_weighted).
-  lights_map_and_planes,
+  // The same, and a point or spot light that one smooth interface hides (a flat face, an exact
+  // sphere) reached through it (manifold.h), for the path tracer alone: no other strategy of its
+  // reaches those paths, where the bidirectional estimators' light subpaths do (their tails keep
+  // lights_and_map_weighted).
+  lights_map_and_interfaces,
 };
 
 // Direct light at a non-specular surface event, towards wo, by the strategies `next_event`
@@ -96,9 +97,11 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
                                 const ThroughInterfaces* through = nullptr);
 
 // The same at a scattering event of a camera walk: the phase function in place of the BSDF, by the
-// path tracer's strategies (NextEvent::lights_and_map_weighted).
+// path tracer's strategies (NextEvent::lights_and_map_weighted; with through_interfaces,
+// lights_map_and_interfaces).
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays);
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          bool through_interfaces = false);
 
 }  // namespace bouguer

@@ -1,19 +1,44 @@
 #pragma once
-// Next-event estimation through one smooth planar interface (#37's manifold next-event estimation,
-// its first case: Hanika, Droske, Fascione 2015, with the plane's refraction solved exactly). A
-// point or spot light behind a flat refracting surface (a lamp under water, behind a pane, inside a
-// glass box) sends light to a vertex in front of it along one path only, through the point y of the
-// plane where Snell's law holds; no BSDF direction meets a point light, so the path tracer reached
-// those paths not at all. Contract: the vertex's f·|cos θ| (or phase value) towards the arrival
-// direction, times the light's intensity, the Fresnel transmittance at y, the transmittance of both
-// segments (exact Bouguer–Lambert, fields and priorities as any shadow ray), and the ray tube's
-// dω_light / dA⊥ at the vertex (the irradiance a point source gives through the refraction: flux is
-// conserved, so no n² appears). Zero where no such path exists: the plane's solution off the face
-// the straight shadow ray met, an interface that disperses or is rough, something else in the way,
-// a light on the vertex's side.
+// Next-event estimation through smooth glass (#37's manifold next-event estimation: Hanika,
+// Droske, Fascione 2015, with each interface's refraction solved exactly rather than by Newton
+// steps on a mesh): one crossing of a plane (a face of a mesh), or one or two crossings of an exact
+// sphere. A lamp behind a refracting surface (under water, behind a pane, inside a glass globe; a
+// fog inside a glass ball lit from outside; the caustic under a glass ball) sends light to a vertex
+// on the other side only along the paths where Snell's law holds at every crossing. No BSDF or
+// phase direction meets a point light, so the path tracer reached those paths not at all; an area
+// light it reached only where a sampled direction happened to refract onto it.
+//
+// Contract, for every such path: the vertex's f·|cos θ| (or phase value) towards the first
+// crossing, times the light's intensity (a point or spot light) or its radiance times |cos θ| at
+// a point y drawn by area on it, divided by that point's density (an area or spherical light),
+// times the Fresnel transmittance at each crossing, the transmittance of every segment (exact
+// Bouguer–Lambert, fields and priorities as any shadow ray; ratio-tracked in scattering media,
+// with all segments' spectral-MIS ratios), and the ray tube's dω_light / dA⊥ at the vertex (the
+// irradiance a point source gives through the refractions: flux is conserved, so no n² appears).
+// Zero where no such path exists: a crossing off the face the straight shadow ray met (a plane)
+// or hidden, an interface that disperses, is rough or shades with normals other than its own,
+// something else in the way.
+//
+// Which strategy owns which path. Point and spot lights: these connections are the path tracer's
+// only strategy, so nothing is weighted. Area and spherical lights through a caster
+// (RenderScene::casters: exact smooth spheres of objects without a priority): the connection is
+// the only strategy the path tracer counts for a path from a non-specular vertex through one or
+// two refractions of one caster to the light; the walk's own such paths (a BSDF or phase direction
+// refracted onto the light) count nothing (radiance.h: CasterTrail). Every such path is found for
+// the y drawn (all solutions are summed), so the estimator stays unbiased without MIS; where one
+// is missed (two solutions closer than the scan's interval, near a caustic's fold) that light is
+// lost, never counted twice.
+#include <array>
+#include <limits>
+
+#include "bouguer/core/frame.h"
 #include "bouguer/integrators/direct_light.h"
 
 namespace bouguer {
+
+// The stream of the random numbers connections through casters draw (each vertex seeds one from
+// the walk's generator: however many they take, the walk's own numbers stay where they were).
+inline constexpr std::uint64_t kManifoldStream = 0x6d6e6565;  // "mnee"
 
 // The point of the plane through `on_plane` with unit normal `n` where a ray from x refracts
 // towards p (x and p on opposite sides; eta_x, eta_p the indices on their sides): the root of
@@ -23,75 +48,327 @@ namespace bouguer {
 std::optional<Vec3> refraction_point(const Vec3& x, const Vec3& p, const Vec3& on_plane, const Vec3& n, double eta_x,
                                      double eta_p);
 
-// The light of delta light `light` (point or spot) at vertex `at` through the smooth planar
-// interface whose hit `blocker` stopped the straight shadow ray; `towards(wi, pdf)` gives the
-// vertex's f·|cos θ| towards wi. Neither side's medium may scatter (the connection's spectral-MIS
-// ratios are then 1).
-template <std::size_t N, typename Towards>
-SampledSpectrum<N> delta_light_through_plane(const SceneView<N>& v, const PathVertex& at, const Light& light,
-                                             const Hit& blocker, Towards towards, const SampledWavelengths<N>& w,
-                                             Rng& rng, std::uint64_t& rays) {
+// The points of the sphere (centre, radius) where a ray from `inner` (inside it) refracts towards
+// `outer` (outside; eta_inner, eta_outer the indices on their sides), which `outer` sees: the
+// stationary points of the optical length η_i·|inner − y| + η_o·|y − outer| on the arc of the great
+// circle through both points (Snell's law keeps the normal, which passes through the centre, in
+// the plane of incidence) that `outer` sees. Usually one; near a caustic, three. Found by the sign
+// changes of its derivative over 48 intervals of the arc, refined to 1e-14 of a radian within
+// them (the Illinois method) (two roots closer than an interval are missed: light at a caustic's fold). With
+// `near`, only the solution near that point (the ray tube's neighbours of a solution).
+struct SphereRefraction {
+  std::array<Vec3, 4> points{};
+  int count = 0;
+};
+SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& centre, double radius_m,
+                                          double eta_inner, double eta_outer, const Vec3* near = nullptr);
+
+// The paths from `from` to `to` (both outside the sphere) through it: refracted in at entry[k],
+// straight across, refracted out at exit[k]. In the plane of the centre and both points, as above;
+// each entry point on the arc `from` sees traces one ray, and the paths are the sign changes, over
+// 64 intervals, of the side of it `to` lies on, refined to 1e-14 of a radian (the deviation
+// through a sphere grows with the impact parameter on each side of the centre's line, so one path a
+// side is the rule, and more appear only near `to`'s caustic). None where the turn from `from` to
+// `to` exceeds the most a passage deviates. A ray
+// totally reflected inside carries nothing here (its paths are the walks'), and two paths closer
+// than an interval are missed as above. Usually two (one through each side of the centre's line)
+// or none. `near`: as above, an entry point.
+struct SpherePassages {
+  std::array<Vec3, 4> entry{}, exit{};
+  int count = 0;
+};
+SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
+                                     double eta_inside, double eta_outside, const Vec3* near = nullptr);
+
+namespace manifold_detail {
+
+// One smooth interface, as next-event estimation crosses it: a plane through `point` with
+// `normal` (a face of a mesh), or a sphere (centre `point`, radius); its media (front: the side
+// the normal points to, outside a sphere).
+struct Interface {
+  std::uint32_t geometry = 0;
+  bool sphere = false;
+  Vec3 point, normal;
+  double radius_m = 0.0;
+  int medium_front = -1, medium_behind = -1;
+  bool twice = true;  // a sphere: crossed twice too (ManifoldCaster::twice)
+  bool front(const Vec3& x) const {
+    return sphere ? length(x - point) > radius_m : dot(x - point, normal) > 0.0;
+  }
+  Vec3 normal_at(const Vec3& y) const { return sphere ? (y - point) / radius_m : normal; }
+};
+
+// The paths through an interface from x to the light point q: their crossings in order, one or two.
+struct Paths {
+  std::array<std::array<Vec3, 2>, 4> crossing{};
+  int count = 0, crossings = 1;
+};
+
+inline Paths solve(const Interface& f, const Vec3& x, const Vec3& q, double eta_front, double eta_behind,
+                   const Vec3* near = nullptr) {
+  Paths out;
+  const bool fx = f.front(x), fq = f.front(q);
+  if (!f.sphere) {
+    if (fx == fq) return out;
+    if (const auto y = refraction_point(x, q, f.point, f.normal, fx ? eta_front : eta_behind,
+                                        fx ? eta_behind : eta_front))
+      out.crossing[static_cast<std::size_t>(out.count++)][0] = *y;
+    return out;
+  }
+  if (fx && fq) {
+    if (!f.twice) return out;
+    const SpherePassages p = sphere_passage_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near);
+    out.crossings = 2;
+    for (int k = 0; k < p.count; ++k)
+      out.crossing[static_cast<std::size_t>(k)] = {p.entry[static_cast<std::size_t>(k)],
+                                                   p.exit[static_cast<std::size_t>(k)]};
+    out.count = p.count;
+    return out;
+  }
+  if (fx == fq) return out;  // both inside: no crossing
+  const SphereRefraction r = fx ? sphere_refraction_points(q, x, f.point, f.radius_m, eta_behind, eta_front, near)
+                                : sphere_refraction_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near);
+  for (int k = 0; k < r.count; ++k) out.crossing[static_cast<std::size_t>(k)][0] = r.points[static_cast<std::size_t>(k)];
+  out.count = r.count;
+  return out;
+}
+
+// What a path gets from its vertex to its last crossing, and where it then goes on to the light.
+template <std::size_t N>
+struct Reach {
+  SampledSpectrum<N> tr = SampledSpectrum<N>::constant(1.0f);
+  SampledSpectrum<N> r_l = SampledSpectrum<N>::constant(1.0f);
+  double fresnel = 1.0;  // the product of the crossings' Fresnel transmittances
+  Vec3 wi;               // the first direction, from the vertex
+  Hit last;              // the last crossing, as a hit (the final segment's start)
+  InsideSet inside = 0;  // the nested set beyond it
+  int medium = -1;       // the medium beyond it
+  Vec3 to_light;
+  double light_m = 0.0;  // from the last crossing to the light point
+};
+
+// Follows one path's crossings from the vertex: each segment clear (transmission), each crossing
+// on the same surface where the solve put it (a plane: on a face of that plane; a sphere: the
+// normal there), refracting by its own normal; Fresnel from the indices of the media on each side.
+template <std::size_t N>
+std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
+                               const std::array<Vec3, 2>& ys, int crossings, const Vec3& q,
+                               const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
   const RenderScene& s = v.scene;
+  Reach<N> r;
+  PathVertex from = at;
+  r.inside = inside;
+  bool front = f.front(at.point);
+  for (int c = 0; c < crossings; ++c) {
+    const Vec3 y = ys[static_cast<std::size_t>(c)];
+    const double d = length(y - from.point);
+    if (!(d > 0.0)) return std::nullopt;
+    const Vec3 dir = (y - from.point) / d;
+    if (c == 0) r.wi = dir;
+    const int medium = front ? f.medium_front : f.medium_behind;
+    const auto t = transmission(v, from, dir, d, medium, w, rng, rays);
+    if (!t) return std::nullopt;
+    r.tr *= t->tr;
+    r.r_l *= t->ratios.r_l;
+    const auto face = s.rays.intersect(Ray{y - dir * (d * 1e-4), dir, d * 2e-4});
+    ++rays;
+    const Vec3 n = f.normal_at(y);
+    if (!face || face->geometry != f.geometry || dot(face->normal, n) < 1.0 - 1e-9 ||
+        dot(face->shading_normal, face->normal) < 1.0 - 1e-9 ||
+        (!f.sphere && std::abs(dot(face->point - f.point, n)) > 1e-6 * d))
+      return std::nullopt;
+    const SurfaceSeen seen = surface_seen(s, *face, r.inside);
+    const int m_from = front ? seen.medium_front : seen.medium_behind, m_to = front ? seen.medium_behind : seen.medium_front;
+    const double eta_from = s.media[static_cast<std::size_t>(m_from)].ior_reference;
+    const double eta_to = s.media[static_cast<std::size_t>(m_to)].ior_reference;
+    const double cos_i = std::abs(dot(dir, n)), cos_t = cos_theta_transmitted(cos_i, eta_from, eta_to);
+    if (!(cos_t > 0.0)) return std::nullopt;
+    r.fresnel *= 1.0 - fresnel_dielectric(cos_i, cos_t, eta_from, eta_to);
+    r.inside = inside_towards(s, *face, r.inside, dir);
+    r.last = *face;
+    r.medium = m_to;
+    front = !front;
+    from = PathVertex{face->point, &r.last, r.inside};
+  }
+  const Vec3 last = ys[static_cast<std::size_t>(crossings - 1)];
+  r.light_m = length(q - last);
+  if (!(r.light_m > 0.0)) return std::nullopt;
+  r.to_light = (q - last) / r.light_m;
+  return r;
+}
+
+// The ray tube at the vertex: the directions leaving the light point q that reach a patch
+// perpendicular to wi at x, per unit area of it, by the solve at two neighbours 1e-6 of the path
+// away (the mapping is smooth there: central enough, and the differences keep 10 digits), each
+// neighbour's path solved for near this one's first crossing.
+inline double tube(const Interface& f, const Vec3& x, const Vec3& wi, const std::array<Vec3, 2>& ys, int crossings,
+                   const Vec3& q, double path_m, double eta_front, double eta_behind) {
+  const Frame frame(wi);
+  const double step = 1e-6 * path_m;
+  const Vec3& last = ys[static_cast<std::size_t>(crossings - 1)];
+  Vec3 o[2];
+  for (int k = 0; k < 2; ++k) {
+    const Paths p = solve(f, x + (k == 0 ? frame.s : frame.t) * step, q, eta_front, eta_behind, &ys[0]);
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < p.count; ++i) {
+      const Vec3 y = p.crossing[static_cast<std::size_t>(i)][static_cast<std::size_t>(p.crossings - 1)];
+      if (length(y - last) < best) best = length(y - last), o[k] = normalize(y - q);
+    }
+    if (!std::isfinite(best)) return 0.0;
+  }
+  const Vec3 o0 = normalize(last - q);
+  return length(cross(o[0] - o0, o[1] - o0)) / (step * step);
+}
+
+// What a light sends from point q (a point light's position, or a point drawn on an area or
+// spherical light) along the paths to the vertex: intensity (or radiance × |cos θ| / density)
+// towards the path's last direction, or zero; `end` traces the final segment.
+template <std::size_t N, typename Towards, typename LightEnd>
+SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
+                           const Vec3& q, Towards towards, const SampledWavelengths<N>& w,
+                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, LightEnd end) {
+  const RenderScene& s = v.scene;
+  const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
+  const double eta_behind = s.media[static_cast<std::size_t>(f.medium_behind)].ior_reference;
+  const Paths paths = solve(f, at.point, q, eta_front, eta_behind);
+  SampledSpectrum<N> sum;
+  for (int k = 0; k < paths.count; ++k) {
+    const auto& ys = paths.crossing[static_cast<std::size_t>(k)];
+    const auto r = follow(v, at, inside, f, ys, paths.crossings, q, w, rng, rays);
+    if (!r) continue;
+    double vertex_pdf = 0.0;
+    const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
+    if (fv.is_zero()) continue;
+    // The final segment and what the light sends along it (the light's own radiance, its
+    // transmittance and ratios).
+    SampledSpectrum<N> tr_last = SampledSpectrum<N>::constant(1.0f), r_last = tr_last;
+    const SampledSpectrum<N> light = end(*r, tr_last, r_last);
+    if (light.is_zero()) continue;
+    double path_m = length(ys[0] - at.point) + r->light_m;
+    if (paths.crossings == 2) path_m += length(ys[1] - ys[0]);
+    const double t = tube(f, at.point, r->wi, ys, paths.crossings, q, path_m, eta_front, eta_behind);
+    if (!(t > 0.0) || !std::isfinite(t)) continue;
+    sum += fv * light * r->tr * tr_last *
+           static_cast<float>(r->fresnel * t / mean_ratio(s, path_r_u, r->r_l * r_last));
+  }
+  return sum;
+}
+
+// A delta light's position, intensity spectrum and spot profile; nothing for other lights.
+struct DeltaLamp {
   Vec3 p;
   int intensity = -1;
   const SpotProfile* spot = nullptr;
-  if (const auto* pt = std::get_if<PointLight>(&light)) {
-    p = pt->position_m, intensity = pt->intensity;
-  } else if (const auto* sp = std::get_if<SpotLight>(&light)) {
-    p = sp->position_m, intensity = sp->intensity, spot = &sp->profile;
-  } else {
-    return {};
-  }
-  // A face of a mesh (an analytic surface is curved: not yet), smooth, refracting.
-  if (s.rays.mesh(blocker.geometry).positions.empty()) return {};
-  const Vec3 wi0 = normalize(p - at.point);
-  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, wi0) : at.inside;
+};
+inline std::optional<DeltaLamp> delta_lamp(const Light& light) {
+  if (const auto* pt = std::get_if<PointLight>(&light)) return DeltaLamp{pt->position_m, pt->intensity, nullptr};
+  if (const auto* sp = std::get_if<SpotLight>(&light)) return DeltaLamp{sp->position_m, sp->intensity, &sp->profile};
+  return std::nullopt;
+}
+
+template <std::size_t N, typename Towards>
+SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
+                                 const DeltaLamp& lamp, Towards towards, const SampledWavelengths<N>& w,
+                                 const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  auto end = [&](const Reach<N>& r, SampledSpectrum<N>& tr, SampledSpectrum<N>& ratios) -> SampledSpectrum<N> {
+    const double emitted = lamp.spot ? spot_falloff(*lamp.spot, -r.to_light) : 1.0;
+    if (emitted == 0.0) return {};
+    const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
+                                rng, rays);
+    if (!t) return {};
+    tr = t->tr, ratios = t->ratios.r_l;
+    return v.tables.at(lamp.intensity, w) * static_cast<float>(emitted);
+  };
+  return through(v, at, inside, f, lamp.p, towards, w, path_r_u, rng, rays, end);
+}
+
+inline Interface caster_interface(const RenderScene& s, const ManifoldCaster& c) {
+  const Surface& surface = s.surfaces[c.geometry];
+  return Interface{c.geometry, true, c.centre_m, Vec3{}, c.radius_m, surface.medium_front, surface.medium_behind,
+                   c.twice};
+}
+
+}  // namespace manifold_detail
+
+// The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
+// whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals,
+// solved on its plane, or an exact sphere that is not a caster (a nested one; casters are
+// through_casters'); `towards(wi, pdf)` gives the vertex's f·|cos θ| towards wi. path_r_u: the
+// path's unidirectional ratios so far, each path divided by the mean of their product with its
+// own light ratios (direct_light.h).
+template <std::size_t N, typename Towards>
+SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const PathVertex& at, const Light& light,
+                                                 const Hit& blocker, Towards towards, const SampledWavelengths<N>& w,
+                                                 const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  const auto lamp = delta_lamp(light);
+  if (!lamp) return {};
+  for (const ManifoldCaster& c : s.casters)
+    if (c.geometry == blocker.geometry) return {};
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(lamp->p - at.point)) : at.inside;
   const SurfaceSeen seen = surface_seen(s, blocker, inside);
   if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched) return {};
-  const Vec3& n = blocker.normal;
-  const double side_x = dot(at.point - blocker.point, n), side_p = dot(p - blocker.point, n);
-  if (!(side_x * side_p < 0.0)) return {};
-  const int mx = side_x > 0.0 ? seen.medium_front : seen.medium_behind;
-  const int mp = side_x > 0.0 ? seen.medium_behind : seen.medium_front;
-  const SceneMedium &ax = s.media[static_cast<std::size_t>(mx)], &ap = s.media[static_cast<std::size_t>(mp)];
-  if (ax.dispersive || ap.dispersive || scattering(ax.medium) || scattering(ap.medium)) return {};
-  const double eta_x = ax.ior_reference, eta_p = ap.ior_reference;
-  auto solve = [&](const Vec3& x) { return refraction_point(x, p, blocker.point, n, eta_x, eta_p); };
-  const auto y = solve(at.point);
-  if (!y) return {};
-  const double dx = length(*y - at.point), dp = length(p - *y);
-  if (!(dx > 0.0) || !(dp > 0.0)) return {};
-  const Vec3 wi = (*y - at.point) / dx, to_light = (p - *y) / dp;
-  double vertex_pdf = 0.0;
-  const SampledSpectrum<N> f = towards(wi, vertex_pdf);
-  if (f.is_zero()) return {};
-  // The vertex to y: clear, and y on a face of the same plane (not off the face's edge).
-  const auto near = transmission(v, at, wi, dx, mx, w, rng, rays);
-  if (!near) return {};
-  const auto face = s.rays.intersect(Ray{at.point + wi * (dx * (1.0 - 1e-4)), wi, dx * 2e-4});
-  ++rays;
-  if (!face || face->geometry != blocker.geometry || dot(face->normal, n) < 1.0 - 1e-9 ||
-      std::abs(dot(face->point - blocker.point, n)) > 1e-6 * (dx + dp))
+  if (s.media[static_cast<std::size_t>(seen.medium_front)].dispersive ||
+      s.media[static_cast<std::size_t>(seen.medium_behind)].dispersive)
     return {};
-  // y to the light, behind the plane.
-  const auto far = transmission(v, PathVertex{face->point, &*face, inside_towards(s, *face, inside, wi)}, to_light, dp,
-                                mp, w, rng, rays);
-  if (!far) return {};
-  const double cos_x = std::abs(dot(wi, n)), cos_p = cos_theta_transmitted(cos_x, eta_x, eta_p);
-  if (!(cos_p > 0.0)) return {};
-  const double transmittance = 1.0 - fresnel_dielectric(cos_x, cos_p, eta_x, eta_p);
-  // The ray tube: the light's directions that reach a patch perpendicular to wi at the vertex, per
-  // unit area of it, by the solve at two neighbours (the plane's mapping is smooth: central enough
-  // at a step of 1e-6 of the path, whose differences keep 10 digits in double precision).
-  const Frame frame(wi);
-  const double step = 1e-6 * (dx + dp);
-  const auto y1 = solve(at.point + frame.s * step), y2 = solve(at.point + frame.t * step);
-  if (!y1 || !y2) return {};
-  const Vec3 o0 = normalize(*y - p), o1 = normalize(*y1 - p), o2 = normalize(*y2 - p);
-  const double tube = length(cross(o1 - o0, o2 - o0)) / (step * step);
-  const double emitted = spot ? spot_falloff(*spot, o0) : 1.0;
-  if (emitted == 0.0) return {};
-  return f * v.tables.at(intensity, w) * near->tr * far->tr * static_cast<float>(transmittance * tube * emitted);
+  const AnalyticShape* shape = s.rays.analytic(blocker.geometry);
+  const SphereSurface* sphere = shape ? std::get_if<SphereSurface>(&shape->surface) : nullptr;
+  const double scale = shape ? shape->to_world.similarity_scale() : 0.0;
+  if (shape && (!sphere || scale == 0.0)) return {};  // cylinders, disks, ellipsoids: not yet
+  if (!shape && dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9) return {};  // the walk refracts by those
+  Interface f{blocker.geometry, sphere != nullptr, sphere ? shape->to_world.apply(Vec3{}) : blocker.point,
+              blocker.normal, sphere ? sphere->radius_m * scale : 0.0, seen.medium_front, seen.medium_behind};
+  // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path.)
+  if (f.sphere && f.front(at.point) && f.front(lamp->p)) return {};
+  return delta_through(v, at, inside, f, *lamp, towards, w, path_r_u, rng, rays);
+}
+
+// The light of the delta lights and of one area or spherical light (its index drawn by power with
+// probability p_choice, its point by area from u1, u2) at vertex `at` through each caster
+// (RenderScene::casters), once or twice crossed.
+template <std::size_t N, typename Towards>
+SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, Towards towards,
+                                   std::optional<std::pair<int, double>> area_light, double u1, double u2,
+                                   const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                   std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  SampledSpectrum<N> sum;
+  std::optional<LightAreaSample> y;
+  const Light* light = nullptr;
+  if (area_light) {
+    light = &s.lights[static_cast<std::size_t>(area_light->first)];
+    y = sample_area(*light, u1, u2);
+  }
+  for (const ManifoldCaster& c : s.casters) {
+    const Interface f = caster_interface(s, c);
+    // The nested set the connections leave with (a caster has no priority; the vertex's own
+    // surface may).
+    auto inside_along = [&](const Vec3& q) {
+      return at.hit ? inside_towards(s, *at.hit, at.inside, normalize(q - at.point)) : at.inside;
+    };
+    for (const int index : s.delta_lights)
+      if (const auto lamp = delta_lamp(s.lights[static_cast<std::size_t>(index)]))
+        sum += delta_through(v, at, inside_along(lamp->p), f, *lamp, towards, w, path_r_u, rng, rays);
+    if (!y) continue;
+    auto end = [&](const Reach<N>& r, SampledSpectrum<N>& tr, SampledSpectrum<N>& ratios) -> SampledSpectrum<N> {
+      // On to the light: clear up to it, then its surface there, seen from the path's side.
+      const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
+                                  rng, rays);
+      if (!t) return {};
+      const auto hit = s.rays.intersect(Ray{y->p - r.to_light * (r.light_m * 1e-4), r.to_light, r.light_m * 2e-4});
+      ++rays;
+      if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter ||
+          &surface_light_at(s, *hit) != light)
+        return {};
+      const double cos_light = std::abs(dot(hit->normal, r.to_light));
+      tr = t->tr, ratios = t->ratios.r_l;
+      return emitted(v, *hit, -r.to_light, w) * static_cast<float>(cos_light / (area_light->second * y->pdf_area));
+    };
+    sum += through(v, at, inside_along(y->p), f, y->p, towards, w, path_r_u, rng, rays, end);
+  }
+  return sum;
 }
 
 }  // namespace bouguer

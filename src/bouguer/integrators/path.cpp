@@ -35,7 +35,7 @@ SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w
   state.cone_width_m = cone.width_m;
   state.cone_spread_rad = cone.spread_rad;
   Radiance<N> li{v, w, state, rng, rays, ray.origin, {}, 0, 0};
-  li.next_event = NextEvent::lights_map_and_planes;
+  li.next_event = v.manifold ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted;
   random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
   return li.l;
 }

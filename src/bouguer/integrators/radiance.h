@@ -7,6 +7,51 @@
 
 namespace bouguer {
 
+// The walk's side of next-event estimation through the casters (manifold.h): since the last
+// vertex that connected through them (a non-specular surface or a scattering event of the path
+// tracer), the refractions at one caster the walk has made. A light it then reaches after one of
+// them, or after two from outside the caster, is a path that connection counted: here it counts
+// nothing. Whether a specular vertex refracted shows only at the next one, by the side of the
+// surface the walk left along.
+struct CasterTrail {
+  bool open = false;
+  std::uint32_t geometry = 0;
+  int crossings = 0;
+  bool from_outside = false;
+  bool twice = false;    // the caster is connected through twice (ManifoldCaster::twice)
+  bool pending = false;  // the last vertex was at a caster; wo and normal there
+  Vec3 wo{}, normal{};
+
+  void start(bool connected) {
+    *this = CasterTrail{};
+    open = connected;
+  }
+  // The walk went on from the pending vertex along d: open only if it refracted there.
+  bool settle(const Vec3& d) {
+    if (pending && dot(d, normal) * dot(wo, normal) >= 0.0) open = false;
+    pending = false;
+    return open;
+  }
+  // A specular vertex at `hit`, the walk arriving from wo_here.
+  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here) {
+    if (!settle(-wo_here)) return;
+    const ManifoldCaster* caster = nullptr;
+    for (const ManifoldCaster& c : scene.casters)
+      if (c.geometry == hit.geometry) caster = &c;
+    if (!caster || (crossings > 0 && hit.geometry != geometry) || ++crossings > 2) {
+      open = false;
+      return;
+    }
+    if (crossings == 1)
+      geometry = hit.geometry, from_outside = dot(wo_here, hit.normal) > 0.0, twice = caster->twice;
+    pending = true, wo = wo_here, normal = hit.normal;
+  }
+  // A light reached: whether a connection through the casters counted this path.
+  bool counted_by_connection(const Vec3& d) {
+    return settle(d) && (crossings == 1 || (crossings == 2 && from_outside && twice));
+  }
+};
+
 // The path tracer's visitor: at each vertex of a camera walk, what it sees directly (an emitter or
 // the environment, weighted against next-event estimation) and next-event estimation; at most
 // max_depth surface vertices and kMaxScatterings medium vertices.
@@ -32,9 +77,13 @@ struct Radiance {
   GuideTrail trail = {};
   SurfaceDistance near = {};
   float bin_weight = 1.0f;
-  // Its next-event estimation at surfaces: the path tracer's own adds lamps behind flat interfaces
-  // (direct_light.h: NextEvent::lights_map_and_planes), a bidirectional tail does not.
+  // Its next-event estimation: the path tracer's own adds lamps behind one smooth interface
+  // (direct_light.h: NextEvent::lights_map_and_interfaces), a bidirectional tail does not.
   NextEvent next_event = NextEvent::lights_and_map_weighted;
+  CasterTrail casters = {};
+  bool through_casters() const {
+    return next_event == NextEvent::lights_map_and_interfaces && !v.scene.casters.empty();
+  }
 
   GuideTrail& exit_guide_trail() { return trail; }
   const SurfaceDistance& surface_distance() const { return near; }
@@ -65,6 +114,7 @@ struct Radiance {
       add(x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
       return;
     }
+    if (casters.open && casters.counted_by_connection(d)) return;  // (manifold.h: through_casters)
     const double weight =
         arrived == 0.0 ? 1.0
                        : spectral_power_heuristic(scene, arrived, state.mis.r_u, area_light_pdf(scene, x.hit, previous, d),
@@ -76,7 +126,7 @@ struct Radiance {
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
     return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight,
-                    next_event};
+                    next_event, casters};
   }
   void join(const Radiance& child) { l += child.l; }
 
@@ -95,6 +145,9 @@ struct Radiance {
       add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays,
                                 next_event, guided ? &through : nullptr));
       if (guided) trail.guide = surface_exit_guide();
+      casters.start(through_casters());
+    } else if (casters.open) {
+      casters.specular(v.scene, x.hit, x.wo);
     }
     moved_to(x.point);
     return true;
@@ -107,10 +160,12 @@ struct Radiance {
     const int medium = state.medium;
     // (the direction it arrived along: the walk replaces the ray's after this)
     const MediumPoint at{point, state.ray.direction, scattering_medium(scene, medium)->phase, medium, state.inside};
+    casters.start(through_casters());
     // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
     const double q = nee_probability_in_medium(v, medium, point, w, near);
     if (q >= 1.0 || rng.next_double() < q)
-      add(state.beta * direct_light_in_medium(v, at, w, state.mis.r_u, rng, rays) * static_cast<float>(1.0 / q));
+      add(state.beta * direct_light_in_medium(v, at, w, state.mis.r_u, rng, rays,
+                                                          next_event == NextEvent::lights_map_and_interfaces) * static_cast<float>(1.0 / q));
     // Near the boundary, through it (exit_guide.h: ExitGuide). Its numbers come from a stream of its
     // own, so the walk's moves on by one however many the connection takes.
     // (None where the walk could not cross one more surface.)

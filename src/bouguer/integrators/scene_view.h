@@ -31,6 +31,7 @@ struct SceneView {
   const Camera& camera;
   int max_depth = 32;
   bool exit_guide = true;  // the path tracer's ExitGuide (exit_guide.h)
+  bool manifold = true;    // the path tracer's next-event estimation through glass (manifold.h)
 };
 
 inline bool absorbs(const RenderScene& scene, int medium) {

@@ -127,6 +127,14 @@ struct LightLeSample {
 };
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2);
+// A point drawn uniformly by area on an emitter's surface (a triangle's, or the whole emitting
+// sphere's), for connections that reach it along a path other than the straight line
+// (integrators/manifold.h): the point and the density per m². Nothing for other lights.
+struct LightAreaSample {
+  Vec3 p;
+  double pdf_area = 0.0;
+};
+std::optional<LightAreaSample> sample_area(const Light& light, double u1, double u2);
 double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q);
 std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
                                        double u3, double u4);

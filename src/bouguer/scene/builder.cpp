@@ -114,6 +114,11 @@ SceneBuilder& SceneBuilder::exit_guide(bool on) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::manifold(bool on) {
+  desc_.render.manifold = on;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::seed(std::int64_t v, const Source& where) {
   desc_.render.seed = static_cast<std::uint64_t>(count_between(v, 0, kMaxSeed, where));
   return *this;

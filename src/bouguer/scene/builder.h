@@ -50,6 +50,7 @@ class SceneBuilder {
   SceneBuilder& max_depth(std::int64_t depth, const Source& where);
   SceneBuilder& merge_radius(double radius_m, const Source& where);  // vcm's first merging radius
   SceneBuilder& exit_guide(bool on);  // path: RenderSettings::exit_guide
+  SceneBuilder& manifold(bool on);    // path: RenderSettings::manifold
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 

@@ -444,12 +444,7 @@ bool emitting_sphere(const ObjectDesc& o) {
   if (!sphere || sphere->tessellate || !o.emission || o.inside || o.emission->two_sided || o.emission->spot ||
       o.emission->texture)
     return false;
-  const Mat3& l = o.transform.linear;
-  const Vec3 a = l * Vec3{1, 0, 0}, b = l * Vec3{0, 1, 0}, c = l * Vec3{0, 0, 1};
-  const double scale = length(a), tolerance = 1e-9 * scale;
-  return scale > 0.0 && std::abs(length(b) - scale) <= tolerance && std::abs(length(c) - scale) <= tolerance &&
-         std::abs(dot(a, b)) <= tolerance * scale && std::abs(dot(b, c)) <= tolerance * scale &&
-         std::abs(dot(a, c)) <= tolerance * scale;
+  return o.transform.similarity_scale() > 0.0;
 }
 
 // A sphere, cylinder or disk that is not an emitter stays exact, and so does an emitting sphere
@@ -532,6 +527,25 @@ void add_lights(RenderScene& s, const SceneDesc& desc) {
   }
 }
 
+// The exact spheres next-event estimation reaches lights through (ManifoldCaster), the first
+// kMaxCasters of them: each costs a solve at every vertex.
+void add_casters(RenderScene& s) {
+  for (std::uint32_t g = 0; g < s.surfaces.size() && s.casters.size() < kMaxCasters; ++g) {
+    const Surface& f = s.surfaces[g];
+    if (f.kind != SurfaceKind::interface || f.roughness != 0.0 || f.index_matched || f.nested >= 0 ||
+        f.normal_map >= 0 || f.medium_front < 0 || f.medium_behind < 0 ||
+        s.media[static_cast<std::size_t>(f.medium_front)].dispersive ||
+        s.media[static_cast<std::size_t>(f.medium_behind)].dispersive)
+      continue;
+    const AnalyticShape* shape = s.rays.analytic(g);
+    const auto* sphere = shape ? std::get_if<SphereSurface>(&shape->surface) : nullptr;
+    const double scale = shape ? shape->to_world.similarity_scale() : 0.0;
+    if (!sphere || scale == 0.0) continue;
+    const bool inside_scatters = scattering(s.media[static_cast<std::size_t>(f.medium_behind)].medium) != nullptr;
+    s.casters.push_back(ManifoldCaster{g, shape->to_world.apply(Vec3{}), sphere->radius_m * scale, !inside_scatters});
+  }
+}
+
 }  // namespace
 
 bool indices_match(const RenderScene& s, int a, int b) {
@@ -551,6 +565,7 @@ RenderScene compile(const SceneDesc& desc) {
   add_geometry(s, desc);
   add_lights(s, desc);
   add_lights_distributions(s);
+  add_casters(s);
   return s;
 }
 

@@ -66,6 +66,19 @@ struct ThinDielectricMaterial {
 };
 using SurfaceMaterial = std::variant<DiffuseMaterial, ConductorMaterial, MetallicRoughnessMaterial, ThinDielectricMaterial>;
 
+// An exact sphere of smooth glass (or liquid) that next-event estimation reaches lights through
+// (integrators/manifold.h): a smooth, refracting, non-dispersive interface of an object without a
+// priority (its media are its own), placed by a similarity transform.
+struct ManifoldCaster {
+  std::uint32_t geometry = 0;
+  Vec3 centre_m;
+  double radius_m = 0.0;
+  // Whether connections cross it twice (in and out again): not where its inside scatters, whose
+  // light mostly does not get across (its scattering events connect once instead), and which
+  // would cost a solve at every vertex around it for little.
+  bool twice = true;
+};
+
 struct RenderScene {
   std::filesystem::path file;
   CameraDesc camera;
@@ -92,7 +105,9 @@ struct RenderScene {
   // Energy compensation of rough interfaces, tabulated with the two media's indices at
   // kReferenceWavelengthNm (the albedo varies by well under 1 % over a glass's dispersion).
   std::vector<DielectricAlbedo> dielectric_albedo;
+  std::vector<ManifoldCaster> casters;  // at most kMaxCasters, in geometry order
 };
+inline constexpr std::size_t kMaxCasters = 8;
 
 // The steps, in order: lower the media (predefined ones included), tessellate each object
 // (spot lights with a radius as disk emitters) within the memory available, or keep it analytic

@@ -55,6 +55,10 @@ struct RenderSettings {
   // (integrators/events.h: ExitGuide). Unset: on where the environment map's contrast reaches
   // kExitGuideContrast (exit_guide_enabled); set: on or off as said.
   std::optional<bool> exit_guide;
+  // path: next-event estimation through smooth glass (integrators/manifold.h). Off: the path
+  // tracer as before it, lamps behind glass reached only by its own directions (point and spot
+  // lamps behind glass not at all).
+  bool manifold = true;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).

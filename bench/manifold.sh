@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# Next-event estimation through smooth glass (#37, integrators/manifold.h), on and off
+# ("manifold": false in the scene), for the path tracer, beside bdpt and vcm, on two of the
+# issue's scenes:
+#   ball     a ball of scattering medium inside a refracting boundary (n = 1.33, σ_s 30/12/6 per m
+#            at 450/550/650 nm, g 0.7, radius 50 mm) on a grey floor under a 200 mm square lamp
+#            (every scattering event inside reaches the lamp through one crossing)
+#   caustic  tests/data/red_ball_lamp: a red glass ball under a 5 mm spherical lamp (the caustic
+#            and the coloured shadow come through two crossings)
+# Each row: seconds of one render (seeds 1 and 2), their mean ΔE00 (the noise) over the whole
+# frame and over the floor under the ball (the middle third of the frame's width, its lower
+# third: the shadow and the caustic), and noise × √seconds (lower is better; the ratio of two
+# rows' is the square root of their efficiency ratio). Reports only; figures in docs/performance.md.
+#   bench/manifold.sh build/bouguer
+# SPP (64), RESOLUTION (96x72), THREADS (2), SCENES ("ball caustic") may be set.
+set -euo pipefail
+bin=$(realpath "${1:-build/bouguer}")
+spp=${SPP:-64}
+resolution=${RESOLUTION:-96x72}
+threads=${THREADS:-2}
+scenes=${SCENES:-"ball caustic"}
+repo=$(cd "$(dirname "$0")/.." && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+python3 - "$repo" "$tmp" <<'PY'
+import json, os, sys
+repo, out = sys.argv[1], sys.argv[2]
+ball = {
+  "camera": {"position": [0, 0.12, 0.32], "look_at": [0, 0.05, 0], "fov_deg": 35, "resolution": [96, 72]},
+  "render": {"integrator": "path", "spectral": "full", "max_depth": 256},
+  "world_medium": "vacuum",
+  "media": {"milky": {"ior": 1.33, "scattering": {"unit": "attenuation_per_m", "wavelength_nm": [450, 550, 650],
+                                                  "value": [30, 12, 6], "phase": {"type": "henyey_greenstein", "g": 0.7}}}},
+  "objects": [
+    {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+     "material": {"type": "diffuse", "reflectance": 0.5}},
+    {"name": "ball", "shape": {"type": "sphere", "radius": "50 mm"}, "transform": [{"translate": [0, 0.05, 0]}],
+     "inside": "milky"},
+    {"name": "lamp", "shape": {"type": "quad", "size": [0.2, 0.2]},
+     "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0.05, 0.35, 0.05]}],
+     "emission": {"spectrum": "D65", "scale": 20}}],
+  "background": {"spectrum": "E", "scale": 0}}
+caustic = json.load(open(os.path.join(repo, "tests/data/red_ball_lamp/scene.json")))
+caustic["render"]["max_depth"] = 16
+for name, scene in (("ball", ball), ("caustic", caustic)):
+    for manifold in (True, False):
+        s = json.loads(json.dumps(scene))
+        s["render"]["manifold"] = manifold
+        json.dump(s, open(os.path.join(out, "%s-%s.json" % (name, "on" if manifold else "off")), "w"))
+PY
+# Mean ΔE00 between two renders over the whole frame and over its lower middle (the floor under the ball).
+noise() {
+  python3 - "$bin" "$1" "$2" "$tmp" <<'PY'
+import json, subprocess, sys, struct
+bin, a, b, tmp = sys.argv[1:5]
+def mean_de(x, y):
+    return json.loads(subprocess.run([bin, "compare", x, y, "--json"], check=True, capture_output=True,
+                                     text=True).stdout)["mean"]
+def crop(src, dst):  # the lower third of the frame's middle third (PFM rows run bottom to top)
+    with open(src, "rb") as f:
+        f.readline()
+        w, h = (int(v) for v in f.readline().split())
+        scale = float(f.readline())
+        end = "<" if scale < 0 else ">"
+        values = struct.unpack(end + "f" * (w * h * 3), f.read(w * h * 12))
+    x0, x1, rows = w // 3, 2 * w // 3, h // 3
+    out = [values[(y * w + x) * 3 + c] for y in range(rows) for x in range(x0, x1) for c in range(3)]
+    with open(dst, "wb") as f:
+        f.write(b"PF\n%d %d\n-1.0\n" % (x1 - x0, rows))
+        f.write(struct.pack("<" + "f" * len(out), *out))
+crop(a, tmp + "/ca.pfm")
+crop(b, tmp + "/cb.pfm")
+print("%.3f %.3f" % (mean_de(a, b), mean_de(tmp + "/ca.pfm", tmp + "/cb.pfm")))
+PY
+}
+echo "| scene | estimator | spp | seconds (one render) | mean ΔE00 (frame) | mean ΔE00 (under the ball) | frame ΔE00 × √s | under × √s |"
+echo "|---|---|---|---|---|---|---|---|"
+for scene in $scenes; do
+  for run in "path on" "path off" "bdpt off" "vcm off"; do
+    read -r integrator manifold <<<"$run"
+    total=0
+    for seed in 1 2; do
+      "$bin" render "$tmp/$scene-$manifold.json" --integrator "$integrator" --spp "$spp" --resolution "$resolution" \
+        --threads "$threads" --seed "$seed" -o "$tmp/$seed.pfm" --stats-json "$tmp/s.json" --quiet
+      s=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$tmp/s.json")
+      total=$(echo "$total $s" | awk '{print $1 + $2}')
+    done
+    read -r whole under < <(noise "$tmp/1.pfm" "$tmp/2.pfm")
+    label=$integrator
+    [[ $integrator == path ]] && label="path, manifold $manifold"
+    echo "$scene|$label|$spp|$total|$whole|$under" | awk -F'|' '{s = $4 / 2; printf "| %s | %s | %s | %.2f | %s | %s | %.3f | %.3f |\n", $1, $2, $3, s, $5, $6, $5 * sqrt(s), $6 * sqrt(s)}'
+  done
+done
