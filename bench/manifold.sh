@@ -8,9 +8,10 @@
 #   caustic  tests/data/red_ball_lamp: a red glass ball under a 5 mm spherical lamp (the caustic
 #            and the coloured shadow come through two crossings)
 # Each row: seconds of one render (seeds 1 and 2), their mean ΔE00 (the noise) over the whole
-# frame and over the floor under the ball (the middle third of the frame's width, its lower
-# third: the shadow and the caustic), and noise × √seconds (lower is better; the ratio of two
-# rows' is the square root of their efficiency ratio). Reports only; figures in docs/performance.md.
+# frame and over the region the connections are for (ball: the ball, x 30–70 % and y 20–75 % of
+# the frame from its top left; caustic: the shadow and the caustic beside the ball, x 42–64 %,
+# y 56–66 %), and noise × √seconds (lower is better; the ratio of two rows' is the square root of
+# their efficiency ratio). Reports only; figures in docs/performance.md.
 #   bench/manifold.sh build/bouguer
 # SPP (64), RESOLUTION (96x72), THREADS (2), SCENES ("ball caustic") may be set.
 set -euo pipefail
@@ -48,32 +49,34 @@ for name, scene in (("ball", ball), ("caustic", caustic)):
         s["render"]["manifold"] = manifold
         json.dump(s, open(os.path.join(out, "%s-%s.json" % (name, "on" if manifold else "off")), "w"))
 PY
-# Mean ΔE00 between two renders over the whole frame and over its lower middle (the floor under the ball).
+# Mean ΔE00 between two renders over the whole frame and over the region (x0 x1 y0 y1, fractions).
 noise() {
-  python3 - "$bin" "$1" "$2" "$tmp" <<'PY'
+  python3 - "$bin" "$1" "$2" "$tmp" "$3" <<'PY'
 import json, subprocess, sys, struct
 bin, a, b, tmp = sys.argv[1:5]
+fx0, fx1, fy0, fy1 = (float(v) for v in sys.argv[5].split())
 def mean_de(x, y):
     return json.loads(subprocess.run([bin, "compare", x, y, "--json"], check=True, capture_output=True,
                                      text=True).stdout)["mean"]
-def crop(src, dst):  # the lower third of the frame's middle third (PFM rows run bottom to top)
+def crop(src, dst):  # (PFM rows run bottom to top)
     with open(src, "rb") as f:
         f.readline()
         w, h = (int(v) for v in f.readline().split())
         scale = float(f.readline())
         end = "<" if scale < 0 else ">"
         values = struct.unpack(end + "f" * (w * h * 3), f.read(w * h * 12))
-    x0, x1, rows = w // 3, 2 * w // 3, h // 3
-    out = [values[(y * w + x) * 3 + c] for y in range(rows) for x in range(x0, x1) for c in range(3)]
+    x0, x1 = int(fx0 * w), int(fx1 * w)
+    r0, r1 = h - int(fy1 * h), h - int(fy0 * h)
+    out = [values[(y * w + x) * 3 + c] for y in range(r0, r1) for x in range(x0, x1) for c in range(3)]
     with open(dst, "wb") as f:
-        f.write(b"PF\n%d %d\n-1.0\n" % (x1 - x0, rows))
+        f.write(b"PF\n%d %d\n-1.0\n" % (x1 - x0, r1 - r0))
         f.write(struct.pack("<" + "f" * len(out), *out))
 crop(a, tmp + "/ca.pfm")
 crop(b, tmp + "/cb.pfm")
 print("%.3f %.3f" % (mean_de(a, b), mean_de(tmp + "/ca.pfm", tmp + "/cb.pfm")))
 PY
 }
-echo "| scene | estimator | spp | seconds (one render) | mean ΔE00 (frame) | mean ΔE00 (under the ball) | frame ΔE00 × √s | under × √s |"
+echo "| scene | estimator | spp | seconds (one render) | mean ΔE00 (frame) | mean ΔE00 (region) | frame ΔE00 × √s | region × √s |"
 echo "|---|---|---|---|---|---|---|---|"
 for scene in $scenes; do
   for run in "path on" "path off" "bdpt off" "vcm off"; do
@@ -85,7 +88,9 @@ for scene in $scenes; do
       s=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$tmp/s.json")
       total=$(echo "$total $s" | awk '{print $1 + $2}')
     done
-    read -r whole under < <(noise "$tmp/1.pfm" "$tmp/2.pfm")
+    region="0.42 0.64 0.56 0.66"
+    [[ $scene == ball ]] && region="0.30 0.70 0.20 0.75"
+    read -r whole under < <(noise "$tmp/1.pfm" "$tmp/2.pfm" "$region")
     label=$integrator
     [[ $integrator == path ]] && label="path, manifold $manifold"
     echo "$scene|$label|$spp|$total|$whole|$under" | awk -F'|' '{s = $4 / 2; printf "| %s | %s | %s | %.2f | %s | %s | %.3f | %.3f |\n", $1, $2, $3, s, $5, $6, $5 * sqrt(s), $6 * sqrt(s)}'

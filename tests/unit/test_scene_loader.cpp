@@ -89,6 +89,29 @@ TEST(SceneLoader, BadScenesFailWithOneClearLine) {
   }
 }
 
+// render.manifold (next-event estimation through glass): on unless a scene says false, and a
+// value that is not a boolean is one line naming the key.
+TEST(SceneLoader, ManifoldKeyIsABoolean) {
+  const std::string base = R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_deg": 30},
+                               "render": {"integrator": "path"%s},
+                               "objects": [], "background": {"spectrum": "E", "scale": 1}})";
+  auto with = [&](const std::string& extra) {
+    std::string text = base;
+    text.replace(text.find("%s"), 2, extra);
+    return text;
+  };
+  EXPECT_TRUE(parse_scene(with(""), "a.json").render.manifold);
+  EXPECT_FALSE(parse_scene(with(R"(, "manifold": false)"), "a.json").render.manifold);
+  try {
+    parse_scene(with(R"(, "manifold": 3)"), "a.json");
+    ADD_FAILURE() << "a number loaded as manifold";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("render.manifold"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+}
+
 // Through the command line: non-zero exit, one line, and an earlier image survives.
 TEST(SceneLoader, FailedRenderLeavesTheEarlierImageIntact) {
   const auto dir = test::scratch_dir("failed_render");

@@ -190,21 +190,18 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
   };
   auto passage = [&](double phi) { return passage_cs(std::cos(phi), std::sin(phi)); };
   const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12);
-  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 64);
-  double lo = first;
-  Passage p_lo = passage(lo);
-  const double step = (last - first) / intervals, cos_step = std::cos(step), sin_step = std::sin(step);
-  double c = std::cos(first), sn = std::sin(first);
-  for (int i = 1; i <= intervals && out.count < static_cast<int>(out.entry.size()); ++i) {
-    const double hi = first + (last - first) * i / intervals;
-    const double c_next = c * cos_step - sn * sin_step;
-    sn = sn * cos_step + c * sin_step, c = c_next;
-    const Passage p_hi = passage_cs(c, sn);
-    if (p_lo.valid && p_hi.valid && p_hi.side != 0.0 && (p_lo.side == 0.0 || (p_lo.side < 0.0) != (p_hi.side < 0.0))) {
-      auto side = [&](double phi) {
-        const Passage p = passage(phi);
-        return p.valid ? p.side : std::numeric_limits<double>::quiet_NaN();
-      };
+  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 32);
+  auto side = [&](double phi) {
+    const Passage p = passage(phi);
+    return p.valid ? p.side : std::numeric_limits<double>::quiet_NaN();
+  };
+  // An interval whose ends both pass and lie on opposite sides holds a path; one whose ends
+  // differ in whether they pass (an edge of total internal reflection, or of `to` being ahead)
+  // may hold a narrow window that does: split it in four, three times over.
+  auto interval = [&](auto& self, double lo, double hi, const Passage& p_lo, const Passage& p_hi, int depth) -> void {
+    if (out.count >= static_cast<int>(out.entry.size())) return;
+    if (p_lo.valid && p_hi.valid) {
+      if (p_hi.side == 0.0 || (p_lo.side != 0.0 && (p_lo.side < 0.0) == (p_hi.side < 0.0))) return;
       const std::optional<double> phi = p_lo.side == 0.0 ? lo : bracketed_root(side, lo, hi, p_lo.side, p_hi.side);
       const Passage pr = phi ? passage(*phi) : Passage{};
       if (pr.valid) {
@@ -212,8 +209,79 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
         out.entry[k] = centre + (e1 * std::cos(*phi) + e2 * std::sin(*phi)) * radius_m;
         out.exit[k] = centre + (e1 * pr.y2x + e2 * pr.y2y) * radius_m;
       }
+      return;
     }
+    if (p_lo.valid == p_hi.valid || depth == 3) return;
+    Passage prev = p_lo;
+    for (int j = 1; j <= 4; ++j) {
+      const double at = j == 4 ? hi : lo + (hi - lo) * j / 4;
+      const Passage next = j == 4 ? p_hi : passage(at);
+      self(self, lo + (hi - lo) * (j - 1) / 4, at, prev, next, depth + 1);
+      prev = next;
+    }
+  };
+  double lo = first;
+  Passage p_lo = passage(lo);
+  const double step = (last - first) / intervals, cos_step = std::cos(step), sin_step = std::sin(step);
+  double c = std::cos(first), sn = std::sin(first);
+  for (int i = 1; i <= intervals; ++i) {
+    const double hi = first + (last - first) * i / intervals;
+    const double c_next = c * cos_step - sn * sin_step;
+    sn = sn * cos_step + c * sin_step, c = c_next;
+    const Passage p_hi = passage_cs(c, sn);
+    interval(interval, lo, hi, p_lo, p_hi, 0);
     lo = hi, p_lo = p_hi;
+  }
+  return out;
+}
+
+CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCaster& c, const Vec3& x,
+                                          const std::array<Vec3, 2>& ys, int crossings, const Hit& light_hit) {
+  using namespace manifold_detail;
+  CasterPathDensities out;
+  const Interface f = caster_interface(s, c);
+  const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
+  const double eta_behind = s.media[static_cast<std::size_t>(f.medium_behind)].ior_reference;
+  const Vec3& q = light_hit.point;
+  // The walk's refraction choices, at the crossings where it made them.
+  Vec3 from = x;
+  bool front = f.front(x);
+  for (int k = 0; k < crossings; ++k) {
+    const Vec3 y = ys[static_cast<std::size_t>(k)], n = f.normal_at(y), d = normalize(y - from);
+    const double eta_i = front ? eta_front : eta_behind, eta_t = front ? eta_behind : eta_front;
+    const double cos_i = std::abs(dot(d, n)), cos_t = cos_theta_transmitted(cos_i, eta_i, eta_t);
+    out.refraction *= cos_t > 0.0 ? 1.0 - fresnel_dielectric(cos_i, cos_t, eta_i, eta_t) : 0.0;
+    from = y, front = !front;
+  }
+  // The point's density: the light's choice by power, its point by area (a sphere: on its cap).
+  const Surface& surface = s.surfaces[light_hit.geometry];
+  const auto index = static_cast<std::size_t>(surface.first_light) + light_hit.primitive;
+  const Light& light = s.lights[index];
+  double area_pdf = 0.0;
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    area_pdf = a->area_m2 > 0.0 ? 1.0 / a->area_m2 : 0.0;
+  } else if (const auto* sphere = std::get_if<SphereLight>(&light)) {
+    const auto cap = facing_cap(*sphere, c);
+    if (cap && dot(normalize(q - sphere->centre_m), cap->axis) > cap->mu0) area_pdf = cap->pdf_area;
+  }
+  area_pdf *= s.area_lights.pmf[index];
+  if (!(area_pdf > 0.0)) return out;
+  // The connection's own solve for this point, the path among its solutions (to the walk's
+  // single precision), and the ray tube there.
+  const Paths paths = solve(f, x, q, eta_front, eta_behind);
+  if (paths.crossings != crossings) return out;
+  const double tolerance = 1e-5 * (c.radius_m + length(q - x));
+  for (int k = 0; k < paths.count; ++k) {
+    const auto& exact = paths.crossing[static_cast<std::size_t>(k)];
+    if (length(exact[0] - ys[0]) > tolerance) continue;
+    const Vec3& last = exact[static_cast<std::size_t>(crossings - 1)];
+    double path_m = length(exact[0] - x) + length(q - last);
+    if (crossings == 2) path_m += length(exact[1] - exact[0]);
+    const double t = tube(f, x, normalize(exact[0] - x), exact, crossings, q, path_m, eta_front, eta_behind);
+    const double cos_light = std::abs(dot(light_hit.normal, normalize(q - last)));
+    out.connection = connection_density(area_pdf, cos_light, t, f.front(x) ? eta_front : eta_behind,
+                                        f.front(q) ? eta_front : eta_behind);
+    return out;
   }
   return out;
 }

@@ -21,15 +21,17 @@
 //
 // Which strategy owns which path. Point and spot lights: these connections are the path tracer's
 // only strategy, so nothing is weighted. Area and spherical lights through a caster
-// (RenderScene::casters: exact smooth spheres of objects without a priority): the connection is
-// the only strategy the path tracer counts for a path from a non-specular vertex through one or
-// two refractions of one caster to the light; the walk's own such paths (a BSDF or phase direction
-// refracted onto the light) count nothing (radiance.h: CasterTrail). Every such path is found for
-// the y drawn (all solutions are summed), so the estimator stays unbiased without MIS; where one
-// is missed (two solutions closer than the scan's interval, near a caustic's fold) that light is
-// lost, never counted twice.
+// (RenderScene::casters: exact smooth spheres of objects without a priority): the walk also
+// reaches a path from a non-specular vertex through one or two refractions of one caster to the
+// light (a BSDF or phase direction refracted onto it), and the two are weighted by the power
+// heuristic: here with the connection's density (connection_density) against the vertex's
+// density times the refraction probabilities, in the walk by caster_path_densities
+// (radiance.h: CasterTrail). A path the solve misses (two solutions closer than the scan's
+// interval, near a caustic's fold) is the walk's alone: caster_path_densities runs the same solve.
 #include <array>
+#include <algorithm>
 #include <limits>
+#include <numbers>
 
 #include "bouguer/core/frame.h"
 #include "bouguer/integrators/direct_light.h"
@@ -65,14 +67,15 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
 
 // The paths from `from` to `to` (both outside the sphere) through it: refracted in at entry[k],
 // straight across, refracted out at exit[k]. In the plane of the centre and both points, as above;
-// each entry point on the arc `from` sees traces one ray, and the paths are the sign changes, over
-// 64 intervals, of the side of it `to` lies on, refined to 1e-14 of a radian (the deviation
-// through a sphere grows with the impact parameter on each side of the centre's line, so one path a
-// side is the rule, and more appear only near `to`'s caustic). None where the turn from `from` to
-// `to` exceeds the most a passage deviates. A ray
-// totally reflected inside carries nothing here (its paths are the walks'), and two paths closer
-// than an interval are missed as above. Usually two (one through each side of the centre's line)
-// or none. `near`: as above, an entry point.
+// each entry point on the arc `from` sees traces one ray, and the paths are the sign changes of
+// the side of it `to` lies on, over 32 intervals, refined to 1e-14 of a radian. An interval whose
+// ends differ in whether their rays pass (at an edge of total internal reflection, or of `to`
+// being ahead) is split in four, three times over, so a narrow window of paths near `to` is not
+// stepped over. The deviation through a sphere grows with the impact parameter on each side of
+// the centre's line, so one path a side is the rule, more only near `to`'s caustic; two paths
+// closer than an interval are missed as above. None where the turn from `from` to `to` exceeds
+// the most a passage deviates. A ray totally reflected inside carries nothing here (its paths are
+// the walks'). `near`: as above, an entry point.
 struct SpherePassages {
   std::array<Vec3, 4> entry{}, exit{};
   int count = 0;
@@ -137,7 +140,8 @@ inline Paths solve(const Interface& f, const Vec3& x, const Vec3& q, double eta_
 template <std::size_t N>
 struct Reach {
   SampledSpectrum<N> tr = SampledSpectrum<N>::constant(1.0f);
-  SampledSpectrum<N> r_l = SampledSpectrum<N>::constant(1.0f);
+  SampledSpectrum<N> r_l = SampledSpectrum<N>::constant(1.0f);  // the segments' spectral-MIS ratios:
+  SampledSpectrum<N> r_u = SampledSpectrum<N>::constant(1.0f);  // the connection's and the walk's
   double fresnel = 1.0;  // the product of the crossings' Fresnel transmittances
   Vec3 wi;               // the first direction, from the vertex
   Hit last;              // the last crossing, as a hit (the final segment's start)
@@ -170,6 +174,7 @@ std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, Insi
     if (!t) return std::nullopt;
     r.tr *= t->tr;
     r.r_l *= t->ratios.r_l;
+    r.r_u *= t->ratios.r_u;
     const auto face = s.rays.intersect(Ray{y - dir * (d * 1e-4), dir, d * 2e-4});
     ++rays;
     const Vec3 n = f.normal_at(y);
@@ -198,35 +203,70 @@ std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, Insi
 }
 
 // The ray tube at the vertex: the directions leaving the light point q that reach a patch
-// perpendicular to wi at x, per unit area of it, by the solve at two neighbours 1e-6 of the path
-// away (the mapping is smooth there: central enough, and the differences keep 10 digits), each
-// neighbour's path solved for near this one's first crossing.
+// perpendicular to wi at x, per unit area of it. Across the plane of a sphere's paths, from their
+// symmetry: turning x about the axis through the centre and q by δ moves it ρ_x·δ and turns the
+// path's last direction o by |o × axis|·δ. In the plane (and both ways on a plane's face), by the
+// solve at a neighbour 1e-6 of the path away (the mapping is smooth there: central enough, and
+// the differences keep 10 digits), solved for near this path's first crossing.
 inline double tube(const Interface& f, const Vec3& x, const Vec3& wi, const std::array<Vec3, 2>& ys, int crossings,
                    const Vec3& q, double path_m, double eta_front, double eta_behind) {
-  const Frame frame(wi);
   const double step = 1e-6 * path_m;
   const Vec3& last = ys[static_cast<std::size_t>(crossings - 1)];
-  Vec3 o[2];
-  for (int k = 0; k < 2; ++k) {
-    const Paths p = solve(f, x + (k == 0 ? frame.s : frame.t) * step, q, eta_front, eta_behind, &ys[0]);
+  const Vec3 o0 = normalize(last - q);
+  // o at the vertex moved by `by`, the path the one whose last crossing is nearest this one's.
+  auto moved = [&](const Vec3& by) -> std::optional<Vec3> {
+    const Paths p = solve(f, x + by * step, q, eta_front, eta_behind, &ys[0]);
+    std::optional<Vec3> o;
     double best = std::numeric_limits<double>::infinity();
     for (int i = 0; i < p.count; ++i) {
       const Vec3 y = p.crossing[static_cast<std::size_t>(i)][static_cast<std::size_t>(p.crossings - 1)];
-      if (length(y - last) < best) best = length(y - last), o[k] = normalize(y - q);
+      if (length(y - last) < best) best = length(y - last), o = normalize(y - q);
     }
-    if (!std::isfinite(best)) return 0.0;
+    return o;
+  };
+  if (f.sphere) {
+    const Vec3 axis = normalize(q - f.point);
+    const double rho_x = length(cross(x - f.point, axis));
+    if (rho_x > 1e-6 * length(x - f.point)) {
+      const Vec3 across = normalize(cross(x - f.point, axis));  // the plane's normal
+      const auto o1 = moved(normalize(cross(across, wi)));
+      if (!o1) return 0.0;
+      return length(*o1 - o0) / step * length(cross(o0, axis)) / rho_x;
+    }
   }
-  const Vec3 o0 = normalize(last - q);
-  return length(cross(o[0] - o0, o[1] - o0)) / (step * step);
+  const Frame frame(wi);
+  const auto o1 = moved(frame.s), o2 = moved(frame.t);
+  if (!o1 || !o2) return 0.0;
+  return length(cross(*o1 - o0, *o2 - o0)) / (step * step);
+}
+
+// What the light sends along a path's final segment: its intensity, or its radiance × |cos θ_y|
+// divided by the density of the point drawn (area_pdf: the light's choice times the point's
+// density per m², 0 for a delta light); the final segment's transmittance and ratios.
+template <std::size_t N>
+struct LightEnd {
+  SampledSpectrum<N> value;
+  double area_pdf = 0.0, cos_light = 1.0;
+  SampledSpectrum<N> tr = SampledSpectrum<N>::constant(1.0f);
+  SampledSpectrum<N> r_l = SampledSpectrum<N>::constant(1.0f), r_u = r_l;
+};
+
+// The solid-angle density at the vertex with which the connection draws a path that reaches an
+// area or spherical light at y: the point's density (area_pdf) over dω_x/dA_y = |cos θ_y| times
+// the reverse ray tube, which étendue (n²·dA⊥·dω conserved) gives from the forward one as
+// (η_y/η_x)²·dω_y/dA⊥_x.
+inline double connection_density(double area_pdf, double cos_light, double tube, double eta_x, double eta_light) {
+  const double reverse = (eta_light / eta_x) * (eta_light / eta_x) * tube;
+  return cos_light > 0.0 && reverse > 0.0 ? area_pdf / (cos_light * reverse) : 0.0;
 }
 
 // What a light sends from point q (a point light's position, or a point drawn on an area or
 // spherical light) along the paths to the vertex: intensity (or radiance × |cos θ| / density)
 // towards the path's last direction, or zero; `end` traces the final segment.
-template <std::size_t N, typename Towards, typename LightEnd>
+template <std::size_t N, typename Towards, typename End>
 SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
                            const Vec3& q, Towards towards, const SampledWavelengths<N>& w,
-                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, LightEnd end) {
+                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, End end) {
   const RenderScene& s = v.scene;
   const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
   const double eta_behind = s.media[static_cast<std::size_t>(f.medium_behind)].ior_reference;
@@ -239,17 +279,26 @@ SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSe
     double vertex_pdf = 0.0;
     const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
     if (fv.is_zero()) continue;
-    // The final segment and what the light sends along it (the light's own radiance, its
-    // transmittance and ratios).
-    SampledSpectrum<N> tr_last = SampledSpectrum<N>::constant(1.0f), r_last = tr_last;
-    const SampledSpectrum<N> light = end(*r, tr_last, r_last);
-    if (light.is_zero()) continue;
+    // The final segment and what the light sends along it.
+    const LightEnd<N> e = end(*r);
+    if (e.value.is_zero()) continue;
     double path_m = length(ys[0] - at.point) + r->light_m;
     if (paths.crossings == 2) path_m += length(ys[1] - ys[0]);
     const double t = tube(f, at.point, r->wi, ys, paths.crossings, q, path_m, eta_front, eta_behind);
     if (!(t > 0.0) || !std::isfinite(t)) continue;
-    sum += fv * light * r->tr * tr_last *
-           static_cast<float>(r->fresnel * t / mean_ratio(s, path_r_u, r->r_l * r_last));
+    const SampledSpectrum<N> r_l = r->r_l * e.r_l;
+    // An area or spherical light: weighted against the walk's own paths through the same
+    // crossings (its direction's density times the probability of refracting at each), by the
+    // power heuristic with the spectral-MIS means (radiance.h: CasterTrail weighs those).
+    double weight = 1.0;
+    if (e.area_pdf > 0.0) {
+      const double eta_x = f.front(at.point) ? eta_front : eta_behind;
+      const double p_connection = connection_density(e.area_pdf, e.cos_light, t, eta_x,
+                                                     s.media[static_cast<std::size_t>(r->medium)].ior_reference);
+      weight = power_heuristic(p_connection * mean_ratio(s, path_r_u, r_l),
+                               vertex_pdf * r->fresnel * mean_ratio(s, path_r_u, r->r_u * e.r_u));
+    }
+    sum += fv * e.value * r->tr * e.tr * static_cast<float>(weight * r->fresnel * t / mean_ratio(s, path_r_u, r_l));
   }
   return sum;
 }
@@ -270,14 +319,14 @@ template <std::size_t N, typename Towards>
 SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
                                  const DeltaLamp& lamp, Towards towards, const SampledWavelengths<N>& w,
                                  const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
-  auto end = [&](const Reach<N>& r, SampledSpectrum<N>& tr, SampledSpectrum<N>& ratios) -> SampledSpectrum<N> {
+  auto end = [&](const Reach<N>& r) -> LightEnd<N> {
     const double emitted = lamp.spot ? spot_falloff(*lamp.spot, -r.to_light) : 1.0;
     if (emitted == 0.0) return {};
     const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
                                 rng, rays);
     if (!t) return {};
-    tr = t->tr, ratios = t->ratios.r_l;
-    return v.tables.at(lamp.intensity, w) * static_cast<float>(emitted);
+    return {v.tables.at(lamp.intensity, w) * static_cast<float>(emitted), 0.0, 1.0, t->tr, t->ratios.r_l,
+            t->ratios.r_u};
   };
   return through(v, at, inside, f, lamp.p, towards, w, path_r_u, rng, rays, end);
 }
@@ -288,7 +337,49 @@ inline Interface caster_interface(const RenderScene& s, const ManifoldCaster& c)
                    c.twice};
 }
 
+// The part of a spherical lamp that sees some of the caster: outward normals n with n·axis > mu0,
+// and the density per m² of a point drawn uniformly on it.
+struct FacingCap {
+  Vec3 axis;
+  double mu0 = -1.0, pdf_area = 0.0;
+};
+inline std::optional<FacingCap> facing_cap(const SphereLight& sphere, const ManifoldCaster& c) {
+  const Vec3 to = c.centre_m - sphere.centre_m;
+  const double d = length(to);
+  const double mu0 = d > 0.0 ? std::max(-1.0, (sphere.radius_m - c.radius_m) / d) : -1.0;
+  if (!(mu0 < 1.0) || !(sphere.radius_m > 0.0)) return std::nullopt;
+  return FacingCap{d > 0.0 ? to / d : Vec3{0.0, 0.0, 1.0}, mu0,
+                   1.0 / (2.0 * std::numbers::pi * sphere.radius_m * sphere.radius_m * (1.0 - mu0))};
+}
+
+// A point drawn by area on an area light, or on the part of a spherical one that sees some of
+// the caster: the cap of outward normals n with n·d > (r_lamp − r_caster)/D, d the unit direction
+// and D the distance from the lamp's centre to the caster's (the rest sends it nothing). About
+// half the sphere for a small lamp, where drawing on all of it wasted half the solves.
+inline std::optional<LightAreaSample> facing_point(const Light& light, const ManifoldCaster& c, double u1, double u2) {
+  const auto* sphere = std::get_if<SphereLight>(&light);
+  if (!sphere) return sample_area(light, u1, u2);
+  const auto cap = facing_cap(*sphere, c);
+  if (!cap) return std::nullopt;
+  const double mu = 1.0 - u1 * (1.0 - cap->mu0), r = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+  const double phi = 2.0 * std::numbers::pi * u2;
+  const Vec3 n = Frame(cap->axis).to_world(Vec3{r * std::cos(phi), r * std::sin(phi), mu});
+  return LightAreaSample{sphere->centre_m + n * sphere->radius_m, cap->pdf_area};
+}
+
 }  // namespace manifold_detail
+
+// A walk's path from the connecting vertex x through refractions of caster c (at crossings ys) to
+// a lamp hit (an area or spherical light): the solid-angle density with which the connection at
+// x draws that path (0 where it would not: its full solve does not find the path, or a spherical
+// lamp's point lies outside the part it draws on), and the probability of the walk's own choices
+// to refract at each crossing (the Fresnel transmittances' product). The walk's weight against
+// the connection comes from these (radiance.h: CasterTrail).
+struct CasterPathDensities {
+  double connection = 0.0, refraction = 1.0;
+};
+CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCaster& c, const Vec3& x,
+                                          const std::array<Vec3, 2>& ys, int crossings, const Hit& light_hit);
 
 // The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
 // whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals,
@@ -325,8 +416,8 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
 }
 
 // The light of the delta lights and of one area or spherical light (its index drawn by power with
-// probability p_choice, its point by area from u1, u2) at vertex `at` through each caster
-// (RenderScene::casters), once or twice crossed.
+// probability p_choice, its point by area from u1, u2: on a spherical lamp, on the part that faces
+// each caster) at vertex `at` through each caster (RenderScene::casters), once or twice crossed.
 template <std::size_t N, typename Towards>
 SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, Towards towards,
                                    std::optional<std::pair<int, double>> area_light, double u1, double u2,
@@ -335,14 +426,10 @@ SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, 
   using namespace manifold_detail;
   const RenderScene& s = v.scene;
   SampledSpectrum<N> sum;
-  std::optional<LightAreaSample> y;
-  const Light* light = nullptr;
-  if (area_light) {
-    light = &s.lights[static_cast<std::size_t>(area_light->first)];
-    y = sample_area(*light, u1, u2);
-  }
+  const Light* light = area_light ? &s.lights[static_cast<std::size_t>(area_light->first)] : nullptr;
   for (const ManifoldCaster& c : s.casters) {
     const Interface f = caster_interface(s, c);
+    const std::optional<LightAreaSample> y = light ? facing_point(*light, c, u1, u2) : std::nullopt;
     // The nested set the connections leave with (a caster has no priority; the vertex's own
     // surface may).
     auto inside_along = [&](const Vec3& q) {
@@ -352,19 +439,18 @@ SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, 
       if (const auto lamp = delta_lamp(s.lights[static_cast<std::size_t>(index)]))
         sum += delta_through(v, at, inside_along(lamp->p), f, *lamp, towards, w, path_r_u, rng, rays);
     if (!y) continue;
-    auto end = [&](const Reach<N>& r, SampledSpectrum<N>& tr, SampledSpectrum<N>& ratios) -> SampledSpectrum<N> {
+    auto end = [&](const Reach<N>& r) -> LightEnd<N> {
       // On to the light: clear up to it, then its surface there, seen from the path's side.
       const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
                                   rng, rays);
       if (!t) return {};
       const auto hit = s.rays.intersect(Ray{y->p - r.to_light * (r.light_m * 1e-4), r.to_light, r.light_m * 2e-4});
       ++rays;
-      if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter ||
-          &surface_light_at(s, *hit) != light)
+      if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter || &surface_light_at(s, *hit) != light)
         return {};
-      const double cos_light = std::abs(dot(hit->normal, r.to_light));
-      tr = t->tr, ratios = t->ratios.r_l;
-      return emitted(v, *hit, -r.to_light, w) * static_cast<float>(cos_light / (area_light->second * y->pdf_area));
+      const double cos_light = std::abs(dot(hit->normal, r.to_light)), area_pdf = area_light->second * y->pdf_area;
+      return {emitted(v, *hit, -r.to_light, w) * static_cast<float>(cos_light / area_pdf), area_pdf, cos_light, t->tr,
+              t->ratios.r_l, t->ratios.r_u};
     };
     sum += through(v, at, inside_along(y->p), f, y->p, towards, w, path_r_u, rng, rays, end);
   }

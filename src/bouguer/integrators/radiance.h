@@ -3,28 +3,32 @@
 // next-event estimation at every vertex, weighted by MIS (path.cpp says how). Also the tail of the
 // bidirectional estimators' camera subpaths beyond the vertices they keep (bidirectional.h).
 #include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/manifold.h"
 #include "bouguer/integrators/walk.h"
 
 namespace bouguer {
 
 // The walk's side of next-event estimation through the casters (manifold.h): since the last
 // vertex that connected through them (a non-specular surface or a scattering event of the path
-// tracer), the refractions at one caster the walk has made. A light it then reaches after one of
-// them, or after two from outside the caster, is a path that connection counted: here it counts
-// nothing. Whether a specular vertex refracted shows only at the next one, by the side of the
-// surface the walk left along.
+// tracer), the refractions at one caster the walk has made. A lamp it then reaches after one of
+// them, or after two from outside the caster, is a path the connection also draws: the two are
+// weighted against each other by the power heuristic (manifold.h: caster_path_densities). Whether
+// a specular vertex refracted shows only at the next one, by the side of the surface the walk
+// left along.
 struct CasterTrail {
   bool open = false;
-  std::uint32_t geometry = 0;
+  const ManifoldCaster* caster = nullptr;
   int crossings = 0;
   bool from_outside = false;
-  bool twice = false;    // the caster is connected through twice (ManifoldCaster::twice)
   bool pending = false;  // the last vertex was at a caster; wo and normal there
   Vec3 wo{}, normal{};
+  Vec3 x{};              // the connecting vertex
+  double pdf_x = 0.0;    // the density of the direction the walk left it along
+  std::array<Vec3, 2> crossing{};
 
-  void start(bool connected) {
+  void start(bool connected, const Vec3& at) {
     *this = CasterTrail{};
-    open = connected;
+    open = connected, x = at;
   }
   // The walk went on from the pending vertex along d: open only if it refracted there.
   bool settle(const Vec3& d) {
@@ -32,23 +36,24 @@ struct CasterTrail {
     pending = false;
     return open;
   }
-  // A specular vertex at `hit`, the walk arriving from wo_here.
-  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here) {
+  // A specular vertex at `hit`, the walk arriving from wo_here along a direction of density
+  // pdf_dir.
+  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
     if (!settle(-wo_here)) return;
-    const ManifoldCaster* caster = nullptr;
+    const ManifoldCaster* at = nullptr;
     for (const ManifoldCaster& c : scene.casters)
-      if (c.geometry == hit.geometry) caster = &c;
-    if (!caster || (crossings > 0 && hit.geometry != geometry) || ++crossings > 2) {
+      if (c.geometry == hit.geometry) at = &c;
+    if (!at || (crossings > 0 && at != caster) || crossings == 2) {
       open = false;
       return;
     }
-    if (crossings == 1)
-      geometry = hit.geometry, from_outside = dot(wo_here, hit.normal) > 0.0, twice = caster->twice;
+    if (crossings == 0) caster = at, from_outside = dot(wo_here, hit.normal) > 0.0, pdf_x = pdf_dir;
+    crossing[static_cast<std::size_t>(crossings++)] = hit.point;
     pending = true, wo = wo_here, normal = hit.normal;
   }
-  // A light reached: whether a connection through the casters counted this path.
-  bool counted_by_connection(const Vec3& d) {
-    return settle(d) && (crossings == 1 || (crossings == 2 && from_outside && twice));
+  // A lamp reached along d: whether the connection through the caster draws this path too.
+  bool shared_with_connection(const Vec3& d) {
+    return settle(d) && (crossings == 1 || (crossings == 2 && from_outside && caster->twice));
   }
 };
 
@@ -114,7 +119,15 @@ struct Radiance {
       add(x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
       return;
     }
-    if (casters.open && casters.counted_by_connection(d)) return;  // (manifold.h: through_casters)
+    if (casters.open && casters.shared_with_connection(d)) {  // (manifold.h: through_casters)
+      const CasterPathDensities p =
+          caster_path_densities(scene, *casters.caster, casters.x, casters.crossing, casters.crossings, x.hit);
+      const double weight = p.connection > 0.0 ? spectral_power_heuristic(scene, casters.pdf_x * p.refraction,
+                                                                          state.mis.r_u, p.connection, state.mis.r_l)
+                                               : 1.0;
+      add(x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
+      return;
+    }
     const double weight =
         arrived == 0.0 ? 1.0
                        : spectral_power_heuristic(scene, arrived, state.mis.r_u, area_light_pdf(scene, x.hit, previous, d),
@@ -145,11 +158,11 @@ struct Radiance {
       add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays,
                                 next_event, guided ? &through : nullptr));
       if (guided) trail.guide = surface_exit_guide();
-      casters.start(through_casters());
+      casters.start(through_casters(), x.point);
     } else if (casters.open) {
-      casters.specular(v.scene, x.hit, x.wo);
+      casters.specular(v.scene, x.hit, x.wo, state.pdf_dir);
     }
-    moved_to(x.point);
+    moved_to(x.point, x.delta);
     return true;
   }
 
@@ -160,7 +173,7 @@ struct Radiance {
     const int medium = state.medium;
     // (the direction it arrived along: the walk replaces the ray's after this)
     const MediumPoint at{point, state.ray.direction, scattering_medium(scene, medium)->phase, medium, state.inside};
-    casters.start(through_casters());
+    casters.start(through_casters(), point);
     // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
     const double q = nee_probability_in_medium(v, medium, point, w, near);
     if (q >= 1.0 || rng.next_double() < q)
@@ -181,8 +194,11 @@ struct Radiance {
     return true;
   }
 
-  void moved_to(const Vec3& point) {
-    if (v.scene.scatters) state.mis.r_l = state.mis.r_u;  // (all ones otherwise)
+  // The light-connection ratios restart at a vertex a connection leaves from, not at a specular
+  // one: a lamp reached through glass is weighted against the connection from the vertex before
+  // it (CasterTrail).
+  void moved_to(const Vec3& point, bool delta = false) {
+    if (v.scene.scatters && !delta) state.mis.r_l = state.mis.r_u;  // (all ones otherwise)
     previous = point;
   }
 };
