@@ -42,13 +42,12 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   bool nothing_through = false;
   auto segment = [&](const Hit* hit, const SurfaceSeen*) {
     const double length_m = hit ? length(hit->point - seg.start) : remaining;
-    if (nothing_through) {
-    } else if (const ScatteringMedium* sm = scattering_medium(s, seg.medium)) {
+    if (const ScatteringMedium* sm = scattering_medium(s, seg.medium); sm && !nothing_through) {
       ratio_track(*sm, v.tables, Ray{seg.start, wi}, length_m, w, rng, out.tr, out.ratios);
       if (!sigma_mean.empty() && std::isfinite(length_m))
         out.tau += sigma_mean[static_cast<std::size_t>(seg.medium)] *
                    scattering_column_density(*sm, Ray{seg.start, wi}, 0.0, length_m);
-    } else {
+    } else if (!sm && !nothing_through) {
       out.tr *= travel(v, seg.medium, Ray{seg.start, wi}, length_m, w);
     }
     if (out.tr.is_zero()) {
@@ -86,7 +85,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   const RenderScene& s = v.scene;
   const bool mis = next_event != NextEvent::lights;
   const bool environment = next_event != NextEvent::lights;
-  const bool planes = next_event == NextEvent::lights_map_and_interfaces;
+  const bool interfaces = next_event == NextEvent::lights_map_and_interfaces;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
   auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
@@ -98,7 +97,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   const auto chosen = s.area_lights.sample(u_light);
   // Through the casters (exact glass spheres): every delta light, and the area light drawn, at a
   // point drawn by area (manifold.h). Its own numbers, so the connections below draw as before.
-  if (planes && !s.casters.empty()) {
+  if (interfaces && !s.casters.empty()) {
     Rng side(rng.next_u32(), kManifoldStream);
     const double v1 = side.next_double(), v2 = side.next_double();
     sum += through_casters(v, at, towards, chosen, v1, v2, w, path_r_u, side, rays);
@@ -128,7 +127,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
     bool glass = false;
     Hit blocker;
     if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays, {},
-                                    planes ? &glass : nullptr, planes ? &blocker : nullptr))
+                                    interfaces ? &glass : nullptr, interfaces ? &blocker : nullptr))
       sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
     else if (glass)  // through the interface to the lamp (manifold.h)
       sum += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards, w,

@@ -185,12 +185,12 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
     const double rx = b1 - p.y2x, ry = b2 - p.y2y;
     if (!(ox * rx + oy * ry > 0.0)) return p;
     p.valid = true;
-    p.side = (ox * ry - oy * rx) / norm2(rx, ry);
+    p.side = ox * ry - oy * rx;  // (its sign and roots are all the scan needs)
     return p;
   };
   auto passage = [&](double phi) { return passage_cs(std::cos(phi), std::sin(phi)); };
   const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12);
-  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 32);
+  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 16);
   auto side = [&](double phi) {
     const Passage p = passage(phi);
     return p.valid ? p.side : std::numeric_limits<double>::quiet_NaN();

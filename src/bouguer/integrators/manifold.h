@@ -68,7 +68,7 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
 // The paths from `from` to `to` (both outside the sphere) through it: refracted in at entry[k],
 // straight across, refracted out at exit[k]. In the plane of the centre and both points, as above;
 // each entry point on the arc `from` sees traces one ray, and the paths are the sign changes of
-// the side of it `to` lies on, over 32 intervals, refined to 1e-14 of a radian. An interval whose
+// the side of it `to` lies on, over 16 intervals, refined to 1e-14 of a radian. An interval whose
 // ends differ in whether their rays pass (at an edge of total internal reflection, or of `to`
 // being ahead) is split in four, three times over, so a narrow window of paths near `to` is not
 // stepped over. The deviation through a sphere grows with the impact parameter on each side of
