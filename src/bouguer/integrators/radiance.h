@@ -122,9 +122,12 @@ struct Radiance {
     if (casters.open && casters.shared_with_connection(d)) {  // (manifold.h: through_casters)
       const CasterPathDensities p =
           caster_path_densities(scene, *casters.caster, casters.x, casters.crossing, casters.crossings, x.hit);
-      const double weight = p.connection > 0.0 ? spectral_power_heuristic(scene, casters.pdf_x * p.refraction,
-                                                                          state.mis.r_u, p.connection, state.mis.r_l)
-                                               : 1.0;
+      // (A specular lobe drawn at the connecting vertex, density 0, is the walk's alone: the
+      // connection evaluates only the vertex's finite part.)
+      const double weight = p.connection > 0.0 && casters.pdf_x > 0.0
+                                ? spectral_power_heuristic(scene, casters.pdf_x * p.refraction, state.mis.r_u,
+                                                           p.connection, state.mis.r_l)
+                                : 1.0;
       add(x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
       return;
     }
