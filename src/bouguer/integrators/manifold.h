@@ -395,8 +395,7 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
   const RenderScene& s = v.scene;
   const auto lamp = delta_lamp(light);
   if (!lamp) return {};
-  for (const ManifoldCaster& c : s.casters)
-    if (c.geometry == blocker.geometry) return {};
+  if (find_caster(s, blocker.geometry)) return {};
   const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(lamp->p - at.point)) : at.inside;
   const SurfaceSeen seen = surface_seen(s, blocker, inside);
   if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched) return {};

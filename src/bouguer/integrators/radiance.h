@@ -40,9 +40,7 @@ struct CasterTrail {
   // pdf_dir.
   void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
     if (!settle(-wo_here)) return;
-    const ManifoldCaster* at = nullptr;
-    for (const ManifoldCaster& c : scene.casters)
-      if (c.geometry == hit.geometry) at = &c;
+    const ManifoldCaster* at = find_caster(scene, hit.geometry);
     if (!at || (crossings > 0 && at != caster) || crossings == 2) {
       open = false;
       return;

@@ -104,12 +104,6 @@ std::optional<LightAreaSample> sample_area(const Light& light, double u1, double
     if (!(a->area_m2 > 0.0)) return std::nullopt;
     return LightAreaSample{triangle_point(*a, u1, u2).p, 1.0 / a->area_m2};
   }
-  if (const auto* sp = std::get_if<SphereLight>(&light)) {
-    if (!(sp->radius_m > 0.0)) return std::nullopt;
-    const double z = 1.0 - 2.0 * u1, r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = 2.0 * std::numbers::pi * u2;
-    return LightAreaSample{sp->centre_m + Vec3{r * std::cos(phi), r * std::sin(phi), z} * sp->radius_m,
-                           1.0 / (4.0 * std::numbers::pi * sp->radius_m * sp->radius_m)};
-  }
   return std::nullopt;
 }
 

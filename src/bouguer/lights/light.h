@@ -127,9 +127,9 @@ struct LightLeSample {
 };
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2);
-// A point drawn uniformly by area on an emitter's surface (a triangle's, or the whole emitting
-// sphere's), for connections that reach it along a path other than the straight line
-// (integrators/manifold.h): the point and the density per m². Nothing for other lights.
+// A point drawn uniformly by area on an area light's triangle, for connections that reach it
+// along a path other than the straight line (integrators/manifold.h, which draws on a spherical
+// lamp's facing cap itself): the point and the density per m². Nothing for other lights.
 struct LightAreaSample {
   Vec3 p;
   double pdf_area = 0.0;

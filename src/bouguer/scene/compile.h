@@ -109,6 +109,13 @@ struct RenderScene {
 };
 inline constexpr std::size_t kMaxCasters = 8;
 
+// The caster whose surface is `geometry`, or null.
+inline const ManifoldCaster* find_caster(const RenderScene& s, std::uint32_t geometry) {
+  for (const ManifoldCaster& c : s.casters)
+    if (c.geometry == geometry) return &c;
+  return nullptr;
+}
+
 // The steps, in order: lower the media (predefined ones included), tessellate each object
 // (spot lights with a radius as disk emitters) within the memory available, or keep it analytic
 // (spheres, cylinders and disks that are not emitters), check that meshed interfaces are closed, add each part to the ray scene with its surface, add the delta lights
