@@ -8,7 +8,7 @@ FUZZ_TARGETS ?=
 FUZZ_LONG_SECONDS ?= 3600
 ASAN_BUILD ?= build-asan
 
-.PHONY: all deps configure build demo test test-long bench convergence estimators fuzz fuzz-long test-asan clean blender-addon
+.PHONY: all deps configure build demo test test-long bench convergence estimators choose fuzz fuzz-long test-asan clean blender-addon
 
 all: build
 
@@ -43,6 +43,10 @@ convergence: build
 # Seconds path and bdpt need to reach mean ΔE00 < 2 and < 1 on the caustic scenes (tens of minutes).
 estimators: build
 	@bash bench/estimators.sh $(BUILD)
+
+# What --integrator auto rests on: each estimator's cost per ray, and auto's choice on four showcases.
+choose: build
+	@bash bench/choose.sh $(BUILD)
 
 # The readers under libFuzzer, ASan and UBSan (clang; tests/fuzz): each harness for FUZZ_SECONDS on
 # its corpus, one after another; FUZZ_TARGETS picks some (e.g. FUZZ_TARGETS="ply_ascii exr").

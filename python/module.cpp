@@ -26,6 +26,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/core/limits.h"
 #include "bouguer/core/strings.h"
+#include "bouguer/integrators/choose.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
@@ -171,7 +172,8 @@ RenderSettings settings_with(const Scene& scene, const RenderArgs& a, CameraDesc
   SceneBuilder check(scene.desc.file);
   if (a.integrator) {
     check.integrator(*a.integrator, Source::option("integrator"));
-    s.integrator = find_integrator(*a.integrator)->type;
+    s.choose_integrator = *a.integrator == kAutoIntegrator;
+    s.integrator = s.choose_integrator ? IntegratorType::path : find_integrator(*a.integrator)->type;
   }
   if (a.spectral) {
     check.spectral_mode(*a.spectral, Source::option("spectral"));
@@ -224,11 +226,12 @@ void render_passes(const RenderScene& scene, const RenderSettings& settings, Fil
   RenderControl control;
   control.threads = a.threads;
   control.cancel = &st.cancel;
-  for (int begin = 0; begin < spp && !st.cancel;) {
+  const int first = st.complete;  // samples the film has already (integrator "auto"'s trial)
+  for (int begin = first; begin < spp && !st.cancel;) {
     int end = std::min(spp, begin + std::clamp(begin, 1, kMaxPassSpp));
-    if (budget_s > 0.0 && begin > 0) {
+    if (budget_s > 0.0 && begin > first) {
       const double elapsed = seconds_since(start);
-      const double affordable = (budget_s - elapsed) / (elapsed / begin);  // samples per pixel still in time
+      const double affordable = (budget_s - elapsed) / (elapsed / (begin - first));  // samples per pixel still in time
       if (affordable < 1.0) return;
       end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
     }
@@ -268,7 +271,7 @@ py::array_t<float> rgb_array(const Film& film) {
 }
 
 void note_stats(Scene& scene, const RenderStats& stats, const PassState& st, int spp, bool stopped) {
-  scene.stats = RenderReport{stats.seconds, stats.rays, st.complete, spp, stopped};
+  scene.stats = RenderReport{stats.seconds, stats.rays, st.complete, spp, stopped, {}};
 }
 
 // Calls a Python callback; an exception in it stops the render and is raised once the worker has
@@ -361,11 +364,25 @@ py::object render(Scene& scene, const RenderArgs& a) {
   const RenderScene& compiled = *scene.compiled;
   const bool keep_spectra = a.spectra || a.spectral_exr;
   check_settings(compiled, settings, keep_spectra);
-  FilmBuffer buffer = make_film(compiled, keep_spectra);
   RenderStats stats;
   PassState st;
-  const bool stopped = render_waiting(scene, compiled, settings, buffer, a, stats, st);
+  // integrator "auto": the candidates' trials (integrators/choose.h) choose, without the GIL; the
+  // chosen one's film goes on from its trial's samples.
+  std::optional<EstimatorChoice> choice;
+  if (settings.choose_integrator) {
+    const py::gil_scoped_release release;
+    RenderControl control;
+    control.threads = a.threads;
+    const int trial_spp = auto_trial_spp(a.time_s && !a.spp ? 64 : settings.spp);  // as the command line's
+    choice.emplace(choose_estimator(compiled, settings, trial_spp, keep_spectra, &scene.desc.display, control, stats));
+  }
+  RenderSettings chosen = settings;
+  if (choice) chosen.integrator = choice->chosen, chosen.choose_integrator = false;
+  FilmBuffer buffer = choice && choice->film ? std::move(*choice->film) : make_film(compiled, keep_spectra);
+  if (choice) st.complete = choice->trial_spp;
+  const bool stopped = render_waiting(scene, compiled, chosen, buffer, a, stats, st);
   note_stats(scene, stats, st, settings.spp, stopped);
+  scene.stats.integrator = std::string(integrator_info(chosen.integrator).name);
   const Film film = resolved(buffer, st);
   if (const NonFinitePixels bad = find_non_finite(film); bad.count > 0)
     fail("{}: {} of {} pixels came out not finite (the first at ({}, {}))", scene.desc.file.string(), bad.count,
@@ -402,7 +419,12 @@ PYBIND11_MODULE(bouguer, m) {
                              [](const Scene& s) { return std::make_pair(s.compiled->camera.width_px, s.compiled->camera.height_px); })
       .def_property_readonly("spp", [](const Scene& s) { return s.desc.render.spp; })
       .def_property_readonly("seed", [](const Scene& s) { return s.desc.render.seed; })
-      .def_property_readonly("integrator", [](const Scene& s) { return std::string(bouguer::integrator_info(s.desc.render.integrator).name); })
+      .def_property_readonly("integrator",
+                             [](const Scene& s) {
+                               return std::string(s.desc.render.choose_integrator
+                                                      ? bouguer::kAutoIntegrator
+                                                      : bouguer::integrator_info(s.desc.render.integrator).name);
+                             })
       .def_property_readonly("spectral", [](const Scene& s) { return std::string(bouguer::spectral_mode_name(s.desc.render.spectral)); })
       .def_property_readonly("media",
                              [](const Scene& s) {
@@ -463,6 +485,7 @@ PYBIND11_MODULE(bouguer, m) {
                                d["spp"] = r.spp_done;
                                d["spp_requested"] = r.spp_requested;
                                d["stopped"] = r.stopped;
+                               d["integrator"] = r.integrator;
                                return d;
                              })
       .def("__repr__", [](const Scene& s) {

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <string>
 #include <memory>
 
 #include "bouguer/scene/compile.h"
@@ -16,6 +17,7 @@ struct RenderReport {
   std::uint64_t rays = 0;
   int spp_done = 0, spp_requested = 0;  // samples every pixel has; those asked for
   bool stopped = false;                 // should_stop() ended it
+  std::string integrator;               // the estimator that rendered (auto: the one chosen)
 };
 
 struct Scene {

@@ -18,6 +18,7 @@
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/output_set.h"
+#include "bouguer/integrators/choose.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/render/adaptive.h"
 #include "bouguer/scene/compile.h"
@@ -115,16 +116,18 @@ struct Adaptive {
 };
 
 Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
-                     Progress& progress, RenderStats& stats, double budget_s = 0.0, Adaptive* adaptive = nullptr) {
+                     Progress& progress, RenderStats& stats, double budget_s = 0.0, Adaptive* adaptive = nullptr,
+                     int first = 0) {
   const int spp = settings.spp;
   const auto start = std::chrono::steady_clock::now();
   Passes p;
+  p.complete = first;  // samples the film has already (an automatic choice's trial)
   if (adaptive) p.active_left = adaptive->active.size();
-  for (int begin = 0; begin < spp;) {
+  for (int begin = first; begin < spp;) {
     int end = std::min(spp, begin + std::max(begin, 1));
-    if (budget_s > 0.0 && begin > 0) {
+    if (budget_s > 0.0 && begin > first) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const double affordable = (budget_s - elapsed) / (elapsed / begin);  // samples per pixel still in time
+      const double affordable = (budget_s - elapsed) / (elapsed / (begin - first));  // samples per pixel still in time
       if (affordable < 1.0) return p;
       end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
     }
@@ -188,6 +191,9 @@ int run_render(const RenderCli& o) {
   constexpr int kTimedSpp = 1 << 20, kNoiseSpp = 4096;
   if (o.time_s > 0.0 && !o.overrides.spp) settings.spp = kTimedSpp;
   if (o.noise > 0.0 && !o.overrides.spp) settings.spp = o.time_s > 0.0 ? kTimedSpp : kNoiseSpp;
+  // Adaptive sampling stops pixels, which only an estimator without splats allows: auto is the
+  // path tracer there.
+  if (o.noise > 0.0 && settings.choose_integrator) settings.choose_integrator = false;
   if (o.noise > 0.0 && integrator_info(settings.integrator).splats)
     fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel (path or whitted); "
                "{} adds light paths' splats anywhere on the film",
@@ -195,11 +201,29 @@ int run_render(const RenderCli& o) {
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
-  FilmBuffer buffer = make_film(scene, keep_spectra);
   Progress progress(o.quiet);
   RenderStats stats;
+  // --integrator auto: the candidates' trials choose the estimator; its film, with the trial's
+  // samples, goes on (integrators/choose.h). Deterministic, so every rank under mpirun makes the
+  // same choice (each its own trial; the ranks then render their pixels from sample 0).
+  std::optional<EstimatorChoice> choice;
+  if (settings.choose_integrator) {
+    if (!o.quiet) fmt::print(stderr, "auto: trials of the candidate estimators\n");
+    RenderControl control;
+    control.threads = o.threads;
+    // A budget of seconds without --spp: trials as for 64 spp, not for the 2^20 that stand for "as
+    // many as the budget allows".
+    const int trial_spp = auto_trial_spp(o.time_s > 0.0 && !o.overrides.spp ? 64 : settings.spp);
+    choice.emplace(choose_estimator(scene, settings, trial_spp, keep_spectra, &desc.display, control, stats));
+    settings.integrator = choice->chosen;
+    settings.choose_integrator = false;
+  }
+  const bool mpi = distributed::launched_by_mpirun();
+  FilmBuffer buffer = choice && choice->film && !mpi ? std::move(*choice->film) : make_film(scene, keep_spectra);
+  if (choice) choice->film.reset();
+  const int first = choice && !mpi ? choice->trial_spp : 0;
   Passes passes;
-  if (distributed::launched_by_mpirun()) {  // one rank of mpirun -np N: rank 0 writes (docs/distributed.md)
+  if (mpi) {  // one rank of mpirun -np N: rank 0 writes (docs/distributed.md)
     if (!distributed::render_over_ranks(scene, settings, buffer, o.threads, o.quiet,
                                         [&](double f) { progress.update(f); }, stats))
       return 0;
@@ -214,8 +238,10 @@ int run_render(const RenderCli& o) {
       adaptive->desc = &desc;
       adaptive->active.assign(static_cast<std::size_t>(buffer.width()) * static_cast<std::size_t>(buffer.height()), 1);
     }
-    passes = render_passes(scene, settings, buffer, o.threads, progress, stats, o.time_s,
-                           adaptive ? &*adaptive : nullptr);
+    // A budget of seconds includes the trials.
+    const double budget_s = o.time_s > 0.0 ? std::max(o.time_s - stats.seconds, 1e-9) : 0.0;
+    passes = render_passes(scene, settings, buffer, o.threads, progress, stats, budget_s,
+                           adaptive ? &*adaptive : nullptr, first);
   }
   const bool interrupted = g_interrupted && passes.complete < settings.spp;
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
@@ -255,6 +281,20 @@ int run_render(const RenderCli& o) {
                         {"mean_spp", samples / (static_cast<double>(buffer.width()) * buffer.height())},
                         {"pixels_above_target", passes.active_left}};
     }
+    if (choice) {
+      nlohmann::json trials = nlohmann::json::array();
+      for (const EstimatorTrial& t : choice->trials)
+        trials.push_back({{"integrator", integrator_info(t.type).name},
+                          {"error_delta_e00", t.error_de00},
+                          {"rays", t.rays},
+                          {"cost", t.cost},
+                          {"score", t.score},
+                          {"seconds", t.seconds},
+                          {"complete", t.complete}});
+      jv["auto"] = {{"chosen", integrator_info(choice->chosen).name},
+                    {"trial_spp", choice->trial_spp},
+                    {"trials", trials}};
+    }
     if (stats.iterations > 0)
       jv["vcm"] = {{"iterations", stats.iterations}, {"light_paths", stats.light_paths}, {"photons", stats.photons},
                    {"merges", stats.merges}, {"last_radius_m", stats.radius_m}};
@@ -281,6 +321,19 @@ int run_render(const RenderCli& o) {
     fmt::print("{}: {}x{}, {} spp, {}, {}, {:.2f} s, {} rays, {:.3g} rays/s -> {}\n", o.scene, film.width, film.height,
                passes.complete, integrator_info(settings.integrator).name, mode, stats.seconds, stats.rays,
                rays_per_second, fmt::join(o.outputs, ", "));
+    if (choice) {
+      if (choice->trials.empty())
+        fmt::print("  auto: {}, without trials ({} spp; trials need 16)\n", integrator_info(choice->chosen).name,
+                   settings.spp);
+      else {
+        std::string rows;
+        for (const EstimatorTrial& t : choice->trials)
+          rows += fmt::format("{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00²·cost {:.3g}{}", rows.empty() ? "" : "; ",
+                              integrator_info(t.type).name, t.error_de00, t.cost, t.score,
+                              t.complete ? "" : " (misses light here: not chosen)");
+        fmt::print("  auto: {} (trials of {} spp: {})\n", integrator_info(choice->chosen).name, choice->trial_spp, rows);
+      }
+    }
     if (stats.iterations > 0)
       fmt::print("  {} iterations: {} light paths, {} photons, {} merges, radius {:.3g} mm at the last\n",
                  stats.iterations, stats.light_paths, stats.photons, stats.merges, stats.radius_m * 1e3);
@@ -372,6 +425,10 @@ Command add_render_command(CLI::App& parent) {
   for (const IntegratorInfo& i : integrator_table()) {
     integrator_help += fmt::format(" {} ({});", i.name, i.summary);
   }
+  integrator_help += fmt::format(
+      " {} (short trials of path, bdpt and vcm choose the one with the least noise for the cost; the default of a "
+      "scene that names none);",
+      kAutoIntegrator);
   for (const SpectralModeInfo& m : spectral_mode_table()) {
     mode_help += fmt::format(" {} ({});", m.name, m.summary);
   }

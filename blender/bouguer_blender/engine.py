@@ -101,8 +101,9 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
 
 
 def write_stats(path, stats, settings, width, height):
-    data = dict(stats, resolution=[width, height], integrator=settings.integrator, spectral=settings.spectral,
-                threads=settings.threads)
+    # "integrator": the estimator that rendered (Automatic's choice), as the command line's stats say.
+    data = dict(stats, resolution=[width, height], integrator=stats.get("integrator") or settings.integrator,
+                spectral=settings.spectral, threads=settings.threads)
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         json.dump(data, f, indent=2)

@@ -23,6 +23,8 @@ class BouguerRenderSettings(bpy.types.PropertyGroup):
     integrator: EnumProperty(
         name="Integrator", default="path",
         items=[("path", "Path", "Unbiased path tracing"),
+               ("auto", "Automatic", "Short trials of path, bidirectional and VCM choose the one with the least "
+                                     "noise for its cost (docs/rendering.md)"),
                ("whitted", "Whitted", "The paper's ray tracer: specular paths and direct light"),
                ("light", "Light", "Light tracing: caustics on diffuse surfaces"),
                ("bdpt", "Bidirectional", "Bidirectional path tracing: light through glass, lamps inside media"),

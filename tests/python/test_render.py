@@ -28,6 +28,23 @@ def test_module_image_is_the_cli_image_bit_for_bit(tmp_path, small_scene, integr
     np.testing.assert_array_equal(image, expected)
 
 
+def test_auto_chooses_as_the_cli_and_says_which(tmp_path, small_scene):
+    # integrator "auto" (integrators/choose.h): the same trials, the same choice, the same image;
+    # 32 spp so that there are trials (2 spp each).
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    stats = tmp_path / "stats.json"
+    expected = cli_render(path, tmp_path / "cli.pfm", "--integrator", "auto", "--spp", "32", "--seed", "11",
+                          "--stats-json", str(stats))
+    scene = bouguer.load(path)
+    image = bouguer.render(scene, integrator="auto", spp=32, seed=11, threads=1)
+    np.testing.assert_array_equal(image, expected)
+    chosen = json.loads(stats.read_text())["auto"]["chosen"]
+    assert scene.stats["integrator"] == chosen
+    assert chosen in ("path", "bdpt", "vcm")
+    assert [t["integrator"] for t in json.loads(stats.read_text())["auto"]["trials"]] == ["path", "bdpt", "vcm"]
+
+
 def test_overrides_are_the_cli_options(tmp_path, small_scene):
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(small_scene))

@@ -112,6 +112,29 @@ TEST(SceneLoader, ManifoldKeyIsABoolean) {
   }
 }
 
+// render.integrator: a scene that names none, or names "auto", has it chosen by trials
+// (integrators/choose.h); a named one is rendered by that one; an unknown name lists "auto" too.
+TEST(SceneLoader, IntegratorAutoUnlessNamed) {
+  auto scene = [](const std::string& render) {
+    return R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_deg": 30}, )" + render +
+           R"("objects": [], "background": {"spectrum": "E", "scale": 1}})";
+  };
+  EXPECT_TRUE(parse_scene(scene(""), "a.json").render.choose_integrator);
+  EXPECT_TRUE(parse_scene(scene(R"("render": {"spp": 4}, )"), "a.json").render.choose_integrator);
+  EXPECT_TRUE(parse_scene(scene(R"("render": {"integrator": "auto"}, )"), "a.json").render.choose_integrator);
+  const SceneDesc named = parse_scene(scene(R"("render": {"integrator": "bdpt"}, )"), "a.json");
+  EXPECT_FALSE(named.render.choose_integrator);
+  EXPECT_EQ(named.render.integrator, IntegratorType::bdpt);
+  try {
+    parse_scene(scene(R"("render": {"integrator": "mlt"}, )"), "a.json");
+    ADD_FAILURE() << "an unknown integrator loaded";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("render.integrator"), std::string::npos) << m;
+    EXPECT_NE(m.find("auto"), std::string::npos) << m;
+  }
+}
+
 // Through the command line: non-zero exit, one line, and an earlier image survives.
 TEST(SceneLoader, FailedRenderLeavesTheEarlierImageIntact) {
   const auto dir = test::scratch_dir("failed_render");

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "bouguer/core/error.h"
+#include "bouguer/integrators/choose.h"
 #include "bouguer/integrators/integrators.h"
 
 namespace bouguer {
@@ -35,6 +36,16 @@ void render_into(const RenderScene& scene, const RenderSettings& settings, FilmB
 Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
             RenderStats& stats, bool keep_spectra) {
   check_settings(scene, settings, keep_spectra);
+  if (settings.choose_integrator) {
+    EstimatorChoice choice =
+        choose_estimator(scene, settings, auto_trial_spp(settings.spp), keep_spectra, nullptr, control, stats);
+    RenderSettings chosen = settings;
+    chosen.integrator = choice.chosen;
+    FilmBuffer film = choice.film ? std::move(*choice.film) : make_film(scene, keep_spectra);
+    render_into(scene, chosen, film, PixelRegion::whole(scene.camera), {choice.trial_spp, settings.spp}, control,
+                stats);
+    return resolve(film, settings.spp);
+  }
   FilmBuffer film = make_film(scene, keep_spectra);
   render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, control, stats);
   return resolve(film, settings.spp);

@@ -10,9 +10,13 @@ Vec3 displayed(const Vec3& rgb, const DisplayTransform& d) { return (d.balanced 
 
 }  // namespace
 
+double halves_error_de00(const Vec3& a, const Vec3& b, const DisplayTransform& display) {
+  return 0.5 * delta_e00(displayed(a, display), displayed(b, display));
+}
+
 double pixel_error_de00(const FilmBuffer& film, int x, int y, const DisplayTransform& display) {
   const auto [even, odd] = film.half_means(x, y);
-  return 0.5 * delta_e00(displayed(even, display), displayed(odd, display));
+  return halves_error_de00(even, odd, display);
 }
 
 std::size_t retire_converged(const FilmBuffer& film, const NoiseTarget& target, int samples_done,

@@ -28,6 +28,8 @@ struct NoiseTarget {
 // variance of each half, four times the mean's), so ΔE00(A, B)/2 with CIELAB relative to D65 at
 // Y = 1 (compare.h: white is L* = 100). Zero-sample halves read as black.
 double pixel_error_de00(const FilmBuffer& film, int x, int y, const DisplayTransform& display);
+// The same from the two halves' means (linear Rec.709, before the display's transform).
+double halves_error_de00(const Vec3& a, const Vec3& b, const DisplayTransform& display);
 
 // After a pass that left `samples_done` samples in every active pixel: clears the flag of each
 // active pixel whose estimate is at or below the target (once samples_done ≥ min_spp). Returns the

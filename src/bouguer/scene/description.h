@@ -59,6 +59,9 @@ struct RenderSettings {
   // tracer as before it, lamps behind glass reached only by its own directions (point and spot
   // lamps behind glass not at all).
   bool manifold = true;
+  // --integrator auto (integrators/choose.h): short trials of the candidates choose the estimator
+  // before the render; `integrator` is then the one that renders when there is no trial (path).
+  bool choose_integrator = false;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).

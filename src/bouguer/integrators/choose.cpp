@@ -1,0 +1,202 @@
+#include "bouguer/integrators/choose.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bouguer/core/error.h"
+#include "bouguer/integrators/render_into.h"
+#include "bouguer/render/adaptive.h"
+#include "bouguer/scene/display_white.h"
+
+namespace bouguer {
+namespace {
+
+Vec3 rgb_of(const Film& f, int x, int y) {
+  const Vec3f v = f.rgb_at(x, y);
+  return {v[0], v[1], v[2]};
+}
+
+double luminance(const Vec3& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+// A trial's image by blocks of kBlockPx² pixels: each block's mean luminance and the variance of
+// that mean, from the pixels' two halves (((Y_A − Y_B)/2)² estimates the variance of (A + B)/2).
+constexpr int kBlockPx = 8;
+struct Blocks {
+  int nx = 0, ny = 0;
+  std::vector<double> mean, var;
+};
+
+Blocks blocks_of(const Film& a, const Film& m) {
+  Blocks b;
+  b.nx = (m.width + kBlockPx - 1) / kBlockPx;
+  b.ny = (m.height + kBlockPx - 1) / kBlockPx;
+  const std::size_t n = static_cast<std::size_t>(b.nx) * static_cast<std::size_t>(b.ny);
+  b.mean.assign(n, 0.0);
+  b.var.assign(n, 0.0);
+  std::vector<double> count(n, 0.0);
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) {
+      const std::size_t k = static_cast<std::size_t>(y / kBlockPx) * static_cast<std::size_t>(b.nx) +
+                            static_cast<std::size_t>(x / kBlockPx);
+      const double ya = luminance(rgb_of(a, x, y)), yab = luminance(rgb_of(m, x, y));
+      const double half_gap = yab - ya;  // ((2·M − A) − A)/2
+      b.mean[k] += yab;
+      b.var[k] += half_gap * half_gap;
+      count[k] += 1.0;
+    }
+  for (std::size_t k = 0; k < n; ++k) {
+    b.mean[k] /= count[k];
+    b.var[k] /= count[k] * count[k];
+  }
+  return b;
+}
+
+// Whether image `dark` is darker than image `bright` in some block beyond kMissedSigmas of their
+// combined standard error and by more than kMissedFraction of `bright`'s mean there: light the
+// estimator of `dark` has not found in its trial (a rare caustic path) and would find only with
+// far more samples than its noise suggests.
+constexpr double kMissedSigmas = 5.0;
+constexpr double kMissedFraction = 0.2;
+bool darker_blocks(const Blocks& dark, const Blocks& bright) {
+  for (std::size_t k = 0; k < dark.mean.size(); ++k) {
+    const double gap = bright.mean[k] - dark.mean[k];
+    if (gap > kMissedSigmas * std::sqrt(dark.var[k] + bright.var[k]) && gap > kMissedFraction * bright.mean[k])
+      return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool path_misses_light(const RenderScene& scene, const RenderSettings& settings) {
+  if (scene.delta_lights.empty()) return false;
+  for (std::size_t g = 0; g < scene.surfaces.size(); ++g) {
+    const Surface& f = scene.surfaces[g];
+    if (f.kind == SurfaceKind::interface && f.roughness == 0.0 && !f.index_matched &&
+        !(settings.manifold && find_caster(scene, static_cast<std::uint32_t>(g))))
+      return true;
+    if (f.kind != SurfaceKind::opaque || f.material < 0) continue;
+    const SurfaceMaterial& m = scene.materials[static_cast<std::size_t>(f.material)];
+    if (const auto* c = std::get_if<ConductorMaterial>(&m); c && c->alpha == 0.0 && c->alpha_texture < 0) return true;
+    if (const auto* r = std::get_if<MetallicRoughnessMaterial>(&m);
+        r && r->roughness == 0.0 && r->metalness > 0.0 && r->metallic_roughness_texture < 0)
+      return true;
+    if (std::holds_alternative<ThinDielectricMaterial>(m)) return true;
+  }
+  return false;
+}
+
+bool darker_somewhere(const Film& dark_first, const Film& dark_mean, const Film& bright_first,
+                      const Film& bright_mean) {
+  return darker_blocks(blocks_of(dark_first, dark_mean), blocks_of(bright_first, bright_mean));
+}
+
+std::vector<IntegratorType> auto_candidates(const RenderScene& scene) {
+  std::vector<IntegratorType> out;
+  for (const IntegratorType type : {IntegratorType::path, IntegratorType::bdpt, IntegratorType::vcm}) {
+    RenderSettings s;
+    s.integrator = type;
+    try {
+      check_settings(scene, s, false);  // what each estimator can render: its one list
+      out.push_back(type);
+    } catch (const Error&) {
+    }
+  }
+  return out;
+}
+
+int auto_trial_spp(int spp) { return spp < 16 ? 0 : 2 * std::clamp(spp / 32, 1, 16); }
+
+double cost_per_ray(IntegratorType type) {
+  switch (type) {
+    case IntegratorType::bdpt:
+      return 1.26;
+    case IntegratorType::vcm:
+      return 1.76;
+    default:
+      return 1.0;
+  }
+}
+
+EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,
+                                 bool keep_spectra, const DisplayDesc* display, const RenderControl& control,
+                                 RenderStats& stats) {
+  EstimatorChoice choice;
+  choice.trial_spp = std::min(trial_spp - trial_spp % 2, settings.spp);
+  const std::vector<IntegratorType> candidates = auto_candidates(scene);
+  if (choice.trial_spp < 2 || candidates.size() < 2) {
+    // Without trials: the path tracer, which renders every scene, unless it misses light here and
+    // bdpt can render the scene (unbiased, as the path tracer; vcm's first iterations blur).
+    choice.trial_spp = 0;
+    if (candidates.size() > 1 && path_misses_light(scene, settings)) choice.chosen = IntegratorType::bdpt;
+    return choice;
+  }
+  const int k = choice.trial_spp / 2;
+  // A trial is short (an eighth of the render at most): it is not cancelled, nor reported as
+  // progress; a Ctrl-C takes effect in the render's first pass.
+  RenderControl trial_control;
+  trial_control.threads = control.threads;
+  std::vector<std::optional<FilmBuffer>> films(candidates.size());  // by trial
+  std::vector<Blocks> blocks(candidates.size());
+  DisplayTransform shown;
+  bool displayed = false;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const IntegratorType type = candidates[i];
+    EstimatorTrial t;
+    t.type = type;
+    t.complete = !(type == IntegratorType::path && path_misses_light(scene, settings));
+    if (!t.complete) {  // no trial: its noise would say nothing of the light it leaves out
+      choice.trials.push_back(t);
+      continue;
+    }
+    RenderSettings s = settings;
+    s.integrator = type;
+    s.choose_integrator = false;
+    FilmBuffer& film = films[i].emplace(make_film(scene, keep_spectra));
+    RenderStats st;
+    render_into(scene, s, film, PixelRegion::whole(scene.camera), {0, k}, trial_control, st);
+    const Film a = film.resolve(1.0 / k);
+    render_into(scene, s, film, PixelRegion::whole(scene.camera), {k, 2 * k}, trial_control, st);
+    const Film m = film.resolve(1.0 / (2 * k));
+    // The colour the error is read on: the display's, as the first trial's image sets it
+    // (an automatic exposure is measured on it), the same for all.
+    if (!displayed && display) shown = display_transform(scene, *display, m);
+    displayed = true;
+    double error = 0.0;
+    for (int y = 0; y < m.height; ++y)
+      for (int x = 0; x < m.width; ++x) {
+        const Vec3 first = rgb_of(a, x, y), both = rgb_of(m, x, y);
+        const Vec3 second = 2.0 * both - first;  // samples [k, 2k), splats included
+        error += halves_error_de00(first, second, shown);
+      }
+    t.error_de00 = error / (static_cast<double>(m.width) * m.height);
+    blocks[i] = blocks_of(a, m);
+    t.rays = st.rays;
+    t.cost = static_cast<double>(st.rays) * cost_per_ray(type);
+    t.score = t.error_de00 * t.error_de00 * t.cost;
+    t.seconds = st.seconds;
+    choice.trials.push_back(t);
+    stats.rays += st.rays;
+    stats.seconds += st.seconds;
+  }
+  // The two unbiased candidates, path and bdpt, each left out where it is darker than the other
+  // somewhere (vcm's first iterations blur the light by their radius: no reference for this).
+  for (std::size_t i = 0; i < choice.trials.size(); ++i)
+    for (std::size_t j = 0; j < choice.trials.size(); ++j) {
+      EstimatorTrial& t = choice.trials[i];
+      const EstimatorTrial& u = choice.trials[j];
+      if (i == j || t.type == IntegratorType::vcm || u.type == IntegratorType::vcm || !t.complete || !u.complete)
+        continue;
+      if (darker_blocks(blocks[i], blocks[j])) t.complete = false;
+    }
+  std::size_t best = choice.trials.size();
+  for (std::size_t i = 0; i < choice.trials.size(); ++i) {
+    const EstimatorTrial& t = choice.trials[i];
+    if (t.complete && (best == choice.trials.size() || t.score < choice.trials[best].score)) best = i;
+  }
+  choice.chosen = choice.trials[best].type;
+  choice.film.emplace(std::move(*films[best]));
+  return choice;
+}
+
+}  // namespace bouguer

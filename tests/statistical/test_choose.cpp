@@ -1,0 +1,178 @@
+// --integrator auto (integrators/choose.h): the candidates' trials choose the estimator, the chosen
+// one's trial samples stay in the image, the choice is the same at any thread count, and an
+// estimator that misses light is not chosen for its missing noise.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "bouguer/integrators/choose.h"
+#include "bouguer/integrators/render_into.h"
+#include "bouguer/scene/compile.h"
+#include "bouguer/scene/loader.h"
+#include "support/test_scenes.h"
+
+namespace bouguer {
+namespace {
+
+struct Chosen {
+  EstimatorChoice choice;
+  Film image;
+};
+
+// The scene text's render with auto, through render() (integrators/render_into.h).
+Chosen render_auto(const std::string& text, int threads) {
+  const SceneDesc desc = parse_scene(text, "auto.json");
+  EXPECT_TRUE(desc.render.choose_integrator);
+  const RenderScene scene = compile(desc);
+  RenderControl control;
+  control.threads = threads;
+  RenderStats stats;
+  Chosen c{choose_estimator(scene, desc.render, auto_trial_spp(desc.render.spp), false, nullptr, control, stats),
+           Film(1, 1)};
+  c.image = render(scene, desc.render, control, stats);
+  return c;
+}
+
+Film render_with(const std::string& text, IntegratorType type) {
+  SceneDesc desc = parse_scene(text, "named.json");
+  desc.render.integrator = type;
+  desc.render.choose_integrator = false;
+  const RenderScene scene = compile(desc);
+  RenderControl control;
+  control.threads = 2;
+  RenderStats stats;
+  return render(scene, desc.render, control, stats);
+}
+
+bool same_pixels(const Film& a, const Film& b) {
+  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+std::string summary(const EstimatorChoice& c) {
+  std::string s = fmt::format("chosen {}:", integrator_info(c.chosen).name);
+  for (const EstimatorTrial& t : c.trials)
+    s += fmt::format(" {} (ΔE00 {:.3g}, rays {}, score {:.3g}{})", integrator_info(t.type).name, t.error_de00, t.rays,
+                     t.score, t.complete ? "" : ", misses light");
+  return s;
+}
+
+TEST(Choose, TrialSamplesFollowTheRender) {
+  EXPECT_EQ(auto_trial_spp(8), 0);  // too few samples to spend any on trials
+  EXPECT_EQ(auto_trial_spp(16), 2);
+  EXPECT_EQ(auto_trial_spp(64), 4);
+  EXPECT_EQ(auto_trial_spp(1024), 32);
+  EXPECT_EQ(auto_trial_spp(1 << 20), 32);
+  for (int spp = 16; spp <= 4096; spp *= 2) EXPECT_LE(8 * auto_trial_spp(spp), spp) << spp;
+}
+
+// A diffuse room under a ceiling lamp: the path tracer's next-event estimation is the best
+// strategy for every pixel, and bdpt and vcm only add cost. The chosen image is bit for bit the
+// path tracer's own (its trial's samples are the render's first), and the choice and its figures
+// are the same at 1 and 2 threads (the cost is counted in rays, not seconds).
+TEST(Choose, PathTracerForADiffuseRoomWithItsTrialKept) {
+  const std::string text = test::room_scene("auto", 64, 3);
+  const Chosen one = render_auto(text, 1), two = render_auto(text, 2);
+  EXPECT_EQ(one.choice.chosen, IntegratorType::path) << summary(one.choice);
+  ASSERT_EQ(one.choice.trials.size(), 3u);
+  ASSERT_EQ(two.choice.trials.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(one.choice.trials[i].rays, two.choice.trials[i].rays);
+    EXPECT_EQ(one.choice.trials[i].error_de00, two.choice.trials[i].error_de00);
+  }
+  EXPECT_TRUE(same_pixels(one.image, two.image));
+  EXPECT_TRUE(same_pixels(one.image, render_with(text, IntegratorType::path)));
+}
+
+// The test that leaves out an estimator whose trial has not found light another's has: on the
+// coloured-caustics showcase (64×48, 64 spp) the path tracer's trial measured ΔE00 1.36 against
+// bdpt's 8.61, yet it never gets below 2 in 8192 spp where bdpt is below 1 at 2048
+// (docs/performance.md): its trial had not found the caustic, which bdpt's had. Here, images of
+// two trials whose halves are given: a block the dark one leaves black and the bright one lights
+// at 1 ± 0.05 is found; the same with the bright one's noise ±0.5 (its own halves disagreeing)
+// or with a gap under a fifth of the light is not.
+TEST(Choose, DarkerBeyondNoiseOnlyWhereTheGapIsBothSignificantAndLarge) {
+  auto film = [](float value) {
+    Film f(16, 16);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) f.set_rgb(x, y, {value, value, value});
+    return f;
+  };
+  auto lit_block = [&](float first, float mean) {  // the bright trial: its block (8..16, 0..8) lit
+    std::pair<Film, Film> t{film(0.5f), film(0.5f)};
+    for (int y = 0; y < 8; ++y)
+      for (int x = 8; x < 16; ++x) {
+        t.first.set_rgb(x, y, {first, first, first});
+        t.second.set_rgb(x, y, {mean, mean, mean});
+      }
+    return t;
+  };
+  const Film dark = film(0.5f);  // noiseless, and black nowhere but where it misses the block's light
+  Film dark_block = film(0.5f);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 8; x < 16; ++x) dark_block.set_rgb(x, y, {0.0f, 0.0f, 0.0f});
+  // Halves 0.95 and 1.05: the mean 1, each pixel's standard error 0.05, the block's 0.05/8.
+  const auto [a, m] = lit_block(0.95f, 1.0f);
+  EXPECT_TRUE(darker_somewhere(dark_block, dark_block, a, m));
+  EXPECT_FALSE(darker_somewhere(a, m, dark_block, dark_block));  // brighter is never "darker"
+  EXPECT_FALSE(darker_somewhere(dark, dark, dark, dark));
+  // Halves 0.5 and 1.5 in every pixel of the block: its standard error 0.5/8, the gap 1 is 16 of
+  // them: still found; the gap 0.15 (the dark one at 0.85) is under a fifth of 1: not.
+  const auto [a_noisy, m_noisy] = lit_block(0.5f, 1.0f);
+  EXPECT_TRUE(darker_somewhere(dark_block, dark_block, a_noisy, m_noisy));
+  Film almost = film(0.5f);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 8; x < 16; ++x) almost.set_rgb(x, y, {0.85f, 0.85f, 0.85f});
+  EXPECT_FALSE(darker_somewhere(almost, almost, a, m));
+  // One lit pixel of 64 with halves 0 and 128 (a firefly: the block's mean 1, its standard error
+  // 64/64 = 1): the gap of 1 is one standard error, not five.
+  Film spark_a = film(0.5f), spark_m = film(0.5f);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 8; x < 16; ++x) spark_a.set_rgb(x, y, {0.0f, 0.0f, 0.0f}), spark_m.set_rgb(x, y, {0.0f, 0.0f, 0.0f});
+  spark_a.set_rgb(8, 0, {0.0f, 0.0f, 0.0f});
+  spark_m.set_rgb(8, 0, {64.0f, 64.0f, 64.0f});
+  EXPECT_FALSE(darker_somewhere(dark_block, dark_block, spark_a, spark_m));
+}
+
+// Where a point lamp shines through a glass block onto a floor, the path tracer cannot reach the
+// caustic at all (no direction it draws meets a point): it is no candidate and not trialled. An
+// exact glass sphere instead of the block is one next-event estimation connects through
+// (integrators/manifold.h): then it is, unless the scene turns that off.
+TEST(Choose, PathTracerLeftOutWhereAPointLampShinesThroughGlassItCannotConnectThrough) {
+  auto scene = [](const char* shape, bool manifold) {
+    return fmt::format(R"({{
+      "camera": {{"position": [0, 0.5, 0.35], "look_at": [0, 0, 0], "fov_deg": 45, "resolution": [8, 8]}},
+      "render": {{"spp": 64, "manifold": {}}},
+      "media": {{"glass": {{"ior": 1.5}}}},
+      "objects": [
+        {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
+          "material": {{"type": "diffuse", "reflectance": 0.8}}}},
+        {{"name": "glass", "shape": {}, "transform": [{{"translate": [0, 0.06, 0]}}], "inside": "glass"}}
+      ],
+      "lights": [{{"type": "point", "position": [0, 0.4, 0], "spectrum": "D65", "scale": 1}}]
+    }})",
+                       manifold ? "true" : "false", shape);
+  };
+  const char* block = R"({"type": "box", "size": [0.08, 0.08, 0.08]})";
+  const char* ball = R"({"type": "sphere", "radius": "40 mm"})";
+  auto misses = [](const std::string& text) {
+    const SceneDesc desc = parse_scene(text, "a.json");
+    return path_misses_light(compile(desc), desc.render);
+  };
+  EXPECT_TRUE(misses(scene(block, true)));
+  EXPECT_FALSE(misses(scene(ball, true)));
+  EXPECT_TRUE(misses(scene(ball, false)));
+  const SceneDesc desc = parse_scene(scene(block, true), "a.json");
+  RenderControl control;
+  RenderStats stats;
+  const EstimatorChoice c =
+      choose_estimator(compile(desc), desc.render, auto_trial_spp(64), false, nullptr, control, stats);
+  ASSERT_EQ(c.trials.size(), 3u);
+  EXPECT_FALSE(c.trials[0].complete);
+  EXPECT_EQ(c.trials[0].rays, 0u);  // not trialled
+  EXPECT_NE(c.chosen, IntegratorType::path);
+}
+
+}  // namespace
+}  // namespace bouguer
