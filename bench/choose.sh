@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # make choose: what --integrator auto (integrators/choose.h) rests on, measured. (1) Each
-# estimator's seconds per ray on four showcases (64x48, 16 spp, one thread, seed 1), relative to
+# estimator's seconds per ray on four showcases (64x48, 64 spp, one thread, seed 1), relative to
 # the path tracer's: the geometric means are cost_per_ray's constants. (2) What auto chooses on
 # each (64x48, 64 spp: trials of 4 spp) and its trials' figures. Writes both tables into
 # docs/performance.md between the BENCH:choose markers. It reports; it asserts nothing.
@@ -14,7 +14,7 @@ machine="$(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | s
 field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
 table=$(
-  echo "Measured on $(date -u +%Y-%m-%d), $machine, Release build, 64x48, full spectrum, one thread."
+  echo "Measured on $(date -u +%Y-%m-%d), $machine, Release build, 64x48, 64 spp, full spectrum, one thread."
   echo
   echo "| scene | path ns/ray | bdpt ns/ray | vcm ns/ray | bdpt / path | vcm / path |"
   echo "|---|---|---|---|---|---|"
@@ -24,7 +24,7 @@ table=$(
     declare -A ns=()
     for integrator in path bdpt vcm; do
       j=$out/$name-$integrator.json
-      "$build/bouguer" render "scenes/showcase/$name.json" --integrator $integrator --spectral full --spp 16 --seed 1 \
+      "$build/bouguer" render "scenes/showcase/$name.json" --integrator $integrator --spectral full --spp 64 --seed 1 \
         --resolution 64x48 --threads 1 -o "$out/$name-$integrator.pfm" --stats-json "$j" --quiet
       ns[$integrator]=$(field "$j" "1e9 * d['seconds'] / d['rays']")
       row="$row | $(printf '%.0f' "${ns[$integrator]}")"

@@ -110,9 +110,9 @@ int auto_trial_spp(int spp) { return spp < 16 ? 0 : 2 * std::clamp(spp / 32, 1, 
 double cost_per_ray(IntegratorType type) {
   switch (type) {
     case IntegratorType::bdpt:
-      return 1.26;
+      return 1.35;
     case IntegratorType::vcm:
-      return 1.76;
+      return 1.59;
     default:
       return 1.0;
   }

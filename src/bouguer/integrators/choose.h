@@ -70,7 +70,8 @@ bool path_misses_light(const RenderScene& scene, const RenderSettings& settings)
 bool darker_somewhere(const Film& dark_first, const Film& dark_mean, const Film& bright_first, const Film& bright_mean);
 
 // The estimators' cost per ray relative to the path tracer's (docs/performance.md, "Choosing the
-// estimator": seconds per ray of path, bdpt and vcm on four showcase scenes, geometric means).
+// estimator": seconds per ray of path, bdpt and vcm on four showcase scenes, geometric means,
+// the mean of two runs).
 double cost_per_ray(IntegratorType type);
 
 // Renders the candidates' trials of `trial_spp` samples (auto_trial_spp; a render with a budget of
