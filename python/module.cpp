@@ -172,8 +172,7 @@ RenderSettings settings_with(const Scene& scene, const RenderArgs& a, CameraDesc
   SceneBuilder check(scene.desc.file);
   if (a.integrator) {
     check.integrator(*a.integrator, Source::option("integrator"));
-    s.choose_integrator = *a.integrator == kAutoIntegrator;
-    s.integrator = s.choose_integrator ? IntegratorType::path : find_integrator(*a.integrator)->type;
+    s.integrator = find_integrator(*a.integrator)->type;
   }
   if (a.spectral) {
     check.spectral_mode(*a.spectral, Source::option("spectral"));
@@ -369,7 +368,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
   // integrator "auto": the candidates' trials (integrators/choose.h) choose, without the GIL; the
   // chosen one's film goes on from its trial's samples.
   std::optional<EstimatorChoice> choice;
-  if (settings.choose_integrator) {
+  if (settings.integrator == IntegratorType::automatic) {
     const py::gil_scoped_release release;
     RenderControl control;
     control.threads = a.threads;
@@ -377,7 +376,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
     choice.emplace(choose_estimator(compiled, settings, trial_spp, keep_spectra, &scene.desc.display, control, stats));
   }
   RenderSettings chosen = settings;
-  if (choice) chosen.integrator = choice->chosen, chosen.choose_integrator = false;
+  if (choice) chosen.integrator = choice->chosen;
   FilmBuffer buffer = choice && choice->film ? std::move(*choice->film) : make_film(compiled, keep_spectra);
   if (choice) st.complete = choice->trial_spp;
   const bool stopped = render_waiting(scene, compiled, chosen, buffer, a, stats, st);
@@ -419,12 +418,7 @@ PYBIND11_MODULE(bouguer, m) {
                              [](const Scene& s) { return std::make_pair(s.compiled->camera.width_px, s.compiled->camera.height_px); })
       .def_property_readonly("spp", [](const Scene& s) { return s.desc.render.spp; })
       .def_property_readonly("seed", [](const Scene& s) { return s.desc.render.seed; })
-      .def_property_readonly("integrator",
-                             [](const Scene& s) {
-                               return std::string(s.desc.render.choose_integrator
-                                                      ? bouguer::kAutoIntegrator
-                                                      : bouguer::integrator_info(s.desc.render.integrator).name);
-                             })
+      .def_property_readonly("integrator", [](const Scene& s) { return std::string(bouguer::integrator_info(s.desc.render.integrator).name); })
       .def_property_readonly("spectral", [](const Scene& s) { return std::string(bouguer::spectral_mode_name(s.desc.render.spectral)); })
       .def_property_readonly("media",
                              [](const Scene& s) {

@@ -193,7 +193,7 @@ int run_render(const RenderCli& o) {
   if (o.noise > 0.0 && !o.overrides.spp) settings.spp = o.time_s > 0.0 ? kTimedSpp : kNoiseSpp;
   // Adaptive sampling stops pixels, which only an estimator without splats allows: auto is the
   // path tracer there.
-  if (o.noise > 0.0 && settings.choose_integrator) settings.choose_integrator = false;
+  if (o.noise > 0.0 && settings.integrator == IntegratorType::automatic) settings.integrator = IntegratorType::path;
   if (o.noise > 0.0 && integrator_info(settings.integrator).splats)
     fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel (path or whitted); "
                "{} adds light paths' splats anywhere on the film",
@@ -207,7 +207,7 @@ int run_render(const RenderCli& o) {
   // samples, goes on (integrators/choose.h). Deterministic, so every rank under mpirun makes the
   // same choice (each its own trial; the ranks then render their pixels from sample 0).
   std::optional<EstimatorChoice> choice;
-  if (settings.choose_integrator) {
+  if (settings.integrator == IntegratorType::automatic) {
     if (!o.quiet) fmt::print(stderr, "auto: trials of the candidate estimators\n");
     RenderControl control;
     control.threads = o.threads;
@@ -216,7 +216,6 @@ int run_render(const RenderCli& o) {
     const int trial_spp = auto_trial_spp(o.time_s > 0.0 && !o.overrides.spp ? 64 : settings.spp);
     choice.emplace(choose_estimator(scene, settings, trial_spp, keep_spectra, &desc.display, control, stats));
     settings.integrator = choice->chosen;
-    settings.choose_integrator = false;
   }
   const bool mpi = distributed::launched_by_mpirun();
   FilmBuffer buffer = choice && choice->film && !mpi ? std::move(*choice->film) : make_film(scene, keep_spectra);
@@ -425,10 +424,6 @@ Command add_render_command(CLI::App& parent) {
   for (const IntegratorInfo& i : integrator_table()) {
     integrator_help += fmt::format(" {} ({});", i.name, i.summary);
   }
-  integrator_help += fmt::format(
-      " {} (short trials of path, bdpt and vcm choose the one with the least noise for the cost; the default of a "
-      "scene that names none);",
-      kAutoIntegrator);
   for (const SpectralModeInfo& m : spectral_mode_table()) {
     mode_help += fmt::format(" {} ({});", m.name, m.summary);
   }

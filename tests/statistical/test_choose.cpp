@@ -23,7 +23,7 @@ struct Chosen {
 // The scene text's render with auto, through render() (integrators/render_into.h).
 Chosen render_auto(const std::string& text, int threads) {
   const SceneDesc desc = parse_scene(text, "auto.json");
-  EXPECT_TRUE(desc.render.choose_integrator);
+  EXPECT_EQ(desc.render.integrator, IntegratorType::automatic);
   const RenderScene scene = compile(desc);
   RenderControl control;
   control.threads = threads;
@@ -37,7 +37,6 @@ Chosen render_auto(const std::string& text, int threads) {
 Film render_with(const std::string& text, IntegratorType type) {
   SceneDesc desc = parse_scene(text, "named.json");
   desc.render.integrator = type;
-  desc.render.choose_integrator = false;
   const RenderScene scene = compile(desc);
   RenderControl control;
   control.threads = 2;

@@ -240,7 +240,7 @@ TEST(ConcentrationFields, AGridSamplingAFieldRendersLikeTheField) {
 TEST(Render, ThreadCountDoesNotChangeTheImage) {
   const std::string scene = R"({
     "camera": {"position": [0.05, 0.12, 0.1], "look_at": [0, 0, 0], "fov_deg": 35, "resolution": [48, 36]},
-    "render": {"spp": 4, "seed": 3},
+    "render": {"integrator": "whitted", "spp": 4, "seed": 3},
     "media": {"glass": {"absorption": {"library": "light-blue-glass"}}},
     "objects": [
       {"name": "gem", "shape": {"type": "brilliant", "diameter": "30 mm"}, "inside": "glass",

@@ -119,12 +119,12 @@ TEST(SceneLoader, IntegratorAutoUnlessNamed) {
     return R"({"camera": {"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_deg": 30}, )" + render +
            R"("objects": [], "background": {"spectrum": "E", "scale": 1}})";
   };
-  EXPECT_TRUE(parse_scene(scene(""), "a.json").render.choose_integrator);
-  EXPECT_TRUE(parse_scene(scene(R"("render": {"spp": 4}, )"), "a.json").render.choose_integrator);
-  EXPECT_TRUE(parse_scene(scene(R"("render": {"integrator": "auto"}, )"), "a.json").render.choose_integrator);
-  const SceneDesc named = parse_scene(scene(R"("render": {"integrator": "bdpt"}, )"), "a.json");
-  EXPECT_FALSE(named.render.choose_integrator);
-  EXPECT_EQ(named.render.integrator, IntegratorType::bdpt);
+  constexpr IntegratorType kAuto = IntegratorType::automatic;
+  EXPECT_EQ(parse_scene(scene(""), "a.json").render.integrator, kAuto);
+  EXPECT_EQ(parse_scene(scene(R"("render": {"spp": 4}, )"), "a.json").render.integrator, kAuto);
+  EXPECT_EQ(parse_scene(scene(R"("render": {"integrator": "auto"}, )"), "a.json").render.integrator, kAuto);
+  EXPECT_EQ(parse_scene(scene(R"("render": {"integrator": "bdpt"}, )"), "a.json").render.integrator,
+            IntegratorType::bdpt);
   try {
     parse_scene(scene(R"("render": {"integrator": "mlt"}, )"), "a.json");
     ADD_FAILURE() << "an unknown integrator loaded";

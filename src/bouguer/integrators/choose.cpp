@@ -151,7 +151,6 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     }
     RenderSettings s = settings;
     s.integrator = type;
-    s.choose_integrator = false;
     FilmBuffer& film = films[i].emplace(make_film(scene, keep_spectra));
     RenderStats st;
     render_into(scene, s, film, PixelRegion::whole(scene.camera), {0, k}, trial_control, st);

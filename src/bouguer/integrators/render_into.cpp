@@ -17,6 +17,7 @@ RenderFn render_function(IntegratorType type) {
     case IntegratorType::light: return render_light;
     case IntegratorType::bdpt: return render_bdpt;
     case IntegratorType::vcm: return render_vcm;
+    case IntegratorType::automatic: break;  // resolved by choose_estimator before any rendering
   }
   fail("internal error: integrator {} has no render function", static_cast<int>(type));
 }
@@ -36,7 +37,7 @@ void render_into(const RenderScene& scene, const RenderSettings& settings, FilmB
 Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
             RenderStats& stats, bool keep_spectra) {
   check_settings(scene, settings, keep_spectra);
-  if (settings.choose_integrator) {
+  if (settings.integrator == IntegratorType::automatic) {
     EstimatorChoice choice =
         choose_estimator(scene, settings, auto_trial_spp(settings.spp), keep_spectra, nullptr, control, stats);
     RenderSettings chosen = settings;

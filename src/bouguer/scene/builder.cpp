@@ -80,13 +80,8 @@ SceneBuilder& SceneBuilder::settings(const RenderSettings& s, const Source& wher
 }
 
 SceneBuilder& SceneBuilder::integrator(const std::string& name, const Source& where) {
-  desc_.render.choose_integrator = name == kAutoIntegrator;
-  if (desc_.render.choose_integrator) {
-    desc_.render.integrator = IntegratorType::path;  // without a trial (below 16 spp): integrators/choose.h
-    return *this;
-  }
   const IntegratorInfo* info = find_integrator(name);
-  if (!info) where.fail("unknown integrator '{}' ({} or {})", name, integrator_names(), kAutoIntegrator);
+  if (!info) where.fail("unknown integrator '{}' ({})", name, integrator_names());
   desc_.render.integrator = info->type;
   return *this;
 }

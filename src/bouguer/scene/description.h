@@ -28,7 +28,9 @@
 namespace bouguer {
 
 enum class CameraType { pinhole, orthographic };
-enum class IntegratorType { whitted, path, light, bdpt, vcm };  // names: render/integrator.h
+// automatic ("auto"): chosen by short trials of path, bdpt and vcm before the render
+// (integrators/choose.h), the default of a scene file that names none.
+enum class IntegratorType { whitted, path, light, bdpt, vcm, automatic };  // names: scene/render_modes.h
 
 struct CameraDesc {
   CameraType type = CameraType::pinhole;
@@ -59,9 +61,6 @@ struct RenderSettings {
   // tracer as before it, lamps behind glass reached only by its own directions (point and spot
   // lamps behind glass not at all).
   bool manifold = true;
-  // --integrator auto (integrators/choose.h): short trials of the candidates choose the estimator
-  // before the render; `integrator` is then the one that renders when there is no trial (path).
-  bool choose_integrator = false;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).

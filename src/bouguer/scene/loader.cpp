@@ -1,5 +1,4 @@
 #include "bouguer/scene/loader.h"
-#include "bouguer/scene/render_modes.h"
 
 #include "bouguer/scene/gltf.h"
 #include "bouguer/scene/pbr_material.h"
@@ -845,7 +844,7 @@ static void read_scene(const std::string& json_text, const fs::path& path, Scene
   expect_keys(root, top, {"camera", "render", "display", "world_medium", "media", "objects", "lights", "background"});
   if (root.contains("camera")) read_camera(root["camera"], top / "camera", b);
   // A scene that names no estimator has it chosen by trials (integrators/choose.h).
-  b.integrator(std::string(kAutoIntegrator), top / "render");
+  b.integrator("auto", top / "render");
   if (root.contains("render")) read_render_settings(root["render"], top / "render", b);
   if (root.contains("display")) read_display(root["display"], top / "display", b);
   if (root.contains("world_medium")) b.world_medium(text(root["world_medium"], top / "world_medium"), top / "world_medium");

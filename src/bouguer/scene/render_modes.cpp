@@ -19,6 +19,12 @@ constexpr IntegratorInfo kIntegrators[] = {
     {IntegratorType::vcm, "vcm",
      "vertex connection and merging: bdpt and photon mapping under one MIS (caustics seen through glass)",
      true, true, true},
+    // Its capabilities are the path tracer's, the one candidate for every scene; it may choose one
+    // with splats (adaptive sampling makes it the path tracer).
+    {IntegratorType::automatic, "auto",
+     "short trials of path, bdpt and vcm choose the one with the least noise for its cost; the default of a scene "
+     "that names none",
+     true, false, true},
 };
 
 constexpr SpectralModeInfo kSpectralModes[] = {

@@ -21,9 +21,6 @@ struct IntegratorInfo {
 };
 
 std::span<const IntegratorInfo> integrator_table();
-// The name that asks for the estimator to be chosen by trials (integrators/choose.h): not an
-// estimator of the table, the default of a scene file that names none.
-inline constexpr std::string_view kAutoIntegrator = "auto";
 const IntegratorInfo* find_integrator(std::string_view name);
 const IntegratorInfo& integrator_info(IntegratorType type);
 
