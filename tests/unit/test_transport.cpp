@@ -676,7 +676,7 @@ TEST(IntegratorTable, TheLoaderTheCommandLineAndTheDocsUseIt) {
   }
   EXPECT_NE(rendering.find("[--integrator " + integrators + "]"), std::string::npos) << integrators;
   EXPECT_NE(rendering.find("[--spectral " + modes + "]"), std::string::npos) << modes;
-  EXPECT_EQ(integrator_names(), "whitted, path, light, bdpt or vcm");
+  EXPECT_EQ(integrator_names(), "whitted, path, light, bdpt, vcm or auto");
 }
 
 }  // namespace
