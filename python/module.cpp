@@ -372,7 +372,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
     const py::gil_scoped_release release;
     RenderControl control;
     control.threads = a.threads;
-    const int trial_spp = auto_trial_spp(a.time_s && !a.spp ? 64 : settings.spp);  // as the command line's
+    const int trial_spp = auto_trial_spp(settings.spp, a.time_s && !a.spp);  // as the command line's
     choice.emplace(choose_estimator(compiled, settings, trial_spp, keep_spectra, &scene.desc.display, control, stats));
   }
   RenderSettings chosen = settings;
@@ -418,8 +418,10 @@ PYBIND11_MODULE(bouguer, m) {
                              [](const Scene& s) { return std::make_pair(s.compiled->camera.width_px, s.compiled->camera.height_px); })
       .def_property_readonly("spp", [](const Scene& s) { return s.desc.render.spp; })
       .def_property_readonly("seed", [](const Scene& s) { return s.desc.render.seed; })
-      .def_property_readonly("integrator", [](const Scene& s) { return std::string(bouguer::integrator_info(s.desc.render.integrator).name); })
-      .def_property_readonly("spectral", [](const Scene& s) { return std::string(bouguer::spectral_mode_name(s.desc.render.spectral)); })
+      .def_property_readonly("integrator",
+                             [](const Scene& s) { return std::string(bouguer::integrator_info(s.desc.render.integrator).name); })
+      .def_property_readonly("spectral",
+                             [](const Scene& s) { return std::string(bouguer::spectral_mode_name(s.desc.render.spectral)); })
       .def_property_readonly("media",
                              [](const Scene& s) {
                                std::vector<std::string> names;

@@ -213,7 +213,7 @@ int run_render(const RenderCli& o) {
     control.threads = o.threads;
     // A budget of seconds without --spp: trials as for 64 spp, not for the 2^20 that stand for "as
     // many as the budget allows".
-    const int trial_spp = auto_trial_spp(o.time_s > 0.0 && !o.overrides.spp ? 64 : settings.spp);
+    const int trial_spp = auto_trial_spp(settings.spp, o.time_s > 0.0 && !o.overrides.spp);
     choice.emplace(choose_estimator(scene, settings, trial_spp, keep_spectra, &desc.display, control, stats));
     settings.integrator = choice->chosen;
   }

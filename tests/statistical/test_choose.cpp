@@ -63,6 +63,7 @@ TEST(Choose, TrialSamplesFollowTheRender) {
   EXPECT_EQ(auto_trial_spp(64), 4);
   EXPECT_EQ(auto_trial_spp(1024), 32);
   EXPECT_EQ(auto_trial_spp(1 << 20), 32);
+  EXPECT_EQ(auto_trial_spp(1 << 20, true), 4);  // seconds alone: as for 64 spp, not the 2^20 standing for "all that fit"
   for (int spp = 16; spp <= 4096; spp *= 2) EXPECT_LE(8 * auto_trial_spp(spp), spp) << spp;
 }
 

@@ -28,7 +28,15 @@ namespace {
 constexpr double kDepth_m = 0.05, kCeiling_m = 0.1, kN = 1.33, kRho = 0.8, kScale = 0.01, kView_m = 0.12;
 constexpr int kPixels = 16;
 
-std::string water_scene(const char* integrator, int spp) {
+// The water: a box (its top a face of a mesh), or an exact cylinder scaled unevenly into an
+// elliptic one 1 by 1.5 m across and 0.2 m deep (its top cap, still a plane).
+constexpr const char* kWaterBox =
+    R"({"type": "box", "size": [2, 0.2, 2]}, "transform": [{"translate": [0, -0.1, 0]}])";
+constexpr const char* kWaterCylinder =
+    R"({"type": "cylinder", "radius": 0.5, "height": 0.4},
+        "transform": [{"scale": [2, 0.5, 3]}, {"translate": [0, -0.2, 0]}])";
+
+std::string water_scene(const char* integrator, int spp, const char* water = kWaterBox) {
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0.05, 0], "look_at": [0, 1, 0], "up": [0, 0, -1],
                "width": {}, "resolution": [{}, {}]}},
@@ -36,8 +44,7 @@ std::string water_scene(const char* integrator, int spp) {
     "world_medium": "vacuum",
     "media": {{"water": {{"ior": {}}}}},
     "objects": [
-      {{"name": "water", "shape": {{"type": "box", "size": [2, 0.2, 2]}}, "transform": [{{"translate": [0, -0.1, 0]}}],
-        "inside": "water"}},
+      {{"name": "water", "shape": {}, "inside": "water"}},
       {{"name": "ceiling", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
         "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, {}, 0]}}],
         "material": {{"type": "diffuse", "reflectance": {}}}}}
@@ -45,7 +52,7 @@ std::string water_scene(const char* integrator, int spp) {
     "lights": [{{"type": "point", "position": [0, {}, 0], "spectrum": "D65", "scale": {}}}],
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
-                     kView_m, kPixels, kPixels, integrator, spp, kN, kCeiling_m, kRho, -kDepth_m, kScale);
+                     kView_m, kPixels, kPixels, integrator, spp, kN, water, kCeiling_m, kRho, -kDepth_m, kScale);
 }
 
 // The ceiling's radiance at distance r from the axis (D65 at Y = 1 is linear sRGB (1, 1, 1)).
@@ -99,13 +106,17 @@ CeilingRatio ceiling_ratio(const Film& film, double (*radiance)(double)) {
 // is left. A missing Fresnel factor (2 % on the axis), a radiance scaled by n² across the surface
 // (77 %), a ray tube taken at the straight line's distance (the lamp's image at depth d instead of
 // d/n: 27 % on the axis) or no light at all (before: the shadow ray stopped at the water) fails.
+// The same with the water an exact cylinder, its surface the top cap (a plane under any affine
+// transform): before, a shadow ray stopped by a cylinder had no solve, and the ceiling was black.
 TEST(ManifoldNextEvent, PointLampUnderFlatWaterLightsTheCeilingAsTheClosedFormSays) {
-  const Film film = test::render_text(water_scene("path", 64));
-  const auto [mean, worst] = ceiling_ratio(film, ceiling_radiance);
-  std::printf("point lamp under flat water: ceiling / closed form, mean %.5f, worst pixel %.2e (axis %.4g)\n", mean,
-              worst, ceiling_radiance(0.0));
-  EXPECT_LT(worst, 0.003);
-  EXPECT_NEAR(mean, 1.0, 0.0005);
+  for (const auto& [water, what] : {std::pair{kWaterBox, "a box's face"}, std::pair{kWaterCylinder, "a cylinder's cap"}}) {
+    const Film film = test::render_text(water_scene("path", 64, water));
+    const auto [mean, worst] = ceiling_ratio(film, ceiling_radiance);
+    std::printf("point lamp under flat water (%s): ceiling / closed form, mean %.5f, worst pixel %.2e (axis %.4g)\n",
+                what, mean, worst, ceiling_radiance(0.0));
+    EXPECT_LT(worst, 0.003) << what;
+    EXPECT_NEAR(mean, 1.0, 0.0005) << what;
+  }
 }
 
 // The plane's solution itself: Snell's law holds at the point found, to 1e-12, for random points

@@ -7,16 +7,17 @@
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/render/adaptive.h"
 #include "bouguer/scene/display_white.h"
+#include "bouguer/spectra/color_space.h"
 
 namespace bouguer {
 namespace {
 
 Vec3 rgb_of(const Film& f, int x, int y) {
   const Vec3f v = f.rgb_at(x, y);
-  return {v[0], v[1], v[2]};
+  return {v.x, v.y, v.z};
 }
 
-double luminance(const Vec3& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+double luminance(const Vec3& c) { return rec709_luminance(c.x, c.y, c.z); }
 
 // A trial's image by blocks of kBlockPx² pixels: each block's mean luminance and the variance of
 // that mean, from the pixels' two halves (((Y_A − Y_B)/2)² estimates the variance of (A + B)/2).
@@ -105,7 +106,10 @@ std::vector<IntegratorType> auto_candidates(const RenderScene& scene) {
   return out;
 }
 
-int auto_trial_spp(int spp) { return spp < 16 ? 0 : 2 * std::clamp(spp / 32, 1, 16); }
+int auto_trial_spp(int spp, bool seconds_only) {
+  if (seconds_only) spp = 64;
+  return spp < 16 ? 0 : 2 * std::clamp(spp / 32, 1, 16);
+}
 
 double cost_per_ray(IntegratorType type) {
   switch (type) {

@@ -51,8 +51,10 @@ std::vector<IntegratorType> auto_candidates(const RenderScene& scene);
 
 // The samples per pixel of a trial (2k) for a render of `spp`: a sixteenth to a thirty-second of
 // them, 2 to 32, so that each candidate's trial costs at most an eighth of the render; 0 below 16
-// spp (no trial: the path tracer renders, or bdpt where the path tracer misses light).
-int auto_trial_spp(int spp);
+// spp (no trial: the path tracer renders, or bdpt where the path tracer misses light). A render
+// bounded by seconds alone (`seconds_only`: its spp stands for "as many as fit") has trials as for
+// 64 spp.
+int auto_trial_spp(int spp, bool seconds_only = false);
 
 // Whether the path tracer misses light in this scene: a delta lamp (point, spot, distant) and a
 // specular surface that next-event estimation cannot connect through (a smooth interface that is
@@ -75,7 +77,7 @@ bool darker_somewhere(const Film& dark_first, const Film& dark_mean, const Film&
 double cost_per_ray(IntegratorType type);
 
 // Renders the candidates' trials of `trial_spp` samples (auto_trial_spp; a render with a budget of
-// seconds and no number of samples takes auto_trial_spp(64)) into films of the scene's size (with
+// seconds and no number of samples: seconds_only) into films of the scene's size (with
 // spectra if `keep_spectra`) and chooses; `display` (null: exposure 1, no white balance) sets the
 // colour the error is measured on. The stats get the trials' rays and seconds.
 EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,

@@ -1,12 +1,12 @@
 #pragma once
 // Next-event estimation through smooth glass (#37's manifold next-event estimation: Hanika,
 // Droske, Fascione 2015, with each interface's refraction solved exactly rather than by Newton
-// steps on a mesh): one crossing of a plane (a face of a mesh), or one or two crossings of an exact
-// sphere. A lamp behind a refracting surface (under water, behind a pane, inside a glass globe; a
-// fog inside a glass ball lit from outside; the caustic under a glass ball) sends light to a vertex
-// on the other side only along the paths where Snell's law holds at every crossing. No BSDF or
-// phase direction meets a point light, so the path tracer reached those paths not at all; an area
-// light it reached only where a sampled direction happened to refract onto it.
+// steps on a mesh): one crossing of a plane (a face of a mesh or a cylinder's cap), or one or two
+// crossings of an exact sphere. A lamp behind a refracting surface (under water, behind a pane,
+// inside a glass globe; a fog inside a glass ball lit from outside; the caustic under a glass ball)
+// sends light to a vertex on the other side only along the paths where Snell's law holds at every
+// crossing. No BSDF or phase direction meets a point light, so the path tracer reached those paths
+// not at all; an area light it reached only where a sampled direction happened to refract onto it.
 //
 // Contract, for every such path: the vertex's f·|cos θ| (or phase value) towards the first
 // crossing, times the light's intensity (a point or spot light) or its radiance times |cos θ| at
@@ -382,8 +382,8 @@ CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCa
                                           const std::array<Vec3, 2>& ys, int crossings, const Hit& light_hit);
 
 // The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
-// whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals,
-// solved on its plane, or an exact sphere that is not a caster (a nested one; casters are
+// whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals or
+// a cylinder's cap, solved on its plane, or an exact sphere that is not a caster (a nested one; casters are
 // through_casters'); `towards(wi, pdf)` gives the vertex's f·|cos θ| towards wi. path_r_u: the
 // path's unidirectional ratios so far, each path divided by the mean of their product with its
 // own light ratios (direct_light.h).
@@ -405,7 +405,11 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
   const AnalyticShape* shape = s.rays.analytic(blocker.geometry);
   const SphereSurface* sphere = shape ? std::get_if<SphereSurface>(&shape->surface) : nullptr;
   const double scale = shape ? shape->to_world.similarity_scale() : 0.0;
-  if (shape && (!sphere || scale == 0.0)) return {};  // cylinders, disks, ellipsoids: not yet
+  // A cylinder's caps stay planes under any affine transform: solved as a mesh's face. (A disk
+  // bounds no medium, so it is never an interface.)
+  const bool flat = shape && std::holds_alternative<CylinderSurface>(shape->surface) &&
+                    blocker.primitive != static_cast<std::uint32_t>(AnalyticPart::side);
+  if (shape && !flat && (!sphere || scale == 0.0)) return {};  // a cylinder's side, ellipsoids: not yet
   if (!shape && dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9) return {};  // the walk refracts by those
   Interface f{blocker.geometry, sphere != nullptr, sphere ? shape->to_world.apply(Vec3{}) : blocker.point,
               blocker.normal, sphere ? sphere->radius_m * scale : 0.0, seen.medium_front, seen.medium_behind};

@@ -7,6 +7,7 @@
 #include "bouguer/core/error.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/core/limits.h"
+#include "bouguer/spectra/color_space.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {
@@ -35,7 +36,7 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
   std::vector<double> row_weight(height, 0.0);
   // Luminance of linear Rec.709; negative (out-of-gamut) components do not count.
   auto luminance = [](double r, double g, double b) {
-    return 0.2126 * std::max(0.0, r) + 0.7152 * std::max(0.0, g) + 0.0722 * std::max(0.0, b);
+    return rec709_luminance(std::max(0.0, r), std::max(0.0, g), std::max(0.0, b));
   };
   // For the contrast, Σ sin θ, Σ Y·sin θ and Σ Y²·sin θ (the texels' solid angles ∝ sin θ), of the
   // texels as stored: the ratio does not depend on the scale, and floats squared stay finite and

@@ -8,6 +8,7 @@
 #include "bouguer/core/frame.h"
 #include "bouguer/core/warp.h"
 #include "bouguer/lights/environment.h"
+#include "bouguer/spectra/color_space.h"
 
 namespace bouguer {
 namespace {
@@ -283,7 +284,7 @@ double environment_power(const EnvironmentMap& map) {
     const double sin_theta = std::sin(kPi * (j + 0.5) / map.height);
     for (int i = 0; i < map.width; ++i) {
       const Vec3f& c = map.rgb[static_cast<std::size_t>(j) * static_cast<std::size_t>(map.width) + static_cast<std::size_t>(i)];
-      sum += (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) * sin_theta;
+      sum += rec709_luminance(c.x, c.y, c.z) * sin_theta;
     }
   }
   return sum * (2.0 * kPi / map.width) * (kPi / map.height);

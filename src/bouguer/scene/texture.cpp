@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "bouguer/spectra/color_space.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
 
 namespace bouguer {
@@ -234,7 +235,7 @@ double texture_mean_luminance(const TextureTable& table, int id, const std::arra
         const std::array<double, 2> p{b0 * uv[0][0] + b1 * uv[1][0] + b2 * uv[2][0],
                                       b0 * uv[0][1] + b1 * uv[1][1] + b2 * uv[2][1]};
         const Vec3 rgb = texture_rgb(table, texel_blend(table, id, p, lod));
-        sum += 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+        sum += rec709_luminance(rgb.x, rgb.y, rgb.z);
         ++count;
       }
   return sum / count;

@@ -27,6 +27,10 @@ inline constexpr ColorSpace kRec709{"linear sRGB (Rec.709)", {0.640, 0.330}, {0.
 inline constexpr ColorSpace kRec2020{"Rec.2020", {0.708, 0.292}, {0.170, 0.797}, {0.131, 0.046}, kD65White};
 inline constexpr ColorSpace kAcesCg{"ACEScg (AP1)", {0.713, 0.293}, {0.165, 0.830}, {0.128, 0.044}, kAcesWhite};
 
+// Luminance Y of linear Rec.709 (the Y row of its RGB-to-XYZ matrix, as ITU-R BT.709 rounds it):
+// the one weighting of the film's colours by brightness (lamp power, texture means, blocks of pixels).
+constexpr double rec709_luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+
 // Linear RGB (white = (1,1,1) at Y = 1) to XYZ, and back.
 Mat3 rgb_to_xyz_matrix(const ColorSpace& cs);
 Mat3 xyz_to_rgb_matrix(const ColorSpace& cs);
