@@ -52,6 +52,41 @@ def test_point_with_a_radius():
     compare("point-radius", plane_under("POINT", location=(0.1, 0, 1), energy=100, shadow_soft_size=0.05))
 
 
+def test_point_with_a_radius_casts_cycles_soft_shadow():
+    # A cube between a point light of radius 0.25 and the plane. From the plane's centre the lamp
+    # subtends 9.6 degrees and the cube's bottom face 8.7 each way, so the shadow has no umbra: about 7 %
+    # of the lamp shows past the face's sides. A point would leave the middle black and the edge sharp.
+    # Cycles' lamp is a disk facing the point it lights, ours a sphere: the same disk from everywhere,
+    # but the sphere's irradiance is I/d^2 and the disk's I/(d^2 + r^2), so each image is read against
+    # its own lit corner (4 x 4 pixels 0.4 m from the penumbra's edge): the shapes of the shadows are
+    # compared, and the corners' ratio against 1 + r^2/d^2 (the radiance conversion: Cycles' 1/4 for
+    # 1/pi would be 27 % off). Blocks of 4 x 4 pixels at 2048 samples (measured, two seeds each: a
+    # block's standard error 0.0008 of the lit corner in Cycles, 0.0018 in Bouguer; the renderers
+    # 0.017-0.019 apart at worst, most of it the sphere's cone, asin(r/d), 1.4 % wider than the
+    # disk's, atan(r/d)). The tolerance, 0.04, is that and 10 standard errors of the two; a point
+    # leaves the middle blocks at 0.01 where Cycles has 0.71.
+    s = common.new_scene((32, 32))
+    common.add_mesh("plane", common.diffuse(), size=4)
+    common.add_mesh("cube", common.diffuse("grey", (0.5, 0.5, 0.5)), size=0.2, location=(0, 0, 0.75))
+    common.add_camera(s, (0, 0, 0.5), kind="ORTHO", ortho_scale=1.6)
+    height, radius = 1.5, 0.25
+    common.add_light(s, "POINT", location=(0, 0, height), energy=200, shadow_soft_size=radius)
+    cycles, tc = common.render(s, "CYCLES", "penumbra-cycles", 2048)
+    ours, tb = common.render(s, "BOUGUER", "penumbra-bouguer", 2048)
+    lit_c, lit_b = cycles[:4, :4].mean(), ours[:4, :4].mean()
+    corner_d2 = height ** 2 + 2 * 0.7 ** 2  # the corner's centre, 0.7 m off each axis
+    expected, corner = 1 + radius ** 2 / corner_d2, lit_b / lit_c
+    blocks = lambda im, lit: im.mean(axis=2).reshape(8, 4, 8, 4).mean(axis=(1, 3)) / lit
+    worst = np.abs(blocks(cycles, lit_c) - blocks(ours, lit_b)).max()
+    centre_c, centre_b = cycles[14:18, 14:18].mean() / lit_c, ours[14:18, 14:18].mean() / lit_b
+    print(f"  soft shadow: centre Cycles {centre_c:.4f}, Bouguer {centre_b:.4f} of the lit corner; worst block "
+          f"difference {worst:.4f}; corners Bouguer/Cycles {corner:.4f} (1 + r^2/d^2 = {expected:.4f}) "
+          f"({tc:.2f} s, {tb:.2f} s)")
+    assert centre_c > 0.02, "Cycles' shadow has an umbra: the test's geometry is off"
+    assert worst < 0.04, f"the soft shadow differs from Cycles' by {worst:.3f} of the lit corner"
+    assert abs(corner - expected) < 0.005, f"the lamp's radiance: corners Bouguer/Cycles {corner:.4f}, not {expected:.4f}"
+
+
 def test_point_in_centimetres():
     # 1 BU = 1 cm: Cycles ignores the unit, so the intensity is scaled by s^2 to keep its pixels.
     compare("point-cm", plane_under("POINT", unit_scale=0.01, location=(0, 0, 1), energy=100, shadow_soft_size=0))
@@ -124,5 +159,6 @@ def test_environment_map_faces_where_cycles_has_it():
         assert d < 0.01 * cycles.mean() / 0.5, "the environment map is turned against Cycles'"
 
 
-common.Checks().run([test_environment_map_faces_where_cycles_has_it, test_point, test_point_with_a_radius, test_point_in_centimetres, test_spot, test_sun,
+common.Checks().run([test_environment_map_faces_where_cycles_has_it, test_point, test_point_with_a_radius,
+                     test_point_with_a_radius_casts_cycles_soft_shadow, test_point_in_centimetres, test_spot, test_sun,
                      test_area_square, test_area_rectangle, test_area_disk, test_area_ellipse, test_world])

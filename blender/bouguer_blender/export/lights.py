@@ -1,6 +1,7 @@
 """Blender's lights in Blender's watts, converted as Cycles 3.4 converts them, so that a diffuse plane
 under each gives Cycles' pixel values (tests/blender/test_lights.py measures it):
-- point and spot of power P: radiant intensity P/(4 pi) per steradian (RGB units: colour x that);
+- point and spot of power P: radiant intensity P/(4 pi) per steradian (RGB units: colour x that); a
+  point with a radius r: an emitting sphere of radius r and that intensity, radiance P/(4 pi)/(pi r^2);
 - sun of strength S: irradiance S on a surface facing it;
 - area of power P and area A: radiance P/(4 A) (Cycles' 1/4, not 1/pi);
 - the world's colour x strength: radiance.
@@ -38,8 +39,8 @@ def area_shape(light):
 
 
 def export(obj, matrix_world, metres_per_unit, reports, objects, lights):
-    """Appends the light's Bouguer light (point, spot, distant) or emitting object (area, a point with
-    a radius) to `lights` or `objects`."""
+    """Appends the light's Bouguer light (point, spot, distant) or emitting object (area; a point with
+    a radius, an emitting sphere) to `lights` or `objects`."""
     light = obj.data
     name = obj.name
     colour = light.color
@@ -54,10 +55,16 @@ def export(obj, matrix_world, metres_per_unit, reports, objects, lights):
         radius = light.shadow_soft_size
         if light.type == "POINT" and radius > 0.0:
             # Cycles 3.4's point light with a radius is a disk of that radius facing the point it lights,
-            # with the intensity P/(4 pi): as a point from beyond a few radii. An emitting sphere would
-            # give its soft shadows, but its triangles are sampled one by one and half of them face away:
-            # the default scene's light (0.1 m at 6 m) came out speckled at 16 samples. So: a point.
-            reports.warn(f"Light '{name}': its radius (soft shadows) is not translated; rendered as a point")
+            # radiance P/(4 pi)/(pi r^2) (intensity P/(4 pi), its soft shadows and its highlight). An
+            # emitting sphere of that radius and radiance looks the same from everywhere: the same
+            # disk, the same intensity, and Bouguer samples it by the cone it subtends (an exact
+            # spherical lamp: one-sided, untextured, translated only). The radius ignores the object's
+            # scale, as Cycles' does. In Blender units the radiance is P/(4 pi^2 r^2) for any unit scale.
+            radius_m = radius * metres_per_unit
+            objects.append(dict({"name": name, "shape": {"type": "sphere", "radius": radius_m},
+                                 "transform": [{"translate": axes.point(position, metres_per_unit)}]},
+                                emission=spectrum(colour, intensity / (math.pi * radius_m ** 2))))
+            return
         l = dict({"type": light.type.lower(), "position": axes.point(position, metres_per_unit)},
                  **spectrum(colour, intensity))
         if light.type == "SPOT":
