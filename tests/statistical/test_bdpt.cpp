@@ -266,42 +266,48 @@ test::Estimate liquid_estimate(SceneDesc desc, IntegratorType integrator, int sp
   return {sum / n, std::sqrt(variance) / n};
 }
 
-// A connection between a camera and a light vertex in the liquid is the only strategy for paths
-// whose other vertices are specular (the glass), and its 1/d² has infinite variance: the mean
-// converges slowly. Asserted: the path tracer's mean over the liquid is less than a tenth of
-// bdpt's lower bound (bdpt's mean less 4 of its standard errors; a firefly lowers it): a bdpt that
-// lost its medium connections behind glass leaves the liquid as dark as the path tracer does.
-// Measured: path 0.0009, bdpt 0.034 ± 0.0035.
-TEST(Bidirectional, LightsALiquidInGlassThatThePathTracerLeavesDark) {
+// The lit tumbler's liquid (point and spot lamps behind the glass): the path tracer's next-event
+// estimation through the glass (integrators/manifold_chain.h) is its reference, checked against the
+// index-matched tumbler (test_manifold.cpp). bdpt reaches that light only by connecting a camera
+// vertex in the liquid to a light vertex there (every other vertex is specular): light scattered
+// more than once; light scattered once it has no strategy for. Asserted: bdpt's mean, less 4 of
+// its standard errors, is above 0.3 of the reference (a bdpt that lost its medium connections
+// behind glass leaves the liquid black) and, plus 4, not above it (a connection counted twice).
+// Measured: bdpt 0.0345 ± 0.0036 at 2048 spp, the reference 0.0576 (0.6 of it).
+TEST(Bidirectional, LightsALiquidInGlassByItsMediumConnections) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("bdpt"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
   const double p = test::channel_estimate(path, 1, kLiquidX0, kLiquidY0, kLiquidX1, kLiquidY1).mean;
   const test::Estimate b = liquid_estimate(desc, IntegratorType::bdpt, 2048);
-  std::printf("liquid in glass under a point and a spot (green): path %.5f, bdpt %.5f ± %.5f (%.0f× path)\n", p,
+  std::printf("liquid in glass under a point and a spot (green): path %.5f, bdpt %.5f ± %.5f (%.2f of path)\n", p,
               b.mean, b.standard_error, b.mean / p);
-  EXPECT_LT(10.0 * p, b.mean - 4.0 * b.standard_error);
+  EXPECT_GT(b.mean - 4.0 * b.standard_error, 0.3 * p);
+  EXPECT_LT(b.mean - 4.0 * b.standard_error, p);
 }
 
-// Merging in the liquid reaches the same light as those connections, and single scattering too
-// (which no connection can: both its neighbours are glass), with finite variance. Asserted: vcm's
-// mean over the liquid, from 16 seeds of 64 spp, has a standard error under 4 % (measured 3.6 %
-// from the seeds, 3.4 % from two seeds' pixels: it converges where bdpt's 1/d² connections do
-// not) and its lower bound (less 4 standard errors) is above ten times the path tracer's (as
-// bdpt's above).
+// vcm reaches the same multiply scattered light by connections and merges, with finite variance.
+// Asserted: vcm's mean over the liquid, from 16 seeds of 64 spp, has a standard error under 4 %
+// (measured 3.3 %: it converges where bdpt's 1/d² connections do not) and its lower bound (less 4
+// standard errors) is above 0.3 of the path tracer's reference, as bdpt's. Measured 0.62 of it, as
+// bdpt's: the once-scattered light, which only a merge reaches here, is missing from vcm's estimate
+// too (on a thin liquid, where it is most of the light, vcm reads 0.16 of the path tracer; not
+// understood yet: docs/rendering.md).
 TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
   const double p = test::channel_estimate(path, 1, kLiquidX0, kLiquidY0, kLiquidX1, kLiquidY1).mean;
   const test::Estimate v = liquid_estimate(desc, IntegratorType::vcm, 1024);
-  std::printf("liquid in glass (green): path %.5f, vcm (1024 spp) %.5f ± %.5f\n", p, v.mean, v.standard_error);
+  std::printf("liquid in glass (green): path %.5f, vcm (1024 spp) %.5f ± %.5f (%.2f of path)\n", p, v.mean,
+              v.standard_error, v.mean / p);
   EXPECT_LT(v.standard_error, 0.04 * v.mean) << "vcm does not converge";
-  EXPECT_LT(10.0 * p, v.mean - 4.0 * v.standard_error);
+  EXPECT_GT(v.mean - 4.0 * v.standard_error, 0.3 * p);
 }
 
 // vcm's mean over the liquid is bdpt's within 4 standard errors of their difference, which must
 // stay under 5 % of bdpt's mean (bdpt's heavy tail needs 16384 spp a seed for that; measured at
 // 2048: ± 10 %): a merge counted twice or a connection that vcm shares with bdpt dropped is off by
-// more. About three minutes on 2 loaded cores: `long`.
+// more. Both miss the once-scattered light (above): they agree with each other, not with the
+// path tracer's reference. About three minutes on 2 loaded cores: `long`.
 TEST(VertexMergingLong, LightsALiquidInGlassLikeBdpt) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const test::Estimate v = liquid_estimate(desc, IntegratorType::vcm, 8192);

@@ -12,7 +12,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <algorithm>
 #include <numbers>
+#include <vector>
 
 #include "bouguer/core/frame.h"
 #include "bouguer/core/rng.h"
@@ -77,7 +79,8 @@ double ceiling_radiance(double r) {
 struct CeilingRatio {
   double mean = 0.0, worst = 0.0;
 };
-CeilingRatio ceiling_ratio(const Film& film, double (*radiance)(double)) {
+template <typename Radiance>
+CeilingRatio ceiling_ratio(const Film& film, Radiance radiance) {
   const double pixel_m = kView_m / kPixels;
   CeilingRatio r;
   for (int j = 0; j < kPixels; ++j)
@@ -116,6 +119,96 @@ TEST(ManifoldNextEvent, PointLampUnderFlatWaterLightsTheCeilingAsTheClosedFormSa
                 what, mean, worst, ceiling_radiance(0.0));
     EXPECT_LT(worst, 0.003) << what;
     EXPECT_NEAR(mean, 1.0, 0.0005) << what;
+  }
+}
+
+// Flat layers between a point lamp and the ceiling (each a thickness and an index, from the lamp
+// up): a ray leaving the lamp at α₀ from the vertical crosses layer i at θᵢ (nᵢ sin θᵢ = n₀ sin α₀)
+// and meets the ceiling at R = Σ tᵢ tan θᵢ, dR/dα₀ = Σ tᵢ·n₀ cos α₀/(nᵢ cos³θᵢ); each interface
+// passes its Fresnel transmittance, so the ceiling's irradiance is E = T·I·sin α₀/(R·dR/dα₀) (on
+// the axis T·I/(Σ tᵢ·n₀/nᵢ)²), its radiance ρE/π.
+struct Layer {
+  double thickness_m, n;
+};
+double layered_ceiling_radiance(const std::vector<Layer>& layers, double r) {
+  const double n0 = layers[0].n;
+  double n_min = n0;
+  for (const Layer& l : layers) n_min = std::min(n_min, l.n);
+  struct At {
+    double reach, dreach, transmittance;
+  };
+  auto at = [&](double a) {
+    At o{0.0, 0.0, 1.0};
+    double cos_before = std::cos(a);
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      const double sin_t = n0 * std::sin(a) / layers[i].n, cos_t = std::sqrt(1.0 - sin_t * sin_t);
+      o.reach += layers[i].thickness_m * sin_t / cos_t;
+      o.dreach += layers[i].thickness_m * n0 * std::cos(a) / (layers[i].n * cos_t * cos_t * cos_t);
+      if (i > 0) o.transmittance *= 1.0 - fresnel_dielectric(cos_before, cos_t, layers[i - 1].n, layers[i].n);
+      cos_before = cos_t;
+    }
+    return o;
+  };
+  if (r < 1e-12) {
+    double depth = 0.0;
+    for (const Layer& l : layers) depth += l.thickness_m * n0 / l.n;
+    return kRho * at(0.0).transmittance * kScale / (depth * depth) / std::numbers::pi;
+  }
+  double lo = 0.0, hi = std::asin(n_min / n0) * (1.0 - 1e-9);
+  for (int i = 0; i < 200; ++i) ((at(0.5 * (lo + hi)).reach < r) ? lo : hi) = 0.5 * (lo + hi);
+  const double a = 0.5 * (lo + hi);
+  const At o = at(a);
+  return kRho * o.transmittance * kScale * std::sin(a) / (r * o.dreach) / std::numbers::pi;
+}
+
+// A point lamp under flat layers (boxes 2 m wide) lights the ceiling as the layered closed form
+// says: the chain of crossings (manifold_chain.h) solved by Newton, where one flat face has its
+// own exact solve. A glass pane 20 mm thick in vacuum, the lamp 50 mm below (two crossings), and a
+// lamp 30 mm deep in water under 10 mm of air and a 10 mm pane of n = 1.5 (three crossings, the
+// lamp's index not the ceiling's: the ray tube's (η_x/η_q)² is 0.57 there). Every pixel within
+// 0.3 % of the closed form averaged over its footprint, the mean within 0.05 % (the path tracer
+// draws no random number here but the pixel position). Before: black (a shadow ray met more than
+// one face); without Fresnel at one crossing about 4 % bright, without the index ratio 77 %.
+TEST(ManifoldNextEvent, PointLampUnderFlatLayersLightsTheCeilingAsTheClosedFormSays) {
+  struct Case {
+    const char* what;
+    std::string objects;
+    double lamp_y;
+    std::vector<Layer> layers;
+  };
+  const std::vector<Case> cases{
+      {"a glass pane",
+       R"({"name": "pane", "shape": {"type": "box", "size": [2, 0.02, 2]}, "transform": [{"translate": [0, 0.01, 0]}],
+           "inside": "glass"})",
+       -0.05, {{0.05, 1.0}, {0.02, 1.5}, {kCeiling_m - 0.02, 1.0}}},
+      {"water, air and a pane",
+       R"({"name": "water", "shape": {"type": "box", "size": [2, 0.2, 2]}, "transform": [{"translate": [0, -0.1, 0]}],
+           "inside": "water"},
+          {"name": "pane", "shape": {"type": "box", "size": [2, 0.01, 2]}, "transform": [{"translate": [0, 0.015, 0]}],
+           "inside": "glass"})",
+       -0.03, {{0.03, kN}, {0.01, 1.0}, {0.01, 1.5}, {kCeiling_m - 0.02, 1.0}}},
+  };
+  for (const Case& c : cases) {
+    const Film film = test::render_text(fmt::format(R"({{
+      "camera": {{"type": "orthographic", "position": [0, 0.05, 0], "look_at": [0, 1, 0], "up": [0, 0, -1],
+                 "width": {}, "resolution": [{}, {}]}},
+      "render": {{"integrator": "path", "spectral": "full", "spp": 64, "max_depth": 1, "seed": 5}},
+      "world_medium": "vacuum",
+      "media": {{"water": {{"ior": {}}}, "glass": {{"ior": 1.5}}}},
+      "objects": [{},
+        {{"name": "ceiling", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
+          "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, {}, 0]}}],
+          "material": {{"type": "diffuse", "reflectance": {}}}}}],
+      "lights": [{{"type": "point", "position": [0, {}, 0], "spectrum": "D65", "scale": {}}}],
+      "background": {{"spectrum": "E", "scale": 0}}
+    }})",
+                                                    kView_m, kPixels, kPixels, kN, c.objects, kCeiling_m, kRho, c.lamp_y,
+                                                    kScale));
+    const auto [mean, worst] = ceiling_ratio(film, [&](double r) { return layered_ceiling_radiance(c.layers, r); });
+    std::printf("point lamp under %s: ceiling / closed form, mean %.5f, worst pixel %.2e (axis %.4g)\n", c.what, mean,
+                worst, layered_ceiling_radiance(c.layers, 0.0));
+    EXPECT_LT(worst, 0.003) << c.what;
+    EXPECT_NEAR(mean, 1.0, 0.0005) << c.what;
   }
 }
 
@@ -247,8 +340,8 @@ double ball_ceiling_radiance(double r) {
   return kRho * e.transmittance * std::exp(-kSigmaA * e.chord) * kScale * std::sin(a) / (r * dr) / std::numbers::pi;
 }
 
-TEST(ManifoldNextEvent, PointLampInsideAGlassBallLightsTheCeilingAsTheClosedFormSays) {
-  const std::string json = fmt::format(R"({{
+std::string lamp_in_ball_scene(const char* tessellation) {
+  return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0.035, 0], "look_at": [0, 1, 0], "up": [0, 0, -1],
                "width": {}, "resolution": [{}, {}]}},
     "render": {{"integrator": "path", "spectral": "full", "spp": 64, "max_depth": 1, "seed": 5}},
@@ -256,7 +349,7 @@ TEST(ManifoldNextEvent, PointLampInsideAGlassBallLightsTheCeilingAsTheClosedForm
     "media": {{"glass": {{"ior": {}, "absorption": {{"unit": "attenuation_per_m", "wavelength_nm": [380, 780],
                                                     "value": [{}, {}]}}}}}},
     "objects": [
-      {{"name": "ball", "shape": {{"type": "sphere", "radius": {}}}, "inside": "glass"}},
+      {{"name": "ball", "shape": {{"type": "sphere", "radius": {}{}}}, "inside": "glass"}},
       {{"name": "ceiling", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
         "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, {}, 0]}}],
         "material": {{"type": "diffuse", "reflectance": {}}}}}
@@ -264,13 +357,70 @@ TEST(ManifoldNextEvent, PointLampInsideAGlassBallLightsTheCeilingAsTheClosedForm
     "lights": [{{"type": "point", "position": [0, {}, 0], "spectrum": "D65", "scale": {}}}],
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
-                                       kView_m, kPixels, kPixels, kBallN, kSigmaA, kSigmaA, kBallR_m, kCeiling_m, kRho,
-                                       -kLampBelow_m, kScale);
-  const Film film = test::render_text(json);
+                     kView_m, kPixels, kPixels, kBallN, kSigmaA, kSigmaA, kBallR_m, tessellation, kCeiling_m, kRho,
+                     -kLampBelow_m, kScale);
+}
+
+TEST(ManifoldNextEvent, PointLampInsideAGlassBallLightsTheCeilingAsTheClosedFormSays) {
+  const Film film = test::render_text(lamp_in_ball_scene(""));
   const auto [mean, worst] = ceiling_ratio(film, ball_ceiling_radiance);
   std::printf("point lamp in a glass ball: ceiling / closed form, mean %.5f, worst pixel %.2e\n", mean, worst);
   EXPECT_LT(worst, 0.005);
   EXPECT_NEAR(mean, 1.0, 0.001);
+}
+
+// The same ball tessellated, its vertices carrying the sphere's normals: the chain's Newton solve
+// (manifold_chain.h) refracts by the interpolated shading normals, as the walk does, where the
+// facets' own normals would break the ceiling into a mosaic of the facets' images. Against the
+// exact sphere's closed form: the facets stand in for the sphere only to their sagitta (0.05 % of
+// the radius at 192 segments) and their normals interpolate the sphere's to about 1e-4 rad, so the
+// ceiling is within 1 % a pixel and 0.2 % on the mean (measured: 0.09 % and 0.007 %); refracted
+// by the facets' normals instead, the mean is 0.29 of it and pixels are off by up to 93 %.
+TEST(ManifoldNextEvent, PointLampInsideASmoothShadedBallLightsTheCeilingAsTheSphere) {
+  const Film film = test::render_text(lamp_in_ball_scene(R"(, "tessellate": true, "segments": 192)"));
+  const auto [mean, worst] = ceiling_ratio(film, ball_ceiling_radiance);
+  std::printf("point lamp in a smooth-shaded tessellated glass ball: ceiling / the sphere's closed form, mean %.5f, "
+              "worst pixel %.2e\n", mean, worst);
+  EXPECT_LT(worst, 0.01);
+  EXPECT_NEAR(mean, 1.0, 0.002);
+}
+
+// From scattering events in a liquid, through the glass of a smooth-shaded tumbler (a vessel: its
+// walls meshes with the surface of revolution's normals), to a point and a spot lamp: the lit
+// tumbler of test_bdpt.cpp with the glass at n = 1.0001 and the liquid at 1.0002 in vacuum, so the
+// chain of two or three crossings is solved (walls, the liquid's surface and the wall above it)
+// yet bends the paths by almost nothing, against the same tumbler index-matched (n = 1 throughout),
+// where the shadow rays go straight through and no solve is needed. The liquid's mean over the
+// pixels, the path tracer at 1024 samples, two seeds each (standard errors 0.15 % and 0.02 %):
+// measured 0.6 % apart (0.08476 against 0.08531; 0.8 % at n = 1.001 and 1.002, so not the physics
+// of the small index steps, and not understood); asserted within 1.5 %. Before the segments stopped short of their crossings by a ray's offset,
+// a segment through the 2 mm wall was blocked by the wall's other face: 17 % dark under the spot,
+// 37 % under the point lamp.
+TEST(ManifoldNextEvent, LitTumblerThroughItsWallsMatchesTheIndexMatchedTumbler) {
+  auto liquid = [](double glass_n, double liquid_n) {
+    std::string json = test::lit_tumbler("path");
+    auto replace = [&](const std::string& from, const std::string& to) {
+      const std::size_t at = json.find(from);
+      ASSERT_NE(at, std::string::npos) << from;
+      json.replace(at, from.size(), to);
+    };
+    replace(R"("world_medium": "air")", R"("world_medium": "vacuum")");
+    replace(R"("glass": {"ior": 1.52})", fmt::format(R"("glass": {{"ior": {}}})", glass_n));
+    replace(R"("haze": {"ior": 1.33,)", fmt::format(R"("haze": {{"ior": {},)", liquid_n));
+    replace(R"("spectral": "hero")", R"("spectral": "full", "spp": 1024)");
+    SceneDesc desc = parse_scene(json, "tumbler.json");
+    double sum = 0.0, spread = 0.0;
+    for (const Film& f : test::render_seeds(desc, 2, 1)) {
+      const double m = test::channel_estimate(f, 1, 5, 6, 11, 14).mean;
+      spread = m - spread;
+      sum += m;
+    }
+    return test::Estimate{sum / 2.0, std::abs(spread) / 2.0};
+  };
+  const test::Estimate solved = liquid(1.0001, 1.0002), straight = liquid(1.0, 1.0);
+  std::printf("the lit tumbler's liquid: solved through the glass %.5f ± %.5f, index-matched %.5f ± %.5f\n",
+              solved.mean, solved.standard_error, straight.mean, straight.standard_error);
+  EXPECT_NEAR(solved.mean / straight.mean, 1.0, 0.015);
 }
 
 // A globe of absorbing glass with a point lamp inside it (off its centre) in a ball of coloured fog

@@ -79,8 +79,8 @@ enum class NextEvent : std::uint8_t {
   // The path tracer's: those and one direction of the environment map, each MIS-weighted against
   // the vertex's own sampling of its direction by the power heuristic.
   lights_and_map_weighted,
-  // The same, and a point or spot light that one smooth interface hides (a flat face, an exact
-  // sphere) reached through it (manifold.h), for the path tracer alone: no other strategy of its
+  // The same, and a point or spot light that smooth interfaces hide (a flat face, a chain of mesh
+  // faces, an exact sphere) reached through them (manifold.h), for the path tracer alone: no other strategy of its
   // reaches those paths, where the bidirectional estimators' light subpaths do (their tails keep
   // lights_and_map_weighted).
   lights_map_and_interfaces,

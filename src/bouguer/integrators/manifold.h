@@ -32,9 +32,11 @@
 #include <algorithm>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include "bouguer/core/frame.h"
 #include "bouguer/integrators/direct_light.h"
+#include "bouguer/integrators/manifold_chain.h"
 
 namespace bouguer {
 
@@ -151,55 +153,76 @@ struct Reach {
   double light_m = 0.0;  // from the last crossing to the light point
 };
 
-// Follows one path's crossings from the vertex: each segment clear (transmission), each crossing
-// on the same surface where the solve put it (a plane: on a face of that plane; a sphere: the
-// normal there), refracting by its own normal; Fresnel from the indices of the media on each side.
-template <std::size_t N>
-std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
-                               const std::array<Vec3, 2>& ys, int crossings, const Vec3& q,
-                               const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+// Follows a path's crossings `ys` from the vertex, the first segment through `medium`: each
+// segment clear (transmission); at each crossing, the surface met there accepted by
+// `normal_there(c, face)`, which gives the normal it refracts by (nothing: not the path's surface);
+// Fresnel from the indices of the media on each side.
+template <std::size_t N, typename NormalThere>
+std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex& at, InsideSet inside, int medium,
+                                         std::span<const Vec3> ys, const Vec3& q, NormalThere normal_there,
+                                         const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
   const RenderScene& s = v.scene;
   Reach<N> r;
   PathVertex from = at;
   r.inside = inside;
-  bool front = f.front(at.point);
-  for (int c = 0; c < crossings; ++c) {
-    const Vec3 y = ys[static_cast<std::size_t>(c)];
+  for (std::size_t c = 0; c < ys.size(); ++c) {
+    const Vec3 y = ys[c];
     const double d = length(y - from.point);
     if (!(d > 0.0)) return std::nullopt;
     const Vec3 dir = (y - from.point) / d;
     if (c == 0) r.wi = dir;
-    const int medium = front ? f.medium_front : f.medium_behind;
-    const auto t = transmission(v, from, dir, d, medium, w, rng, rays);
+    // Short of the crossing by twice the offset of a ray leaving a surface (offset_ray_origin):
+    // transmission stops 1e-4 of the way short, which a segment through a 2 mm wall does not
+    // leave (its crossing then blocked its own segment: a tumbler's wall came out dark).
+    const double margin = 8e-6 * std::max({std::abs(y.x), std::abs(y.y), std::abs(y.z), 1e-3});
+    if (!(d > 2.0 * margin)) return std::nullopt;
+    const auto t = transmission(v, from, dir, d - margin, medium, w, rng, rays);
     if (!t) return std::nullopt;
     r.tr *= t->tr;
     r.r_l *= t->ratios.r_l;
     r.r_u *= t->ratios.r_u;
     const auto face = s.rays.intersect(Ray{y - dir * (d * 1e-4), dir, d * 2e-4});
     ++rays;
-    const Vec3 n = f.normal_at(y);
-    if (!face || face->geometry != f.geometry || dot(face->normal, n) < 1.0 - 1e-9 ||
-        dot(face->shading_normal, face->normal) < 1.0 - 1e-9 ||
-        (!f.sphere && std::abs(dot(face->point - f.point, n)) > 1e-6 * d))
-      return std::nullopt;
+    if (!face) return std::nullopt;
+    const std::optional<Vec3> n = normal_there(c, *face);
+    if (!n) return std::nullopt;
     const SurfaceSeen seen = surface_seen(s, *face, r.inside);
+    const bool front = dot(dir, face->normal) < 0.0;  // arriving on the side the normal points to
     const int m_from = front ? seen.medium_front : seen.medium_behind, m_to = front ? seen.medium_behind : seen.medium_front;
     const double eta_from = s.media[static_cast<std::size_t>(m_from)].ior_reference;
     const double eta_to = s.media[static_cast<std::size_t>(m_to)].ior_reference;
-    const double cos_i = std::abs(dot(dir, n)), cos_t = cos_theta_transmitted(cos_i, eta_from, eta_to);
+    const double cos_i = std::abs(dot(dir, *n)), cos_t = cos_theta_transmitted(cos_i, eta_from, eta_to);
     if (!(cos_t > 0.0)) return std::nullopt;
     r.fresnel *= 1.0 - fresnel_dielectric(cos_i, cos_t, eta_from, eta_to);
     r.inside = inside_towards(s, *face, r.inside, dir);
     r.last = *face;
-    r.medium = m_to;
-    front = !front;
+    r.medium = medium = m_to;
     from = PathVertex{face->point, &r.last, r.inside};
   }
-  const Vec3 last = ys[static_cast<std::size_t>(crossings - 1)];
-  r.light_m = length(q - last);
+  r.light_m = length(q - ys.back());
   if (!(r.light_m > 0.0)) return std::nullopt;
-  r.to_light = (q - last) / r.light_m;
+  r.to_light = (q - ys.back()) / r.light_m;
   return r;
+}
+
+// One solved path through an interface: each crossing on the same surface where the solve put it
+// (a plane: on a face of that plane; a sphere: the normal there), refracting by its own normal.
+template <std::size_t N>
+std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
+                               const std::array<Vec3, 2>& ys, int crossings, const Vec3& q,
+                               const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+  const std::span<const Vec3> points(ys.data(), static_cast<std::size_t>(crossings));
+  auto normal_there = [&](std::size_t c, const Hit& face) -> std::optional<Vec3> {
+    const Vec3 n = f.normal_at(points[c]);
+    const double d = length(points[c] - (c == 0 ? at.point : points[c - 1]));
+    if (face.geometry != f.geometry || dot(face.normal, n) < 1.0 - 1e-9 ||
+        dot(face.shading_normal, face.normal) < 1.0 - 1e-9 ||
+        (!f.sphere && std::abs(dot(face.point - f.point, n)) > 1e-6 * d))
+      return std::nullopt;
+    return n;
+  };
+  return follow_crossings(v, at, inside, f.front(at.point) ? f.medium_front : f.medium_behind, points, q,
+                          normal_there, w, rng, rays);
 }
 
 // The ray tube at the vertex: the directions leaving the light point q that reach a patch
@@ -315,20 +338,65 @@ inline std::optional<DeltaLamp> delta_lamp(const Light& light) {
   return std::nullopt;
 }
 
+// What delta lamp `lamp` sends along a path's final segment: its intensity and spot profile
+// towards the path's last direction, and the segment's transmittance.
+template <std::size_t N>
+LightEnd<N> delta_lamp_end(const SceneView<N>& v, const DeltaLamp& lamp, const Reach<N>& r,
+                           const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+  const double emitted = lamp.spot ? spot_falloff(*lamp.spot, -r.to_light) : 1.0;
+  if (emitted == 0.0) return {};
+  const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
+                              rng, rays);
+  if (!t) return {};
+  return {v.tables.at(lamp.intensity, w) * static_cast<float>(emitted), 0.0, 1.0, t->tr, t->ratios.r_l,
+          t->ratios.r_u};
+}
+
 template <std::size_t N, typename Towards>
 SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
                                  const DeltaLamp& lamp, Towards towards, const SampledWavelengths<N>& w,
                                  const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
-  auto end = [&](const Reach<N>& r) -> LightEnd<N> {
-    const double emitted = lamp.spot ? spot_falloff(*lamp.spot, -r.to_light) : 1.0;
-    if (emitted == 0.0) return {};
-    const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
-                                rng, rays);
-    if (!t) return {};
-    return {v.tables.at(lamp.intensity, w) * static_cast<float>(emitted), 0.0, 1.0, t->tr, t->ratios.r_l,
-            t->ratios.r_u};
-  };
+  auto end = [&](const Reach<N>& r) { return delta_lamp_end(v, lamp, r, w, rng, rays); };
   return through(v, at, inside, f, lamp.p, towards, w, path_r_u, rng, rays, end);
+}
+
+// The light of delta lamp `lamp` at vertex `at` through a chain of mesh faces (manifold_chain.h,
+// seeded from the straight segment): the path on which each crossing refracts by its shading
+// normal, then as `through`: f·|cos θ| towards its first crossing, the lamp's intensity and
+// profile, Fresnel at each crossing (by the shading normal, as the walk), every segment's
+// transmittance, and the ray tube (η_x/η_q)²·dω_x/dA⊥_q: where the normals are the faces' own,
+// étendue makes that the forward tube dω_q/dA⊥_x of `through`; with shading normals it is what
+// the walk's own directions would gather from a lamp of vanishing size ("Radiance across a
+// refraction": no n² in the radiance, flux conserved).
+template <std::size_t N, typename Towards>
+SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& at, Chain c, const DeltaLamp& lamp,
+                                       Towards towards, const SampledWavelengths<N>& w,
+                                       const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  const RenderScene& s = v.scene;
+  if (!solve_chain(s, at.point, at.hit, lamp.p, c)) return {};
+  std::array<Vec3, kMaxChain> ys{};
+  for (int i = 0; i < c.count; ++i) ys[static_cast<std::size_t>(i)] = c.crossing[static_cast<std::size_t>(i)].hit.point;
+  const std::span<const Vec3> points(ys.data(), static_cast<std::size_t>(c.count));
+  // The walk meets each crossing where the solve put it (Embree's float hit within a hundred times
+  // its rounding), on the same surface.
+  auto normal_there = [&](std::size_t i, const Hit& face) -> std::optional<Vec3> {
+    const Hit& k = c.crossing[i].hit;
+    if (face.geometry != k.geometry || length(face.point - points[i]) > 1e-5 * s.rays.rounding_scale_m(points[i]))
+      return std::nullopt;
+    return chain_shading_normal(s, k, points[i]);
+  };
+  const auto r = follow_crossings(v, at, c.inside_x, c.crossing[0].medium_from, points, lamp.p, normal_there, w, rng,
+                                  rays);
+  if (!r) return {};
+  double vertex_pdf = 0.0;
+  const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
+  if (fv.is_zero()) return {};
+  const LightEnd<N> e = delta_lamp_end(v, lamp, *r, w, rng, rays);
+  if (e.value.is_zero()) return {};
+  const double eta_ratio = c.crossing[0].eta_from / c.crossing[static_cast<std::size_t>(c.count - 1)].eta_to;
+  const double tube = eta_ratio * eta_ratio * chain_reverse_tube(s, at.point, lamp.p, c);
+  if (!(tube > 0.0) || !std::isfinite(tube)) return {};
+  return fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * tube / mean_ratio(s, path_r_u, r->r_l * e.r_l));
 }
 
 inline Interface caster_interface(const RenderScene& s, const ManifoldCaster& c) {
@@ -397,6 +465,15 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
   if (!lamp) return {};
   if (find_caster(s, blocker.geometry)) return {};
   const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(lamp->p - at.point)) : at.inside;
+  // Faces of meshes: one without shading normals has its exact solve below; smooth-shaded ones,
+  // and two or more crossings, the chain's.
+  if (!s.rays.analytic(blocker.geometry)) {
+    const auto chain = seed_chain(s, at.point, at.hit, inside, lamp->p);
+    if (!chain) return {};
+    const Hit& only = chain->crossing[0].hit;
+    if (chain->count > 1 || dot(only.shading_normal, only.normal) < 1.0 - 1e-9)
+      return delta_through_chain(v, at, *chain, *lamp, towards, w, path_r_u, rng, rays);
+  }
   const SurfaceSeen seen = surface_seen(s, blocker, inside);
   if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched) return {};
   if (s.media[static_cast<std::size_t>(seen.medium_front)].dispersive ||
@@ -410,7 +487,6 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
   const bool flat = shape && std::holds_alternative<CylinderSurface>(shape->surface) &&
                     blocker.primitive != static_cast<std::uint32_t>(AnalyticPart::side);
   if (shape && !flat && (!sphere || scale == 0.0)) return {};  // a cylinder's side, ellipsoids: not yet
-  if (!shape && dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9) return {};  // the walk refracts by those
   Interface f{blocker.geometry, sphere != nullptr, sphere ? shape->to_world.apply(Vec3{}) : blocker.point,
               blocker.normal, sphere ? sphere->radius_m * scale : 0.0, seen.medium_front, seen.medium_behind};
   // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path.)

@@ -1,0 +1,317 @@
+#include "bouguer/integrators/manifold_chain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "bouguer/core/frame.h"
+#include "bouguer/integrators/surface_events.h"
+
+namespace bouguer {
+namespace {
+
+constexpr int kMaxUnknowns = 2 * kMaxChain;
+// Converged: every constraint below this (its units are the indices'; about the sine of the
+// angle by which Snell's law is missed).
+constexpr double kChainTolerance = 1e-12;
+using Column = std::array<double, kMaxUnknowns>;
+using Matrix = std::array<Column, kMaxUnknowns>;  // [row][column]
+
+// Solves a·x = b for the first n unknowns (Gaussian elimination with partial pivoting); false where
+// a is singular to working precision.
+bool solve_linear(Matrix a, Column b, int n, Column& x) {
+  for (int k = 0; k < n; ++k) {
+    int pivot = k;
+    for (int r = k + 1; r < n; ++r)
+      if (std::abs(a[r][k]) > std::abs(a[pivot][k])) pivot = r;
+    if (!(std::abs(a[pivot][k]) > 1e-300)) return false;
+    std::swap(a[k], a[pivot]);
+    std::swap(b[k], b[pivot]);
+    for (int r = k + 1; r < n; ++r) {
+      const double f = a[r][k] / a[k][k];
+      for (int col = k; col < n; ++col) a[r][col] -= f * a[k][col];
+      b[r] -= f * b[k];
+    }
+  }
+  for (int k = n - 1; k >= 0; --k) {
+    double sum = b[k];
+    for (int col = k + 1; col < n; ++col) sum -= a[k][col] * x[col];
+    x[k] = sum / a[k][k];
+    if (!std::isfinite(x[k])) return false;
+  }
+  return true;
+}
+
+// A crossing's triangle: its corners, unit geometric normal, an orthonormal basis (e1, e2) of its
+// plane, and the mesh (its vertex normals).
+struct Triangle {
+  const Mesh* mesh = nullptr;
+  std::array<std::uint32_t, 3> corner{};
+  Vec3 p0, p1, p2, normal, e1, e2;
+};
+
+Triangle triangle_of(const RenderScene& s, const Hit& h) {
+  Triangle t;
+  t.mesh = &s.rays.mesh(h.geometry);
+  t.corner = t.mesh->triangles[h.primitive];
+  t.p0 = t.mesh->positions[t.corner[0]];
+  t.p1 = t.mesh->positions[t.corner[1]];
+  t.p2 = t.mesh->positions[t.corner[2]];
+  t.normal = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+  const Frame f(t.normal);
+  t.e1 = f.s;
+  t.e2 = f.t;
+  return t;
+}
+
+// The interpolated shading normal at a point of the triangle's plane (inside it or, during a
+// Newton step, just past an edge: the affine interpolation extends smoothly).
+Vec3 shading_normal(const Triangle& t, const Vec3& y) {
+  const Mesh& m = *t.mesh;
+  if (m.normals.empty()) return t.normal;
+  const Vec3 a = t.p1 - t.p0, b = t.p2 - t.p0, c = y - t.p0;
+  const double aa = dot(a, a), ab = dot(a, b), bb = dot(b, b), ca = dot(c, a), cb = dot(c, b);
+  const double det = aa * bb - ab * ab;
+  const double b1 = (bb * ca - ab * cb) / det, b2 = (aa * cb - ab * ca) / det, b0 = 1.0 - b1 - b2;
+  const Vec3 n = m.normals[t.corner[0]] * b0 + m.normals[t.corner[1]] * b1 + m.normals[t.corner[2]] * b2;
+  const double l = length(n);
+  return l > 1e-12 && dot(n, t.normal) > 0.0 ? n / l : t.normal;
+}
+
+// The surface a ray from `origin` along d meets first within max_m, seen from the nested set
+// `inside`, crossing index-matched ones (the set updated): nothing where none is that near.
+struct Met {
+  Hit hit;
+  SurfaceSeen seen;
+};
+std::optional<Met> next_surface(const RenderScene& s, Vec3 origin, const Vec3& d, double max_m, InsideSet& inside) {
+  for (int k = 0; k < 16; ++k) {
+    const auto h = s.rays.intersect(Ray{origin, d, max_m});
+    if (!h) return std::nullopt;
+    const SurfaceSeen seen = surface_seen(s, *h, inside);
+    if (!(seen.surface.kind == SurfaceKind::interface && seen.index_matched)) return Met{*h, seen};
+    inside = inside_towards(s, *h, inside, d);
+    max_m -= length(h->point - origin);
+    origin = offset_ray_origin(*h, d);
+  }
+  return std::nullopt;
+}
+
+// A surface the chain can refract at: a smooth, non-dispersive interface of a mesh without a
+// normal map.
+bool chain_surface(const RenderScene& s, const Met& m) {
+  const Surface& f = m.seen.surface;
+  return f.kind == SurfaceKind::interface && f.roughness == 0.0 && !m.seen.index_matched && f.normal_map < 0 &&
+         !s.rays.analytic(m.hit.geometry) && !s.media[static_cast<std::size_t>(m.seen.medium_front)].dispersive &&
+         !s.media[static_cast<std::size_t>(m.seen.medium_behind)].dispersive;
+}
+
+// The crossing where a ray from `from` along d met m (`inside`: the set it arrived with), its point
+// recomputed in double precision on the triangle's plane (Embree's is float).
+std::optional<ChainCrossing> crossing_of(const RenderScene& s, const Vec3& from, const Vec3& d, const Met& m,
+                                         InsideSet inside) {
+  ChainCrossing c;
+  c.hit = m.hit;
+  const Triangle t = triangle_of(s, c.hit);
+  const double along = dot(d, t.normal);
+  if (std::abs(along) < 1e-12) return std::nullopt;
+  c.hit.point = from + d * (dot(t.p0 - from, t.normal) / along);
+  const bool front = along < 0.0;  // arriving on the side the normal points to
+  c.medium_from = front ? m.seen.medium_front : m.seen.medium_behind;
+  c.medium_to = front ? m.seen.medium_behind : m.seen.medium_front;
+  c.eta_from = s.media[static_cast<std::size_t>(c.medium_from)].ior_reference;
+  c.eta_to = s.media[static_cast<std::size_t>(c.medium_to)].ior_reference;
+  c.inside_to = inside_towards(s, m.hit, inside, d);
+  return c;
+}
+
+// The crossing a ray from `from` (on from_hit, or in a medium) along d meets first, if it is the
+// chain's kind of surface and on `geometry`.
+std::optional<ChainCrossing> cross_at(const RenderScene& s, const Vec3& from, const Hit* from_hit, const Vec3& d,
+                                      double max_m, InsideSet inside, std::uint32_t geometry) {
+  const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, d) : from, d, max_m, inside);
+  if (!m || !chain_surface(s, *m) || m->hit.geometry != geometry) return std::nullopt;
+  return crossing_of(s, from, d, *m, inside);
+}
+
+// The constraints of the chain's crossings at points y (y[0] = x, y[count + 1] = q), each in its
+// triangle's basis: 2·count values.
+Column constraints(const std::array<Triangle, kMaxChain>& tri, const Chain& c, const std::array<Vec3, kMaxChain + 2>& y) {
+  Column out{};
+  for (int i = 1; i <= c.count; ++i) {
+    const ChainCrossing& k = c.crossing[static_cast<std::size_t>(i - 1)];
+    const Triangle& t = tri[static_cast<std::size_t>(i - 1)];
+    const Vec3 back = normalize(y[static_cast<std::size_t>(i - 1)] - y[static_cast<std::size_t>(i)]);
+    const Vec3 ahead = normalize(y[static_cast<std::size_t>(i + 1)] - y[static_cast<std::size_t>(i)]);
+    const Vec3 h = back * k.eta_from + ahead * k.eta_to;
+    const Vec3 n = shading_normal(t, y[static_cast<std::size_t>(i)]);
+    const Vec3 across = h - n * dot(h, n);
+    out[static_cast<std::size_t>(2 * i - 2)] = dot(across, t.e1);
+    out[static_cast<std::size_t>(2 * i - 1)] = dot(across, t.e2);
+  }
+  return out;
+}
+
+double largest(const Column& v, int n) {
+  double m = 0.0;
+  for (int i = 0; i < n; ++i) m = std::max(m, std::abs(v[static_cast<std::size_t>(i)]));
+  return m;
+}
+
+struct Linearised {
+  std::array<Triangle, kMaxChain> tri;
+  std::array<Vec3, kMaxChain + 2> y;
+  Column value{};
+  Matrix jacobian{};  // ∂C/∂(the crossings' coordinates along e1, e2 of their triangles)
+  double step_m = 0.0;
+};
+
+// The constraints at the chain's points and their Jacobian by central differences (each crossing
+// moved in its triangle's plane by 1e-7 of the path's length: the truncation error is 1e-14 of it,
+// the rounding 1e-9 relative, which slows Newton's last step by nothing measurable).
+Linearised linearise(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c) {
+  Linearised l;
+  l.y[0] = x;
+  for (int i = 0; i < c.count; ++i) {
+    l.tri[static_cast<std::size_t>(i)] = triangle_of(s, c.crossing[static_cast<std::size_t>(i)].hit);
+    l.y[static_cast<std::size_t>(i + 1)] = c.crossing[static_cast<std::size_t>(i)].hit.point;
+  }
+  l.y[static_cast<std::size_t>(c.count + 1)] = q;
+  l.value = constraints(l.tri, c, l.y);
+  double path_m = 0.0;
+  for (int i = 0; i <= c.count; ++i)
+    path_m += length(l.y[static_cast<std::size_t>(i + 1)] - l.y[static_cast<std::size_t>(i)]);
+  l.step_m = 1e-7 * path_m;
+  for (int j = 0; j < 2 * c.count; ++j) {
+    const Triangle& t = l.tri[static_cast<std::size_t>(j / 2)];
+    const Vec3 dir = (j % 2 == 0 ? t.e1 : t.e2) * l.step_m;
+    auto moved = l.y;
+    moved[static_cast<std::size_t>(j / 2 + 1)] = l.y[static_cast<std::size_t>(j / 2 + 1)] + dir;
+    const Column plus = constraints(l.tri, c, moved);
+    moved[static_cast<std::size_t>(j / 2 + 1)] = l.y[static_cast<std::size_t>(j / 2 + 1)] - dir;
+    const Column minus = constraints(l.tri, c, moved);
+    for (int i = 0; i < 2 * c.count; ++i)
+      l.jacobian[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
+          (plus[static_cast<std::size_t>(i)] - minus[static_cast<std::size_t>(i)]) / (2.0 * l.step_m);
+  }
+  return l;
+}
+
+// The chain traced again from x through `targets` (a point in each crossing's plane): each ray
+// from the crossing before towards the next target, meeting the same surface first.
+std::optional<Chain> retraced(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Chain& c,
+                              const std::array<Vec3, kMaxChain>& targets) {
+  Chain out = c;
+  Vec3 from = x;
+  const Hit* from_hit = x_hit;
+  InsideSet inside = c.inside_x;
+  for (int i = 0; i < c.count; ++i) {
+    const Vec3 to = targets[static_cast<std::size_t>(i)] - from;
+    const double d = length(to);
+    if (!(d > 0.0)) return std::nullopt;
+    const auto k = cross_at(s, from, from_hit, to / d, 2.0 * d, inside,
+                            c.crossing[static_cast<std::size_t>(i)].hit.geometry);
+    if (!k) return std::nullopt;
+    ChainCrossing& o = out.crossing[static_cast<std::size_t>(i)];
+    // The sides it is crossed from stay the seed's (the indices are the chain's).
+    if (k->eta_from != o.eta_from || k->eta_to != o.eta_to) return std::nullopt;
+    o = *k;
+    from = o.hit.point;
+    from_hit = &o.hit;
+    inside = o.inside_to;
+  }
+  return out;
+}
+
+}  // namespace
+
+Vec3 chain_shading_normal(const RenderScene& s, const Hit& on, const Vec3& point) {
+  return shading_normal(triangle_of(s, on), point);
+}
+
+std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q) {
+  Chain c;
+  c.inside_x = inside;
+  const double d = length(q - x);
+  if (!(d > 0.0)) return std::nullopt;
+  const Vec3 dir = (q - x) / d;
+  Vec3 from = x;
+  const Hit* from_hit = x_hit;
+  for (;;) {
+    const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, length(q - from), inside);
+    if (!m) break;  // clear to the lamp
+    if (c.count == kMaxChain || !chain_surface(s, *m)) return std::nullopt;
+    const auto k = crossing_of(s, from, dir, *m, inside);
+    if (!k) return std::nullopt;
+    ChainCrossing& o = c.crossing[static_cast<std::size_t>(c.count++)];
+    o = *k;
+    from = o.hit.point;
+    from_hit = &o.hit;
+    inside = o.inside_to;
+  }
+  if (c.count == 0) return std::nullopt;
+  return c;
+}
+
+bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c) {
+  const int n = 2 * c.count;
+  Linearised l = linearise(s, x, q, c);
+  for (int iteration = 0; iteration < 40; ++iteration) {
+    const double error = largest(l.value, n);
+    if (error < kChainTolerance) return true;
+    Column minus_value{}, step{};
+    for (int i = 0; i < n; ++i) minus_value[static_cast<std::size_t>(i)] = -l.value[static_cast<std::size_t>(i)];
+    if (!solve_linear(l.jacobian, minus_value, n, step)) return false;
+    // A full Newton step, halved until the constraints shrink (and the path still meets its
+    // surfaces in order).
+    bool moved = false;
+    for (double lambda = 1.0; lambda > 1e-3 && !moved; lambda *= 0.5) {
+      std::array<Vec3, kMaxChain> targets{};
+      for (int i = 0; i < c.count; ++i) {
+        const Triangle& t = l.tri[static_cast<std::size_t>(i)];
+        targets[static_cast<std::size_t>(i)] =
+            l.y[static_cast<std::size_t>(i + 1)] +
+            (t.e1 * step[static_cast<std::size_t>(2 * i)] + t.e2 * step[static_cast<std::size_t>(2 * i + 1)]) * lambda;
+      }
+      const auto next = retraced(s, x, x_hit, c, targets);
+      if (!next) continue;
+      Linearised m = linearise(s, x, q, *next);
+      if (largest(m.value, n) < error) {
+        c = *next;
+        l = std::move(m);
+        moved = true;
+      }
+    }
+    if (!moved) return false;
+  }
+  return false;
+}
+
+double chain_reverse_tube(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c) {
+  const int n = 2 * c.count;
+  const Linearised l = linearise(s, x, q, c);
+  const Vec3 last = c.crossing[static_cast<std::size_t>(c.count - 1)].hit.point;
+  const Frame across(normalize(q - last));  // the patch at q, perpendicular to the last segment
+  const Vec3 first = c.crossing[0].hit.point;
+  const double first_m = length(first - x);
+  const Vec3 wi = (first - x) / first_m;
+  std::array<Vec3, 2> turn{};  // how the first direction turns per metre q moves along s and t
+  for (int a = 0; a < 2; ++a) {
+    const Vec3 dq = (a == 0 ? across.s : across.t) * l.step_m;
+    auto moved = l.y;
+    moved[static_cast<std::size_t>(c.count + 1)] = q + dq;
+    const Column plus = constraints(l.tri, c, moved);
+    moved[static_cast<std::size_t>(c.count + 1)] = q - dq;
+    const Column minus = constraints(l.tri, c, moved);
+    Column rhs{}, dy{};
+    for (int i = 0; i < n; ++i)
+      rhs[static_cast<std::size_t>(i)] =
+          -(plus[static_cast<std::size_t>(i)] - minus[static_cast<std::size_t>(i)]) / (2.0 * l.step_m);
+    if (!solve_linear(l.jacobian, rhs, n, dy)) return 0.0;
+    const Vec3 dfirst = l.tri[0].e1 * dy[0] + l.tri[0].e2 * dy[1];
+    turn[static_cast<std::size_t>(a)] = (dfirst - wi * dot(dfirst, wi)) / first_m;
+  }
+  return length(cross(turn[0], turn[1]));
+}
+
+}  // namespace bouguer
