@@ -100,7 +100,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   if (interfaces && !s.casters.empty()) {
     Rng side(rng.next_u32(), kManifoldStream);
     const double v1 = side.next_double(), v2 = side.next_double();
-    sum += through_casters(v, at, towards, chosen, v1, v2, w, path_r_u, side, rays);
+    sum += through_casters(v, at, towards, medium_towards, chosen, v1, v2, w, path_r_u, side, rays);
   }
   if (chosen) {
     const auto& [index, p_choice] = *chosen;
@@ -130,8 +130,8 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                     interfaces ? &glass : nullptr, interfaces ? &blocker : nullptr))
       sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
     else if (glass)  // through the interface to the lamp (manifold.h)
-      sum += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards, w,
-                                           path_r_u, rng, rays);
+      sum += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards,
+                                           medium_towards, w, path_r_u, rng, rays);
   }
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();

@@ -153,16 +153,20 @@ struct Reach {
   double light_m = 0.0;  // from the last crossing to the light point
 };
 
-// Follows a path's crossings `ys` from the vertex, the first segment through `medium`: each
+// Follows a path's crossings `ys` from the vertex, the first segment through the vertex's own
+// medium that way (medium_towards(direction): a medium vertex's, or the side of its surface; not
+// the interface's, which an index-matched boundary may part from it): each
 // segment clear (transmission); at each crossing, the surface met there accepted by
 // `normal_there(c, face)`, which gives the normal it refracts by (nothing: not the path's surface);
 // Fresnel from the indices of the media on each side.
-template <std::size_t N, typename NormalThere>
-std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex& at, InsideSet inside, int medium,
-                                         std::span<const Vec3> ys, const Vec3& q, NormalThere normal_there,
-                                         const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+template <std::size_t N, typename MediumTowards, typename NormalThere>
+std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex& at, InsideSet inside,
+                                         MediumTowards medium_towards, std::span<const Vec3> ys, const Vec3& q,
+                                         NormalThere normal_there, const SampledWavelengths<N>& w, Rng& rng,
+                                         std::uint64_t& rays) {
   const RenderScene& s = v.scene;
   Reach<N> r;
+  int medium = -1;
   PathVertex from = at;
   r.inside = inside;
   for (std::size_t c = 0; c < ys.size(); ++c) {
@@ -170,7 +174,10 @@ std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex
     const double d = length(y - from.point);
     if (!(d > 0.0)) return std::nullopt;
     const Vec3 dir = (y - from.point) / d;
-    if (c == 0) r.wi = dir;
+    if (c == 0) {
+      r.wi = dir;
+      medium = medium_towards(dir);
+    }
     // Short of the crossing by twice the offset of a ray leaving a surface (offset_ray_origin):
     // transmission stops 1e-4 of the way short, which a segment through a 2 mm wall does not
     // leave (its crossing then blocked its own segment: a tumbler's wall came out dark).
@@ -207,10 +214,11 @@ std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex
 
 // One solved path through an interface: each crossing on the same surface where the solve put it
 // (a plane: on a face of that plane; a sphere: the normal there), refracting by its own normal.
-template <std::size_t N>
+template <std::size_t N, typename MediumTowards>
 std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
                                const std::array<Vec3, 2>& ys, int crossings, const Vec3& q,
-                               const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+                               MediumTowards medium_towards, const SampledWavelengths<N>& w, Rng& rng,
+                               std::uint64_t& rays) {
   const std::span<const Vec3> points(ys.data(), static_cast<std::size_t>(crossings));
   auto normal_there = [&](std::size_t c, const Hit& face) -> std::optional<Vec3> {
     const Vec3 n = f.normal_at(points[c]);
@@ -221,8 +229,7 @@ std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, Insi
       return std::nullopt;
     return n;
   };
-  return follow_crossings(v, at, inside, f.front(at.point) ? f.medium_front : f.medium_behind, points, q,
-                          normal_there, w, rng, rays);
+  return follow_crossings(v, at, inside, medium_towards, points, q, normal_there, w, rng, rays);
 }
 
 // The ray tube at the vertex: the directions leaving the light point q that reach a patch
@@ -286,9 +293,9 @@ inline double connection_density(double area_pdf, double cos_light, double tube,
 // What a light sends from point q (a point light's position, or a point drawn on an area or
 // spherical light) along the paths to the vertex: intensity (or radiance × |cos θ| / density)
 // towards the path's last direction, or zero; `end` traces the final segment.
-template <std::size_t N, typename Towards, typename End>
+template <std::size_t N, typename Towards, typename MediumTowards, typename End>
 SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
-                           const Vec3& q, Towards towards, const SampledWavelengths<N>& w,
+                           const Vec3& q, Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
                            const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, End end) {
   const RenderScene& s = v.scene;
   const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
@@ -297,7 +304,7 @@ SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSe
   SampledSpectrum<N> sum;
   for (int k = 0; k < paths.count; ++k) {
     const auto& ys = paths.crossing[static_cast<std::size_t>(k)];
-    const auto r = follow(v, at, inside, f, ys, paths.crossings, q, w, rng, rays);
+    const auto r = follow(v, at, inside, f, ys, paths.crossings, q, medium_towards, w, rng, rays);
     if (!r) continue;
     double vertex_pdf = 0.0;
     const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
@@ -352,12 +359,13 @@ LightEnd<N> delta_lamp_end(const SceneView<N>& v, const DeltaLamp& lamp, const R
           t->ratios.r_u};
 }
 
-template <std::size_t N, typename Towards>
+template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
-                                 const DeltaLamp& lamp, Towards towards, const SampledWavelengths<N>& w,
-                                 const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+                                 const DeltaLamp& lamp, Towards towards, MediumTowards medium_towards,
+                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                 std::uint64_t& rays) {
   auto end = [&](const Reach<N>& r) { return delta_lamp_end(v, lamp, r, w, rng, rays); };
-  return through(v, at, inside, f, lamp.p, towards, w, path_r_u, rng, rays, end);
+  return through(v, at, inside, f, lamp.p, towards, medium_towards, w, path_r_u, rng, rays, end);
 }
 
 // The light of delta lamp `lamp` at vertex `at` through a chain of mesh faces (manifold_chain.h,
@@ -368,9 +376,9 @@ SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, In
 // étendue makes that the forward tube dω_q/dA⊥_x of `through`; with shading normals it is what
 // the walk's own directions would gather from a lamp of vanishing size ("Radiance across a
 // refraction": no n² in the radiance, flux conserved).
-template <std::size_t N, typename Towards>
+template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& at, Chain c, const DeltaLamp& lamp,
-                                       Towards towards, const SampledWavelengths<N>& w,
+                                       Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                        const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
   const RenderScene& s = v.scene;
   if (!solve_chain(s, at.point, at.hit, lamp.p, c)) return {};
@@ -385,8 +393,7 @@ SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& 
       return std::nullopt;
     return chain_shading_normal(s, k, points[i]);
   };
-  const auto r = follow_crossings(v, at, c.inside_x, c.crossing[0].medium_from, points, lamp.p, normal_there, w, rng,
-                                  rays);
+  const auto r = follow_crossings(v, at, c.inside_x, medium_towards, points, lamp.p, normal_there, w, rng, rays);
   if (!r) return {};
   double vertex_pdf = 0.0;
   const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
@@ -451,14 +458,16 @@ CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCa
 
 // The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
 // whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals or
-// a cylinder's cap, solved on its plane, or an exact sphere that is not a caster (a nested one; casters are
-// through_casters'); `towards(wi, pdf)` gives the vertex's f·|cos θ| towards wi. path_r_u: the
+// a cylinder's cap, solved on its plane, a chain of mesh faces (manifold_chain.h), or an exact
+// sphere that is not a caster (a nested one; casters are through_casters'); `towards(wi, pdf)`
+// gives the vertex's f·|cos θ| towards wi, medium_towards(wi) the medium wi leaves into. path_r_u: the
 // path's unidirectional ratios so far, each path divided by the mean of their product with its
 // own light ratios (direct_light.h).
-template <std::size_t N, typename Towards>
+template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const PathVertex& at, const Light& light,
-                                                 const Hit& blocker, Towards towards, const SampledWavelengths<N>& w,
-                                                 const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+                                                 const Hit& blocker, Towards towards, MediumTowards medium_towards,
+                                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
+                                                 Rng& rng, std::uint64_t& rays) {
   using namespace manifold_detail;
   const RenderScene& s = v.scene;
   const auto lamp = delta_lamp(light);
@@ -472,7 +481,7 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
     if (!chain) return {};
     const Hit& only = chain->crossing[0].hit;
     if (chain->count > 1 || dot(only.shading_normal, only.normal) < 1.0 - 1e-9)
-      return delta_through_chain(v, at, *chain, *lamp, towards, w, path_r_u, rng, rays);
+      return delta_through_chain(v, at, *chain, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
   }
   const SurfaceSeen seen = surface_seen(s, blocker, inside);
   if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched) return {};
@@ -491,15 +500,16 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
               blocker.normal, sphere ? sphere->radius_m * scale : 0.0, seen.medium_front, seen.medium_behind};
   // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path.)
   if (f.sphere && f.front(at.point) && f.front(lamp->p)) return {};
-  return delta_through(v, at, inside, f, *lamp, towards, w, path_r_u, rng, rays);
+  return delta_through(v, at, inside, f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
 }
 
 // The light of the delta lights and of one area or spherical light (its index drawn by power with
 // probability p_choice, its point by area from u1, u2: on a spherical lamp, on the part that faces
 // each caster) at vertex `at` through each caster (RenderScene::casters), once or twice crossed.
-template <std::size_t N, typename Towards>
+template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, Towards towards,
-                                   std::optional<std::pair<int, double>> area_light, double u1, double u2,
+                                   MediumTowards medium_towards, std::optional<std::pair<int, double>> area_light,
+                                   double u1, double u2,
                                    const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
                                    std::uint64_t& rays) {
   using namespace manifold_detail;
@@ -516,7 +526,7 @@ SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, 
     };
     for (const int index : s.delta_lights)
       if (const auto lamp = delta_lamp(s.lights[static_cast<std::size_t>(index)]))
-        sum += delta_through(v, at, inside_along(lamp->p), f, *lamp, towards, w, path_r_u, rng, rays);
+        sum += delta_through(v, at, inside_along(lamp->p), f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
     if (!y) continue;
     auto end = [&](const Reach<N>& r) -> LightEnd<N> {
       // On to the light: clear up to it, then its surface there, seen from the path's side.
@@ -531,7 +541,7 @@ SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, 
       return {emitted(v, *hit, -r.to_light, w) * static_cast<float>(cos_light / area_pdf), area_pdf, cos_light, t->tr,
               t->ratios.r_l, t->ratios.r_u};
     };
-    sum += through(v, at, inside_along(y->p), f, y->p, towards, w, path_r_u, rng, rays, end);
+    sum += through(v, at, inside_along(y->p), f, y->p, towards, medium_towards, w, path_r_u, rng, rays, end);
   }
   return sum;
 }
