@@ -285,13 +285,11 @@ TEST(Bidirectional, LightsALiquidInGlassByItsMediumConnections) {
   EXPECT_LT(b.mean - 4.0 * b.standard_error, p);
 }
 
-// vcm reaches the same multiply scattered light by connections and merges, with finite variance.
-// Asserted: vcm's mean over the liquid, from 16 seeds of 64 spp, has a standard error under 4 %
-// (measured 3.3 %: it converges where bdpt's 1/d² connections do not) and its lower bound (less 4
-// standard errors) is above 0.3 of the path tracer's reference, as bdpt's. Measured 0.62 of it, as
-// bdpt's: the once-scattered light, which only a merge reaches here, is missing from vcm's estimate
-// too (on a thin liquid, where it is most of the light, vcm reads 0.16 of the path tracer; not
-// understood yet: docs/rendering.md).
+// vcm reaches that light by connections and merges, with finite variance, and the once-scattered
+// light by merges alone. Asserted: vcm's mean over the liquid, from 16 seeds of 64 spp, has a
+// standard error under 4 % (measured 2.6 %: it converges where bdpt's 1/d² connections do not)
+// and is not below the path tracer's reference by more than 4 of them (measured 1.06 of it; before
+// merges right after a specular vertex were weighed, 0.62, as bdpt's).
 TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
@@ -300,23 +298,27 @@ TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
   std::printf("liquid in glass (green): path %.5f, vcm (1024 spp) %.5f ± %.5f (%.2f of path)\n", p, v.mean,
               v.standard_error, v.mean / p);
   EXPECT_LT(v.standard_error, 0.04 * v.mean) << "vcm does not converge";
-  EXPECT_GT(v.mean - 4.0 * v.standard_error, 0.3 * p);
+  EXPECT_GT(v.mean + 4.0 * v.standard_error, p);
 }
 
-// vcm's mean over the liquid is bdpt's within 4 standard errors of their difference, which must
-// stay under 5 % of bdpt's mean (bdpt's heavy tail needs 16384 spp a seed for that; measured at
-// 2048: ± 10 %): a merge counted twice or a connection that vcm shares with bdpt dropped is off by
-// more. Both miss the once-scattered light (above): they agree with each other, not with the
-// path tracer's reference. About three minutes on 2 loaded cores: `long`.
-TEST(VertexMergingLong, LightsALiquidInGlassLikeBdpt) {
+// vcm against the path tracer in the liquid, closer: vcm's mean (8192 iterations) is not below the
+// path tracer's (1024 spp, two seeds) beyond 4 standard errors of their difference, and not above
+// 1.15 of it beyond them. The path tracer reaches the lamps through the glass by its next-event
+// estimation (refractions only); what it leaves out is the light reflected inside the glass or the
+// liquid (a Fresnel reflection, total internal reflection at the liquid's surface) before it
+// scatters, which vcm merges: measured vcm 1.088 of the path tracer (0.06385 ± 0.00020 against
+// 0.05867 ± 0.00002). Merges lost after specular vertices read 0.6 of it, merges counted twice
+// about 1.6. About 40 s on 2 loaded cores: `long`.
+TEST(VertexMergingLong, LightsALiquidInGlassAtLeastAsThePathTracerDoes) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const test::Estimate v = liquid_estimate(desc, IntegratorType::vcm, 8192);
-  const test::Estimate b = liquid_estimate(desc, IntegratorType::bdpt, 16384);
-  const double se = std::hypot(v.standard_error, b.standard_error);
-  std::printf("liquid in glass (green): vcm (8192 spp) %.5f ± %.5f, bdpt (16384 spp) %.5f ± %.5f\n", v.mean,
-              v.standard_error, b.mean, b.standard_error);
-  EXPECT_LT(se, 0.05 * b.mean) << "too noisy to compare";
-  EXPECT_NEAR(v.mean, b.mean, 4.0 * se);
+  const test::Estimate p = liquid_estimate(desc, IntegratorType::path, 1024);
+  const double se = std::hypot(v.standard_error, p.standard_error);
+  std::printf("liquid in glass (green): vcm (8192 spp) %.5f ± %.5f, path (1024 spp) %.5f ± %.5f (%.3f of it)\n",
+              v.mean, v.standard_error, p.mean, p.standard_error, v.mean / p.mean);
+  EXPECT_LT(se, 0.02 * p.mean) << "too noisy to compare";
+  EXPECT_GT(v.mean + 4.0 * se, p.mean);
+  EXPECT_LT(v.mean - 4.0 * se, 1.15 * p.mean);
 }
 
 // For every full path that a connection of one camera sample makes, the weights of all the
@@ -354,7 +356,7 @@ void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const R
   })";
   const SceneDesc desc = parse_scene(json, "mis.json");
   const RenderScene scene = compile(desc);
-  std::size_t paths = 0, lens_through_media = 0;
+  std::size_t paths = 0, lens_through_media = 0, merge_paths = 0, merge_only = 0;
   double worst_sum = 0.0, worst_difference = 0.0;
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x)
@@ -364,9 +366,12 @@ void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const R
         worst_difference = std::max(worst_difference, c.max_weight_difference);
         paths += c.sums.size();
         lens_through_media += c.lens_through_media;
+        merge_paths += c.merge_paths;
+        merge_only += c.merge_only_paths;
       }
-  std::printf("%s MIS over %zu full paths (%zu lens connections through the haze): largest |Σ weights − 1| %.2e, "
-              "largest renderer-vs-recomputed weight %.2e\n", what, paths, lens_through_media, worst_sum, worst_difference);
+  std::printf("%s MIS over %zu full paths (%zu lens connections through the haze; %zu made by merges, %zu by merges "
+              "alone): largest |Σ weights − 1| %.2e, largest renderer-vs-recomputed weight %.2e\n",
+              what, paths, lens_through_media, merge_paths, merge_only, worst_sum, worst_difference);
   EXPECT_GT(paths, 800u);
   EXPECT_GT(lens_through_media, 10u);  // t = 1 through a medium is checked, not skipped
   EXPECT_LT(worst_sum, 1e-9);
@@ -378,6 +383,40 @@ TEST(Bidirectional, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_
 // With merging: the connections' weights and the merges' (at every vertex where a path can merge,
 // surfaces and the medium alike) of every full path sum to 1.
 TEST(VertexMerging, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_one(vcm_mis_check, "vcm"); }
+
+// A scattering liquid in a box with a refracting boundary (n = 1.33) under a point lamp: a path that
+// scatters once in it has two specular vertices around its one medium vertex and a delta lamp at
+// its end, so no connection makes it and a merge there is its only strategy, whose weight must be
+// 1. Checked over the paths merges make (each photon standing in for each camera vertex it could
+// be merged with). Before: those merges weighed 0 (the photon's density after a specular vertex is
+// 0, and the weight was 0/0), so vcm lost the once-scattered light (on a thin liquid, 84 % of it).
+TEST(VertexMerging, AMergeThatAloneMakesAPathWeighsOne) {
+  const SceneDesc desc = parse_scene(R"({
+    "camera": {"position": [0, 0.05, 0.3], "look_at": [0, 0.04, 0], "fov_deg": 20, "resolution": [8, 8]},
+    "render": {"integrator": "vcm", "spectral": "hero", "spp": 16, "max_depth": 12},
+    "world_medium": "vacuum",
+    "media": {"juice": {"ior": 1.33, "scattering": {"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
+                                                    "value": [40, 20], "phase": {"type": "henyey_greenstein", "g": 0.3}}}},
+    "objects": [{"name": "juice", "shape": {"type": "box", "size": [0.06, 0.07, 0.06]},
+                 "transform": [{"translate": [0, 0.04, 0]}], "inside": "juice"}],
+    "lights": [{"type": "point", "position": [0.05, 0.05, 0], "spectrum": "D65", "scale": 0.05}]
+  })", "juice.json");
+  const RenderScene scene = compile(desc);
+  std::size_t merge_paths = 0, merge_only = 0;
+  double worst_sum = 0.0;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int sample = 0; sample < 16; ++sample) {
+        const BdptMisCheck c = vcm_mis_check(scene, desc.render, x, y, sample);
+        for (const double sum : c.sums) worst_sum = std::max(worst_sum, std::abs(sum - 1.0));
+        merge_paths += c.merge_paths;
+        merge_only += c.merge_only_paths;
+      }
+  std::printf("vcm MIS over %zu paths merges make, %zu by merges alone: largest |Σ weights − 1| %.2e\n", merge_paths,
+              merge_only, worst_sum);
+  EXPECT_GT(merge_only, 50u);  // merges alone are checked, not skipped
+  EXPECT_LT(worst_sum, 1e-9);
+}
 
 }  // namespace
 }  // namespace bouguer

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bouguer/integrators/bidirectional.h"
 
@@ -17,10 +18,12 @@ using bidir::Bdpt;
 // and the MIS weights summed, merges included where `bdpt` merges. Also the largest difference
 // between the weight the renderer gave the original split (from the walk's own records) and the
 // recomputed one.
+// (A path a merge makes: renderer_weight NaN, none compared; the count of connections that could
+// make it goes to `connections`.)
 template <std::size_t N>
 void check_path(Bdpt<N>& bdpt, const RenderScene& scene, const std::vector<Vertex<N>>& light,
                 const std::vector<Vertex<N>>& camera, int s, int t, double tau_connection, double renderer_weight,
-                BdptMisCheck& out) {
+                BdptMisCheck& out, int* connections = nullptr) {
   std::vector<Vertex<N>> full(light.begin(), light.begin() + s);
   for (int j = t - 1; j >= 0; --j) full.push_back(camera[static_cast<std::size_t>(j)]);
   const int n = s + t;
@@ -74,7 +77,9 @@ void check_path(Bdpt<N>& bdpt, const RenderScene& scene, const std::vector<Verte
     split(s2, false);
     const double w = bdpt.mis_weight(l2, c2, nullptr, s2, t2, s2 > 0 ? tau[static_cast<std::size_t>(s2 - 1)] : 0.0);
     sum += w;
-    if (s2 == s) out.max_weight_difference = std::max(out.max_weight_difference, std::abs(w - renderer_weight));
+    if (connections) ++*connections;
+    if (s2 == s && !std::isnan(renderer_weight))
+      out.max_weight_difference = std::max(out.max_weight_difference, std::abs(w - renderer_weight));
   }
   if (bdpt.merges()) {
     std::vector<double> sums;
@@ -153,6 +158,22 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
       lens_path = camera_path;
       if (sampled) lens_path[0] = lens;
       check_path(bdpt, scene, light_path, lens_path, s, t, tau, w_render, out);
+    }
+  // The paths merges make: light vertex j (a photon) standing in for camera vertex t − 1 where both
+  // can merge (the same medium, or surfaces), joined to the camera subpath before it.
+  if (!bdpt.merges()) return;
+  for (int t = 2; t <= nc; ++t)
+    for (int j = 1; j < nl; ++j) {
+      const Vertex<N>& pt = camera_path[static_cast<std::size_t>(t - 1)];
+      const Vertex<N>& q = light_path[static_cast<std::size_t>(j)];
+      if (!Bdpt<N>::mergeable(pt) || !Bdpt<N>::mergeable(q) || pt.kind != q.kind ||
+          (pt.kind == VertexKind::medium && pt.medium != q.medium))
+        continue;
+      int connections = 0;
+      check_path(bdpt, scene, light_path, camera_path, j + 1, t - 1, pt.tau_in,
+                 std::numeric_limits<double>::quiet_NaN(), out, &connections);
+      ++out.merge_paths;
+      if (connections == 0) ++out.merge_only_paths;
     }
 }
 

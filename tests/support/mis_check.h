@@ -16,12 +16,17 @@ struct BdptMisCheck {
   std::vector<double> sums;
   double max_weight_difference = 0.0;
   std::size_t lens_through_media = 0;  // paths whose lens connection (t = 1) has a scattering depth > 0
+  // vcm: full paths a merge makes (the light subpath to a photon, the camera subpath from the vertex
+  // merged before it), and of them those no connection can make (every connection meets a
+  // specular vertex: light scattered once in a liquid behind glass from a point lamp).
+  std::size_t merge_paths = 0, merge_only_paths = 0;
 };
 
 // bdpt's strategies (bdpt.cpp) for camera sample `sample` of pixel (x, y).
 BdptMisCheck bdpt_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
 // The same for vertex connection and merging (vcm.cpp): the merging strategies at every vertex
-// where a path can merge are in each sum too (the radius of iteration `sample`).
+// where a path can merge are in each sum too (the radius of iteration `sample`), and the full
+// paths merges make are checked besides those connections make.
 BdptMisCheck vcm_mis_check(const RenderScene& scene, const RenderSettings& settings, int x, int y, int sample);
 
 }  // namespace bouguer

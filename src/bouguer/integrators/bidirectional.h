@@ -62,12 +62,19 @@ inline bool is_delta_light(const Light& light) {
          std::holds_alternative<DistantLight>(light);
 }
 
-// (p_rev/p_fwd)² of a vertex, a density 0 (a specular vertex's, or a light's at infinity)
-// counting as 1 so that the ratio passes the vertex by, as pbrt-v4's remap0.
-inline double ratio2(double pdf_rev, double pdf_fwd) {
-  auto remap0 = [](double p) { return p != 0.0 ? p : 1.0; };
-  return sq(remap0(pdf_rev) / remap0(pdf_fwd));
-}
+// A density 0 (a specular vertex's, a vertex's reached through one, or a light's at infinity)
+// counting as 1, as pbrt-v4's remap0: the unknown delta factor is the same in every strategy of a
+// path, so it is taken as 1 in all of them, ratios and merges alike.
+inline double remap0(double p) { return p != 0.0 ? p : 1.0; }
+
+// (p_rev/p_fwd)² of a vertex, passing specular vertices by (remap0).
+inline double ratio2(double pdf_rev, double pdf_fwd) { return sq(remap0(pdf_rev) / remap0(pdf_fwd)); }
+
+// A merge's density at x relative to the connection just before it, squared: (p·η)², p the
+// density with which the subpath that stores the photon reached x, remapped as ratio2's (a vertex
+// reached through a specular one has p = 0, and merging there is often its path's only
+// strategy: light scattered once in a liquid behind glass from a point lamp).
+inline double merge2(double pdf, double eta) { return sq(remap0(pdf) * eta); }
 
 // What a merge's weight needs of the light vertex before the photon: where it is (for the density
 // of sampling it from the merge point) and the density with which the light subpath made it.
@@ -380,7 +387,7 @@ double Bdpt<N>::light_side(const std::vector<Vertex<N>>& light, int s, const Ver
   // merging at it.
   const bool delta_before = s > 1 ? light[static_cast<std::size_t>(s - 2)].delta : is_delta_light(s_.lights[static_cast<std::size_t>(qs.light)]);
   double at_qs = delta_before ? 0.0 : 1.0;
-  if (merges() && s > 1 && mergeable(qs)) at_qs += sq(qs.pdf_fwd * eta(qs));
+  if (merges() && s > 1 && mergeable(qs)) at_qs += merge2(qs.pdf_fwd, eta(qs));
   if (s > 1)
     at_qs += ratio2(qs_minus_rev, light[static_cast<std::size_t>(s - 2)].pdf_fwd) * light_sums_[static_cast<std::size_t>(s - 1)];
   return ratio2(qs_rev, qs.pdf_fwd) * at_qs;
@@ -394,11 +401,11 @@ double Bdpt<N>::camera_side(const std::vector<Vertex<N>>& camera, int t, double 
   if (t < 2) return 0.0;
   const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
   const Vertex<N>& pt_minus = camera[static_cast<std::size_t>(t - 2)];
-  double merge_at_pt = merges() && mergeable(pt) ? sq(pt_rev * eta(pt)) : 0.0;
+  double merge_at_pt = merges() && mergeable(pt) ? merge2(pt_rev, eta(pt)) : 0.0;
   double beyond = pt_minus.delta ? 0.0 : 1.0;  // the connection between pt and pt_minus
   if (t > 2) {
     const Vertex<N>& before = camera[static_cast<std::size_t>(t - 3)];
-    if (merges() && mergeable(pt_minus)) beyond += sq(pt_minus_rev * eta(pt_minus));
+    if (merges() && mergeable(pt_minus)) beyond += merge2(pt_minus_rev, eta(pt_minus));
     beyond += ratio2(pt_minus_rev, pt_minus.pdf_fwd) *
               ((!pt_minus.delta && !before.delta ? 1.0 : 0.0) + camera_sums_[static_cast<std::size_t>(t - 2)]);
   }
@@ -419,14 +426,14 @@ void Bdpt<N>::subpath_sums(const std::vector<Vertex<N>>& path, bool light, std::
       const Vertex<N>& x = path[j - 1];
       const bool delta_before = j > 1 ? path[j - 2].delta : is_delta_light(s_.lights[static_cast<std::size_t>(path[0].light)]);
       double at_x = !x.delta && !delta_before ? 1.0 : 0.0;
-      if (merges() && j > 1 && mergeable(x)) at_x += sq(x.pdf_fwd * eta(x));
+      if (merges() && j > 1 && mergeable(x)) at_x += merge2(x.pdf_fwd, eta(x));
       sums[j] = at_x + (j >= 2 ? ratio2(path[j - 2].pdf_rev, path[j - 2].pdf_fwd) * sums[j - 1] : 0.0);
     }
     return;
   }
   for (std::size_t k = 2; k < path.size(); ++k) {
     const Vertex<N>& x = path[k - 1];
-    const double merge_at_x = merges() && mergeable(x) ? sq(x.pdf_rev * eta(x)) : 0.0;
+    const double merge_at_x = merges() && mergeable(x) ? merge2(x.pdf_rev, eta(x)) : 0.0;
     sums[k] = merge_at_x + ratio2(x.pdf_rev, x.pdf_fwd) * ((!x.delta && !path[k - 2].delta ? 1.0 : 0.0) + sums[k - 1]);
   }
 }
@@ -443,7 +450,7 @@ double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const 
   const double rev_before =
       t >= 3 ? to_area_density(direction_pdf(pt, wo, true), pt.point, camera[static_cast<std::size_t>(t - 2)], pt.tau_in)
              : 0.0;
-  const double own = sq(q.pdf_fwd * eta(pt));
+  const double own = merge2(q.pdf_fwd, eta(pt));
   const double sum = (q.prev.delta ? 0.0 : 1.0) + ratio2(rev_prev, q.prev.pdf_fwd) * q.sums +
                      camera_side(camera, t, q.pdf_fwd, rev_before);
   return sum > 0.0 ? own / sum : 0.0;
