@@ -397,9 +397,9 @@ TEST(ManifoldNextEvent, PointLampInsideASmoothShadedBallLightsTheCeilingAsTheSph
 // where the shadow rays go straight through and no solve is needed. The liquid's mean over the
 // pixels, the path tracer at 1024 samples, two seeds each (standard errors 0.15 % and 0.02 %):
 // measured 0.6 % apart (0.08476 against 0.08531; 0.8 % at n = 1.001 and 1.002, so not the physics
-// of the small index steps, and not understood); asserted within 1.5 %. Before the segments stopped short of their crossings by a ray's offset,
-// a segment through the 2 mm wall was blocked by the wall's other face: 17 % dark under the spot,
-// 37 % under the point lamp.
+// of the small index steps, and not understood); asserted within 1.5 %. Before shadow rays were
+// aimed at their target from their offset origin (transmission), a segment through the 2 mm wall
+// was blocked by the wall's other face: 17 % dark under the spot, 37 % under the point lamp.
 TEST(ManifoldNextEvent, LitTumblerThroughItsWallsMatchesTheIndexMatchedTumbler) {
   auto liquid = [](double glass_n, double liquid_n) {
     std::string json = test::lit_tumbler("path");

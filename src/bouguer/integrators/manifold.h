@@ -178,12 +178,7 @@ std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex
       r.wi = dir;
       medium = medium_towards(dir);
     }
-    // Short of the crossing by twice the offset of a ray leaving a surface (offset_ray_origin):
-    // transmission stops 1e-4 of the way short, which a segment through a 2 mm wall does not
-    // leave (its crossing then blocked its own segment: a tumbler's wall came out dark).
-    const double margin = 8e-6 * std::max({std::abs(y.x), std::abs(y.y), std::abs(y.z), 1e-3});
-    if (!(d > 2.0 * margin)) return std::nullopt;
-    const auto t = transmission(v, from, dir, d - margin, medium, w, rng, rays);
+    const auto t = transmission(v, from, dir, d, medium, w, rng, rays);
     if (!t) return std::nullopt;
     r.tr *= t->tr;
     r.r_l *= t->ratios.r_l;
