@@ -168,13 +168,17 @@ double layered_ceiling_radiance(const std::vector<Layer>& layers, double r) {
 // lamp's index not the ceiling's: the ray tube's (η_x/η_q)² is 0.57 there). Every pixel within
 // 0.3 % of the closed form averaged over its footprint, the mean within 0.05 % (the path tracer
 // draws no random number here but the pixel position). Before: black (a shadow ray met more than
-// one face); without Fresnel at one crossing about 4 % bright, without the index ratio 77 %.
+// one face); without Fresnel at one crossing about 4 % bright, without the index ratio 77 %. And a
+// 2 mm pane 30 m from the origin, where rounding is 300 times coarser: before Newton's tolerance
+// and the crossings' window followed the coordinates' rounding, the ceiling read 0.63 of the
+// closed form there, pixels 56 % off.
 TEST(ManifoldNextEvent, PointLampUnderFlatLayersLightsTheCeilingAsTheClosedFormSays) {
   struct Case {
     const char* what;
     std::string objects;
     double lamp_y;
     std::vector<Layer> layers;
+    double x_m = 0.0;  // the whole scene moved along x
   };
   const std::vector<Case> cases{
       {"a glass pane",
@@ -191,22 +195,26 @@ TEST(ManifoldNextEvent, PointLampUnderFlatLayersLightsTheCeilingAsTheClosedFormS
        R"({"name": "water", "shape": {"type": "box", "size": [2, 0.2, 2]}, "transform": [{"translate": [0, 0.1, 0]}],
            "inside": "water"})",
        -0.05, {{0.05, 1.0}, {kCeiling_m, kN}}},
+      {"a 2 mm pane 30 m from the origin",
+       R"({"name": "pane", "shape": {"type": "box", "size": [2, 0.002, 2]}, "transform": [{"translate": [30, 0.001, 0]}],
+           "inside": "glass"})",
+       -0.05, {{0.05, 1.0}, {0.002, 1.5}, {kCeiling_m - 0.002, 1.0}}, 30.0},
   };
   for (const Case& c : cases) {
     const Film film = test::render_text(fmt::format(R"({{
-      "camera": {{"type": "orthographic", "position": [0, 0.05, 0], "look_at": [0, 1, 0], "up": [0, 0, -1],
-                 "width": {}, "resolution": [{}, {}]}},
+      "camera": {{"type": "orthographic", "position": [{7}, 0.05, 0], "look_at": [{7}, 1, 0], "up": [0, 0, -1],
+                 "width": {0}, "resolution": [{1}, {1}]}},
       "render": {{"integrator": "path", "spectral": "full", "spp": 64, "max_depth": 1, "seed": 5}},
       "world_medium": "vacuum",
-      "media": {{"water": {{"ior": {}}}, "glass": {{"ior": 1.5}}}},
-      "objects": [{},
+      "media": {{"water": {{"ior": {2}}}, "glass": {{"ior": 1.5}}}},
+      "objects": [{3},
         {{"name": "ceiling", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
-          "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, {}, 0]}}],
-          "material": {{"type": "diffuse", "reflectance": {}}}}}],
-      "lights": [{{"type": "point", "position": [0, {}, 0], "spectrum": "D65", "scale": {}}}],
+          "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [{7}, {4}, 0]}}],
+          "material": {{"type": "diffuse", "reflectance": {5}}}}}],
+      "lights": [{{"type": "point", "position": [{7}, {6}, 0], "spectrum": "D65", "scale": {8}}}],
       "background": {{"spectrum": "E", "scale": 0}}
     }})",
-                                                    kView_m, kPixels, kPixels, kN, c.objects, kCeiling_m, kRho, c.lamp_y,
+                                                    kView_m, kPixels, kN, c.objects, kCeiling_m, kRho, c.lamp_y, c.x_m,
                                                     kScale));
     const auto [mean, worst] = ceiling_ratio(film, [&](double r) { return layered_ceiling_radiance(c.layers, r); });
     std::printf("point lamp under %s: ceiling / closed form, mean %.5f, worst pixel %.2e (axis %.4g)\n", c.what, mean,

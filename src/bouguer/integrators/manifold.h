@@ -183,7 +183,12 @@ std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex
     r.tr *= t->tr;
     r.r_l *= t->ratios.r_l;
     r.r_u *= t->ratios.r_u;
-    const auto face = s.rays.intersect(Ray{y - dir * (d * 1e-4), dir, d * 2e-4});
+    // The crossing itself, in a window from where transmission stopped (1e-4 of the way and twice
+    // a ray's offset short) to as far past: float rounding far from the origin is wider than
+    // 1e-4 of a 2 mm segment. (Within half the segment, so it never reaches the crossing before.)
+    const double margin = 8e-6 * std::max({std::abs(y.x), std::abs(y.y), std::abs(y.z), 1e-3});
+    const double window = std::min(d * 1e-4 + 2.0 * margin, 0.5 * d);
+    const auto face = s.rays.intersect(Ray{y - dir * window, dir, 2.0 * window});
     ++rays;
     if (!face) return std::nullopt;
     const std::optional<Vec3> n = normal_there(c, *face);
@@ -471,12 +476,14 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
   const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(lamp->p - at.point)) : at.inside;
   // Faces of meshes: one without shading normals has its exact solve below; smooth-shaded ones,
   // and two or more crossings, the chain's.
+  // (A straight segment the chain cannot seed, something else behind the face, leaves a flat face
+  // to its own solve: the refracted path may pass by what the straight one meets.)
   if (!s.rays.analytic(blocker.geometry)) {
+    const bool smooth_shaded = dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9;
     const auto chain = seed_chain(s, at.point, at.hit, inside, lamp->p);
-    if (!chain) return {};
-    const Hit& only = chain->crossing[0].hit;
-    if (chain->count > 1 || dot(only.shading_normal, only.normal) < 1.0 - 1e-9)
+    if (chain && (chain->count > 1 || smooth_shaded))
       return delta_through_chain(v, at, *chain, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
+    if (smooth_shaded) return {};
   }
   const SurfaceSeen seen = surface_seen(s, blocker, inside);
   if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched) return {};
