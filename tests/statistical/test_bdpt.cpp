@@ -326,8 +326,32 @@ TEST(VertexMergingLong, LightsALiquidInGlassAtLeastAsThePathTracerDoes) {
 // one recomputed from the geometry (the walk's density records are right). A scene with every
 // kind of vertex: diffuse and rough dielectric surfaces, smooth glass, a thin dielectric pane, a
 // scattering medium behind an index-matched boundary, an area lamp, a point light and a spot.
-void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const RenderSettings&, int, int, int),
-                               const char* what) {
+using MisCheck = BdptMisCheck (*)(const RenderScene&, const RenderSettings&, int, int, int);
+
+// The checks of every camera sample of an 8 × 8 image at 16 samples, totalled: the paths and the
+// worst |Σ weights − 1| and renderer-vs-recomputed weight over all of them.
+struct MisTotals {
+  std::size_t paths = 0, lens_through_media = 0, merge_paths = 0, merge_only = 0;
+  double worst_sum = 0.0, worst_difference = 0.0;
+};
+MisTotals check_every_sample(MisCheck check, const SceneDesc& desc) {
+  const RenderScene scene = compile(desc);
+  MisTotals t;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int sample = 0; sample < 16; ++sample) {
+        const BdptMisCheck c = check(scene, desc.render, x, y, sample);
+        for (const double sum : c.sums) t.worst_sum = std::max(t.worst_sum, std::abs(sum - 1.0));
+        t.worst_difference = std::max(t.worst_difference, c.max_weight_difference);
+        t.paths += c.sums.size();
+        t.lens_through_media += c.lens_through_media;
+        t.merge_paths += c.merge_paths;
+        t.merge_only += c.merge_only_paths;
+      }
+  return t;
+}
+
+void expect_weights_sum_to_one(MisCheck check, const char* what) {
   const std::string json = R"({
     "camera": {"position": [0, 0.3, 0.5], "look_at": [0, 0.05, 0], "fov_deg": 40, "resolution": [8, 8]},
     "render": {"integrator": "bdpt", "spectral": "hero", "spp": 16, "max_depth": 12},
@@ -354,28 +378,14 @@ void expect_weights_sum_to_one(BdptMisCheck (*check)(const RenderScene&, const R
                {"type": "spot", "position": [-0.2, 0.3, 0], "look_at": [0, 0, 0], "spectrum": "D65", "scale": 0.02}],
     "background": {"spectrum": "D65", "scale": 0.1}
   })";
-  const SceneDesc desc = parse_scene(json, "mis.json");
-  const RenderScene scene = compile(desc);
-  std::size_t paths = 0, lens_through_media = 0, merge_paths = 0, merge_only = 0;
-  double worst_sum = 0.0, worst_difference = 0.0;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x)
-      for (int sample = 0; sample < 16; ++sample) {
-        const BdptMisCheck c = check(scene, desc.render, x, y, sample);
-        for (const double sum : c.sums) worst_sum = std::max(worst_sum, std::abs(sum - 1.0));
-        worst_difference = std::max(worst_difference, c.max_weight_difference);
-        paths += c.sums.size();
-        lens_through_media += c.lens_through_media;
-        merge_paths += c.merge_paths;
-        merge_only += c.merge_only_paths;
-      }
+  const MisTotals t = check_every_sample(check, parse_scene(json, "mis.json"));
   std::printf("%s MIS over %zu full paths (%zu lens connections through the haze; %zu made by merges, %zu by merges "
               "alone): largest |Σ weights − 1| %.2e, largest renderer-vs-recomputed weight %.2e\n",
-              what, paths, lens_through_media, merge_paths, merge_only, worst_sum, worst_difference);
-  EXPECT_GT(paths, 800u);
-  EXPECT_GT(lens_through_media, 10u);  // t = 1 through a medium is checked, not skipped
-  EXPECT_LT(worst_sum, 1e-9);
-  EXPECT_LT(worst_difference, 1e-3);  // hit points are rounded: measured 1.1e-4 (bdpt), 2e-5 (vcm)
+              what, t.paths, t.lens_through_media, t.merge_paths, t.merge_only, t.worst_sum, t.worst_difference);
+  EXPECT_GT(t.paths, 800u);
+  EXPECT_GT(t.lens_through_media, 10u);  // t = 1 through a medium is checked, not skipped
+  EXPECT_LT(t.worst_sum, 1e-9);
+  EXPECT_LT(t.worst_difference, 1e-3);  // hit points are rounded: measured 1.1e-4 (bdpt), 2e-5 (vcm)
 }
 
 TEST(Bidirectional, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_one(bdpt_mis_check, "bdpt"); }
@@ -401,21 +411,11 @@ TEST(VertexMerging, AMergeThatAloneMakesAPathWeighsOne) {
                  "transform": [{"translate": [0, 0.04, 0]}], "inside": "juice"}],
     "lights": [{"type": "point", "position": [0.05, 0.05, 0], "spectrum": "D65", "scale": 0.05}]
   })", "juice.json");
-  const RenderScene scene = compile(desc);
-  std::size_t merge_paths = 0, merge_only = 0;
-  double worst_sum = 0.0;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x)
-      for (int sample = 0; sample < 16; ++sample) {
-        const BdptMisCheck c = vcm_mis_check(scene, desc.render, x, y, sample);
-        for (const double sum : c.sums) worst_sum = std::max(worst_sum, std::abs(sum - 1.0));
-        merge_paths += c.merge_paths;
-        merge_only += c.merge_only_paths;
-      }
-  std::printf("vcm MIS over %zu paths merges make, %zu by merges alone: largest |Σ weights − 1| %.2e\n", merge_paths,
-              merge_only, worst_sum);
-  EXPECT_GT(merge_only, 50u);  // merges alone are checked, not skipped
-  EXPECT_LT(worst_sum, 1e-9);
+  const MisTotals t = check_every_sample(vcm_mis_check, desc);
+  std::printf("vcm MIS over %zu paths merges make, %zu by merges alone: largest |Σ weights − 1| %.2e\n", t.merge_paths,
+              t.merge_only, t.worst_sum);
+  EXPECT_GT(t.merge_only, 50u);  // merges alone are checked, not skipped
+  EXPECT_LT(t.worst_sum, 1e-9);
 }
 
 }  // namespace

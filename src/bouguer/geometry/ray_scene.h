@@ -82,11 +82,16 @@ class RayScene {
 // direction points to, by a distance that scales with the coordinates' magnitude (a few dozen
 // float ulps), so secondary rays neither re-hit their own surface nor skip thin slivers.
 // Inline: it runs at every vertex of every path.
-inline Vec3 offset_ray_origin(const Hit& hit, bool towards_normal) {
-  const Vec3& p = hit.point;
+// The distance a ray's origin is moved off a surface at p: ≈ 32 float ulps of its largest
+// coordinate (at least 1 mm's). Also how far short of a target on a surface a ray must stop
+// (twice it) for that surface not to block it (transmission, manifold.h).
+inline double ray_offset_m(const Vec3& p) {
   const double magnitude = std::max(std::max(std::abs(p.x), std::abs(p.y)), std::max(std::abs(p.z), 1e-3));
-  const double offset = 4e-6 * magnitude;  // ≈ 32 float ulps of the largest coordinate
-  return p + hit.normal * (towards_normal ? offset : -offset);
+  return 4e-6 * magnitude;
+}
+inline Vec3 offset_ray_origin(const Hit& hit, bool towards_normal) {
+  const double offset = ray_offset_m(hit.point);
+  return hit.point + hit.normal * (towards_normal ? offset : -offset);
 }
 inline Vec3 offset_ray_origin(const Hit& hit, const Vec3& direction) {
   return offset_ray_origin(hit, dot(direction, hit.normal) > 0.0);

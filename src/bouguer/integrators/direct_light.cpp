@@ -31,11 +31,11 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   const RenderScene& s = v.scene;
   Transmission<N> out;
   // The ray leaves from the offset origin (offset_ray_origin) aimed at the target itself, and stops
-  // short of it by 1e-4 of the way and by twice a ray's offset there (4e-6 of its largest
-  // coordinate), so the target's own surface never blocks it. Aimed along wi from the offset origin
-  // instead, a ray grazing its surface met the target's plane ε/cos θ early: 10 m from the origin,
-  // where ε = 4e-5 m, a lamp 5 cm above a floor blocked its own shadow rays (the floor 13-20 %
-  // dark), and a segment through a 2 mm glass wall was blocked by the wall's far face.
+  // short of it by 1e-4 of the way and by twice a ray's offset there (ray_offset_m), so the
+  // target's own surface never blocks it. Aimed along wi from the offset origin instead, a ray
+  // grazing its surface met the target's plane ε/cos θ early: 10 m from the origin, where
+  // ε = 4e-5 m, a lamp 5 cm above a floor blocked its own shadow rays (the floor 13-20 % dark),
+  // and a segment through a 2 mm glass wall was blocked by the wall's far face.
   const Vec3 origin = from.origin_towards(wi);
   Vec3 direction = wi;
   double remaining = distance_m, margin_m = 0.0;
@@ -43,7 +43,7 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
     const Vec3 target = from.point + wi * distance_m, to = target - origin;
     remaining = length(to);
     if (remaining > 0.0) direction = to / remaining;
-    margin_m = 8e-6 * std::max({std::abs(target.x), std::abs(target.y), std::abs(target.z), 1e-3});
+    margin_m = 2.0 * ray_offset_m(target);
   }
   auto t_max = [&] { return std::isinf(remaining) ? remaining : std::max(0.0, remaining * (1.0 - 1e-4) - margin_m); };
   RaySegment seg{Ray{origin, direction, t_max()}, from.point, medium,

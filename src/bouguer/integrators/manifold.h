@@ -186,8 +186,7 @@ std::optional<Reach<N>> follow_crossings(const SceneView<N>& v, const PathVertex
     // The crossing itself, in a window from where transmission stopped (1e-4 of the way and twice
     // a ray's offset short) to as far past: float rounding far from the origin is wider than
     // 1e-4 of a 2 mm segment. (Within half the segment, so it never reaches the crossing before.)
-    const double margin = 8e-6 * std::max({std::abs(y.x), std::abs(y.y), std::abs(y.z), 1e-3});
-    const double window = std::min(d * 1e-4 + 2.0 * margin, 0.5 * d);
+    const double window = std::min(d * 1e-4 + 4.0 * ray_offset_m(y), 0.5 * d);
     const auto face = s.rays.intersect(Ray{y - dir * window, dir, 2.0 * window});
     ++rays;
     if (!face) return std::nullopt;

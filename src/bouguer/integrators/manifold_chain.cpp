@@ -81,26 +81,25 @@ Vec3 shading_normal(const Triangle& t, const Vec3& y) {
 }
 
 // The surface a ray from `origin` along d meets first within max_m, seen from the nested set
-// `inside`, crossing index-matched ones (the set updated): nothing where none is that near
-// (`gave_up`: nor after 16 index-matched crossings, which is no clear way either).
+// `inside`, crossing index-matched ones as every ray does (advance_to_surface; the set updated):
+// nothing where none is that near (`gave_up`: nor after kMaxCrossings of them, which is no clear
+// way either).
 struct Met {
   Hit hit;
   SurfaceSeen seen;
 };
-std::optional<Met> next_surface(const RenderScene& s, Vec3 origin, const Vec3& d, double max_m, InsideSet& inside,
-                                bool* gave_up = nullptr) {
-  if (gave_up) *gave_up = false;
-  for (int k = 0; k < 16; ++k) {
-    const auto h = s.rays.intersect(Ray{origin, d, max_m});
-    if (!h) return std::nullopt;
-    const SurfaceSeen seen = surface_seen(s, *h, inside);
-    if (!(seen.surface.kind == SurfaceKind::interface && seen.index_matched)) return Met{*h, seen};
-    inside = inside_towards(s, *h, inside, d);
-    max_m -= length(h->point - origin);
-    origin = offset_ray_origin(*h, d);
-  }
-  if (gave_up) *gave_up = true;
-  return std::nullopt;
+std::optional<Met> next_surface(const RenderScene& s, const Vec3& origin, const Vec3& d, double max_m,
+                                InsideSet& inside, bool* gave_up = nullptr) {
+  RaySegment seg{Ray{origin, d, max_m}, origin, -1, inside};
+  std::uint64_t rays = 0;
+  const RayStop stop = advance_to_surface(s, seg, rays, [&](const Hit* hit, const SurfaceSeen*) {
+    if (hit) seg.ray.t_max -= length(hit->point - seg.start);  // the next ray: what is left of max_m
+    return true;
+  });
+  inside = seg.inside;
+  if (gave_up) *gave_up = stop.at == RayStop::At::crossings_exhausted;
+  if (stop.at != RayStop::At::surface) return std::nullopt;
+  return Met{*stop.hit, *stop.seen};
 }
 
 // A surface the chain can refract at: a smooth, non-dispersive interface of a mesh without a
