@@ -13,13 +13,16 @@
 # y 56–66 %), and noise × √seconds (lower is better; the ratio of two rows' is the square root of
 # their efficiency ratio). Reports only; figures in docs/performance.md.
 #   bench/manifold.sh build/bouguer
-# SPP (64), RESOLUTION (96x72), THREADS (2), SCENES ("ball caustic") may be set.
+# SPP (64), RESOLUTION (96x72), THREADS (2), SCENES ("ball caustic"), RUNS may be set.
 set -euo pipefail
 bin=$(realpath "${1:-build/bouguer}")
 spp=${SPP:-64}
 resolution=${RESOLUTION:-96x72}
 threads=${THREADS:-2}
 scenes=${SCENES:-"ball caustic"}
+# The estimators compared, '|'-separated: integrator, manifold on|off, guiding on|off (bench/guiding.sh
+# sets its own).
+runs=${RUNS:-"path on|path off|bdpt off|vcm off"}
 repo=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -79,12 +82,14 @@ PY
 echo "| scene | estimator | spp | seconds (one render) | mean ΔE00 (frame) | mean ΔE00 (region) | frame ΔE00 × √s | region × √s |"
 echo "|---|---|---|---|---|---|---|---|"
 for scene in $scenes; do
-  for run in "path on" "path off" "bdpt off" "vcm off"; do
-    read -r integrator manifold <<<"$run"
+  IFS='|' read -ra run_list <<<"$runs"
+  for run in "${run_list[@]}"; do
+    read -r integrator manifold guiding <<<"$run"
+    guiding=${guiding:-off}
     total=0
     for seed in 1 2; do
       "$bin" render "$tmp/$scene-$manifold.json" --integrator "$integrator" --spp "$spp" --resolution "$resolution" \
-        --threads "$threads" --seed "$seed" -o "$tmp/$seed.pfm" --stats-json "$tmp/s.json" --quiet
+        --threads "$threads" --seed "$seed" --guiding "$guiding" -o "$tmp/$seed.pfm" --stats-json "$tmp/s.json" --quiet
       s=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$tmp/s.json")
       total=$(echo "$total $s" | awk '{print $1 + $2}')
     done
@@ -93,6 +98,7 @@ for scene in $scenes; do
     read -r whole under < <(noise "$tmp/1.pfm" "$tmp/2.pfm" "$region")
     label=$integrator
     [[ $integrator == path ]] && label="path, manifold $manifold"
+    [[ $guiding == on ]] && label="$label, guided"
     echo "$scene|$label|$spp|$total|$whole|$under" | awk -F'|' '{s = $4 / 2; printf "| %s | %s | %s | %.2f | %s | %s | %.3f | %.3f |\n", $1, $2, $3, s, $5, $6, $5 * sqrt(s), $6 * sqrt(s)}'
   done
 done

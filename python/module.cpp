@@ -27,6 +27,7 @@
 #include "bouguer/core/limits.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/integrators/choose.h"
+#include "bouguer/integrators/guiding.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
@@ -226,6 +227,10 @@ void render_passes(const RenderScene& scene, const RenderSettings& settings, Fil
   control.threads = a.threads;
   control.cancel = &st.cancel;
   const int first = st.complete;  // samples the film has already (integrator "auto"'s trial)
+  // Path guiding (integrators/guiding.h): trained first; with a budget, in at most a quarter of it.
+  GuideTraining training;
+  const auto guide = prepare_guide(scene, settings, control, stats, training, budget_s / 4.0);
+  control.guide = guide.get();
   for (int begin = first; begin < spp && !st.cancel;) {
     int end = std::min(spp, begin + std::clamp(begin, 1, kMaxPassSpp));
     if (budget_s > 0.0 && begin > first) {

@@ -20,6 +20,7 @@
 #include "bouguer/io/output_set.h"
 #include "bouguer/integrators/choose.h"
 #include "bouguer/integrators/render_into.h"
+#include "bouguer/integrators/guiding.h"
 #include "bouguer/render/adaptive.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/display_white.h"
@@ -117,7 +118,7 @@ struct Adaptive {
 
 Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
                      Progress& progress, RenderStats& stats, double budget_s = 0.0, Adaptive* adaptive = nullptr,
-                     int first = 0) {
+                     int first = 0, const PathGuide* guide = nullptr) {
   const int spp = settings.spp;
   const auto start = std::chrono::steady_clock::now();
   Passes p;
@@ -136,6 +137,7 @@ Passes render_passes(const RenderScene& scene, const RenderSettings& settings, F
     control.threads = threads;
     control.cancel = &g_interrupted;
     if (adaptive) control.active = &adaptive->active;
+    control.guide = guide;
     control.progress = [&](double f) {
       fraction = f;
       if (budget_s > 0.0)  // the budget ends the render first unless the samples do
@@ -221,10 +223,26 @@ int run_render(const RenderCli& o) {
   FilmBuffer buffer = choice && choice->film && !mpi ? std::move(*choice->film) : make_film(scene, keep_spectra);
   if (choice) choice->film.reset();
   const int first = choice && !mpi ? choice->trial_spp : 0;
+  // Path guiding (integrators/guiding.h): trained before the render, by every rank alike; with a
+  // budget of seconds, in at most a quarter of what is left of it.
+  GuideTraining training;
+  std::unique_ptr<PathGuide> guide;
+  if (guiding_enabled(settings)) {
+    if (!o.quiet) fmt::print(stderr, "guiding: training\n");
+    RenderControl control;
+    control.threads = o.threads;
+    control.cancel = &g_interrupted;
+    const double left_s = o.time_s > 0.0 ? std::max(o.time_s - stats.seconds, 1e-9) : 0.0;
+    guide = prepare_guide(scene, settings, control, stats, training, left_s / 4.0);
+    if (!o.quiet)
+      fmt::print(stderr, "guiding: {} iterations ({} spp) in {:.2f} s, {} records, {} cells, {:.1f} MB\n",
+                 training.iterations, training.spp, training.seconds, training.records, training.leaves,
+                 static_cast<double>(training.bytes) / 1e6);
+  }
   Passes passes;
   if (mpi) {  // one rank of mpirun -np N: rank 0 writes (docs/distributed.md)
     if (!distributed::render_over_ranks(scene, settings, buffer, o.threads, o.quiet,
-                                        [&](double f) { progress.update(f); }, stats))
+                                        [&](double f) { progress.update(f); }, stats, guide.get()))
       return 0;
     passes.complete = settings.spp;
   } else {
@@ -240,7 +258,7 @@ int run_render(const RenderCli& o) {
     // A budget of seconds includes the trials.
     const double budget_s = o.time_s > 0.0 ? std::max(o.time_s - stats.seconds, 1e-9) : 0.0;
     passes = render_passes(scene, settings, buffer, o.threads, progress, stats, budget_s,
-                           adaptive ? &*adaptive : nullptr, first);
+                           adaptive ? &*adaptive : nullptr, first, guide.get());
   }
   const bool interrupted = g_interrupted && passes.complete < settings.spp;
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
@@ -294,6 +312,9 @@ int run_render(const RenderCli& o) {
                     {"trial_spp", choice->trial_spp},
                     {"trials", trials}};
     }
+    if (guide)
+      jv["guiding"] = {{"iterations", training.iterations}, {"spp", training.spp}, {"seconds", training.seconds},
+                       {"records", training.records}, {"cells", training.leaves}, {"bytes", training.bytes}};
     if (stats.iterations > 0)
       jv["vcm"] = {{"iterations", stats.iterations}, {"light_paths", stats.light_paths}, {"photons", stats.photons},
                    {"merges", stats.merges}, {"last_radius_m", stats.radius_m}};
@@ -377,6 +398,7 @@ SceneDesc load_scene_with(const std::string& scene, const SceneOverrides& o) {
   if (o.spp) b.spp(*o.spp, Source::option("--spp"));
   if (o.max_depth) b.max_depth(*o.max_depth, Source::option("--max-depth"));
   if (o.seed) b.seed(*o.seed, Source::option("--seed"));
+  if (!o.guiding.empty()) b.guiding(o.guiding == "on");
   if (!o.resolution.empty()) {
     const Resolution r = parse_resolution(o.resolution);
     b.resolution(r.width, r.height, Source::option("--resolution"));
@@ -436,6 +458,10 @@ Command add_render_command(CLI::App& parent) {
   app->add_option("--studio", over.studio,
                   "A glTF asset's default studio, a uniform white background: on or off (default: on where the "
                   "asset has neither lights nor emitting materials)")
+      ->check(CLI::IsMember({"on", "off"}));
+  app->add_option("--guiding", over.guiding,
+                  "The path tracer's path guiding at diffuse surfaces, trained before the render: on or off "
+                  "(overrides the scene; default off)")
       ->check(CLI::IsMember({"on", "off"}));
   app->add_option("--time", o->time_s,
                   "Render whole passes for at most SECONDS, then write the image (with --spp: whichever ends first; "

@@ -38,6 +38,7 @@ Resolution parse_resolution(const std::string& text);
 struct SceneOverrides {
   std::string integrator, spectral, resolution;
   std::string studio;  // --studio on|off: a glTF asset's default studio (docs/assets.md)
+  std::string guiding;  // --guiding on|off: the path tracer's path guiding (integrators/guiding.h)
   std::optional<std::int64_t> spp, max_depth, seed;
   // The display (io/display.h): --exposure, --iso/--shutter/--f-number (all three), --auto-exposure
   // on|off, --white-balance, --display, --expose-float-outputs.

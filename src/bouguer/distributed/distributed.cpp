@@ -85,11 +85,13 @@ struct Context {
   int threads;
   std::vector<PixelRegion> pieces;
   Job job;
+  const PathGuide* guide = nullptr;  // the same on every rank (integrators/guiding.h)
 };
 
 void render_piece(const Context& c, std::size_t piece, FilmBuffer& film, RenderStats& stats) {
   RenderControl control;
   control.threads = c.threads;
+  control.guide = c.guide;
   render_into(c.scene, c.settings, film, c.pieces[piece], {0, c.settings.spp}, control, stats);
 }
 
@@ -227,7 +229,8 @@ std::vector<PixelRegion> make_pieces(int width_px, int height_px, int ranks, int
 }
 
 bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
-                       bool quiet, const std::function<void(double fraction_done)>& progress, RenderStats& stats) {
+                       bool quiet, const std::function<void(double fraction_done)>& progress, RenderStats& stats,
+                       const PathGuide* guide) {
   const mpi_module::Api& api = mpi();
   int rank = 0, ranks = 1;
   api.init(&rank, &ranks);
@@ -237,7 +240,7 @@ bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings,
     // vcm: every piece traces the light subpaths of the whole image (its photons), so one per rank.
     const int per_rank = settings.integrator == IntegratorType::vcm ? 1 : pieces_per_rank();
     const Context c{scene, settings, threads, make_pieces(film.width(), film.height(), ranks, per_rank),
-                    job_of(scene, settings, film)};
+                    job_of(scene, settings, film), guide};
     if (rank != 0) {
       render_as_worker(c, api, film);
       return false;

@@ -29,6 +29,7 @@ std::vector<PixelRegion> make_pieces(int width_px, int height_px, int ranks, int
 // output is written. `film` must be empty (as make_film gives it); `progress` is called on rank 0,
 // which also prints one line on the pieces and the gather unless `quiet`.
 bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
-                       bool quiet, const std::function<void(double fraction_done)>& progress, RenderStats& stats);
+                       bool quiet, const std::function<void(double fraction_done)>& progress, RenderStats& stats,
+                       const PathGuide* guide = nullptr);
 
 }  // namespace bouguer::distributed

@@ -16,36 +16,22 @@
 // interfaces to the environment map (exit_guide.h: ExitGuide); Russian roulette by throughput there
 // too. Scattering events do not count against max_depth; a path stops after kMaxScatterings of
 // them (integrators/scene_view.h). Index-matched interfaces are crossed without a vertex.
-// The walk is the one random walk of integrators/walk.h; this file is its visitor.
+// The walk is the one random walk of integrators/walk.h; radiance.h is its visitor.
+// Path guiding (integrators/guiding.h): where the render control carries a trained guide, half the
+// directions at diffuse surfaces and scattering events are drawn from it.
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/integrators/radiance.h"
 
 namespace bouguer {
-namespace {
-
-template <std::size_t N>
-SampledSpectrum<N> path(const SceneView<N>& v, Ray ray, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
-                        std::uint64_t& rays) {
-  WalkState<N> state;
-  state.ray = ray;
-  state.from = state.start = ray.origin;
-  state.medium = v.scene.world_medium;
-  state.dispersion_u = dispersion_u;
-  const Camera::Cone cone = v.camera.pixel_cone();
-  state.cone_width_m = cone.width_m;
-  state.cone_spread_rad = cone.spread_rad;
-  Radiance<N> li{v, w, state, rng, rays, ray.origin, {}, 0, 0};
-  li.next_event = v.manifold ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted;
-  random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
-  return li.l;
-}
-
-}  // namespace
 
 void render_path(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                  SampleRange range, const RenderControl& control, RenderStats& stats) {
   with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    render_camera_paths<N>(scene, settings, film, region, range, control, stats, path<N>);
+    render_camera_paths<N>(scene, settings, film, region, range, control, stats,
+                           [guide = control.guide](const SceneView<N>& v, const Ray& ray, SampledWavelengths<N>& w,
+                                                   double dispersion_u, Rng& rng, std::uint64_t& rays) {
+                             return path_radiance(v, ray, w, dispersion_u, rng, rays, guide);
+                           });
   });
 }
 

@@ -55,6 +55,22 @@ struct CasterTrail {
   }
 };
 
+// A direction the walk drew at a guided-or-guidable vertex, kept until the walk ends to learn the
+// light it found that way (integrators/guiding.h): the throughput after the vertex and the
+// radiance the path had gathered before it.
+template <std::size_t N>
+struct PendingRecord {
+  Vec3f point, direction;
+  float pdf = 0.0f;
+  SampledSpectrum<N> beta, l_before;
+};
+// The share of a guided vertex's directions drawn from the guide (Müller et al.'s 0.5: the BSDF's
+// or phase function's own half bounds the variance where the guide learned wrong).
+inline constexpr double kGuideAlpha = 0.5;
+// A walk keeps the first and the last kPendingRecords / 2 of them (a dense medium's walk has
+// thousands of vertices; what lies between is what the ends see).
+inline constexpr std::size_t kPendingRecords = 64;
+
 // The path tracer's visitor: at each vertex of a camera walk, what it sees directly (an emitter or
 // the environment, weighted against next-event estimation) and next-event estimation; at most
 // max_depth surface vertices and kMaxScatterings medium vertices.
@@ -84,6 +100,48 @@ struct Radiance {
   // (direct_light.h: NextEvent::lights_map_and_interfaces), a bidirectional tail does not.
   NextEvent next_event = NextEvent::lights_and_map_weighted;
   CasterTrail casters = {};
+  // Path guiding (render/path_guide.h): the guide drawn from (null: none), its mixture at the
+  // surface vertex just handed over, and, while it trains (integrators/guiding.h), where the walk's
+  // records go.
+  const PathGuide* guide = nullptr;
+  DirectionGuide here = {};
+  std::vector<GuideRecord>* learning = nullptr;
+  std::vector<PendingRecord<N>> pending = {};
+  std::size_t drawn = 0;
+
+  DirectionGuide direction_guide() const { return here; }
+  // Guided: diffuse surfaces (a glossy lobe narrower than the guide's cells is better drawn by
+  // itself, a specular one always is; scattering events are not guided: integrators/guiding.h).
+  void guide_at(const Vec3& point, bool guidable) {
+    here = {};
+    if (guide && guidable)
+      if (const DirectionTree* t = guide->at(point)) here = DirectionGuide{t, kGuideAlpha};
+  }
+  // (bsdf_pdf: the BSDF's density of d; the record's is the mixture's, which drew it)
+  void learned(const Vec3& point, const Vec3& d, double bsdf_pdf, const SampledSpectrum<N>& beta_after) {
+    if (!learning) return;
+    const PendingRecord<N> r{Vec3f{static_cast<float>(point.x), static_cast<float>(point.y), static_cast<float>(point.z)},
+                             Vec3f{static_cast<float>(d.x), static_cast<float>(d.y), static_cast<float>(d.z)},
+                             static_cast<float>(here.mixture_pdf(bsdf_pdf, d)), beta_after, l};
+    if (pending.size() < kPendingRecords)
+      pending.push_back(r);
+    else  // (the last half a ring)
+      pending[kPendingRecords / 2 + (drawn - kPendingRecords / 2) % (kPendingRecords / 2)] = r;
+    ++drawn;
+  }
+  // The walk has ended: what each kept direction found, per unit of the throughput it left with
+  // (summed over the wavelengths before the ratio, so that a wavelength the path barely carries
+  // does not make one record outweigh a thousand), over its density.
+  void finish_learning() const {
+    if (!learning) return;
+    for (const PendingRecord<N>& r : pending) {
+      double found = 0.0, carried = 0.0;
+      for (std::size_t k = 0; k < N; ++k) found += l[k] - r.l_before[k], carried += r.beta[k];
+      if (carried > 0.0 && r.pdf > 0.0f)
+        learning->push_back(GuideRecord{r.point, r.direction, static_cast<float>(std::max(0.0, found) / carried / r.pdf)});
+    }
+  }
+
   bool through_casters() const {
     return next_event == NextEvent::lights_map_and_interfaces && !v.scene.casters.empty();
   }
@@ -140,9 +198,12 @@ struct Radiance {
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
     return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight,
-                    next_event, casters};
+                    next_event, casters, guide, here, learning};
   }
-  void join(const Radiance& child) { l += child.l; }
+  void join(const Radiance& child) {
+    child.finish_learning();
+    l += child.l;
+  }
 
   bool vertex(const Vertex<N>& x) {
     if (x.kind == VertexKind::light) {
@@ -151,6 +212,7 @@ struct Radiance {
     }
     if (x.kind == VertexKind::medium) return medium_vertex(x.point);  // (the walk calls it itself)
     if (++surfaces > v.max_depth) return false;
+    guide_at(x.point, !x.delta && std::holds_alternative<DiffuseReflection<N>>(x.event.bsdf));
     if (!x.delta) {
       // Through the smooth interfaces in the way, where the walk could still cross one (exit_guide.h:
       // surface_exit_guide; the walk keeps the guide for the direction it draws next).
@@ -205,6 +267,29 @@ struct Radiance {
 };
 static_assert(WalkVisitor<Radiance<kFullBins>, kFullBins> && TakesMediumPoints<Radiance<kFullBins>> &&
               SplitsWalks<Radiance<kFullBins>, kFullBins> && GuidesExits<Radiance<kFullBins>> &&
-              BoundsSurfaceDistance<Radiance<kFullBins>>);
+              BoundsSurfaceDistance<Radiance<kFullBins>> && GuidesDirections<Radiance<kFullBins>, kFullBins>);
+
+// The path tracer's estimate along one camera ray (path.cpp): guided by `guide` where it is not
+// null, and while a guide trains (integrators/guiding.h) its walk's records added to `learning`.
+template <std::size_t N>
+SampledSpectrum<N> path_radiance(const SceneView<N>& v, const Ray& ray, SampledWavelengths<N>& w, double dispersion_u,
+                                 Rng& rng, std::uint64_t& rays, const PathGuide* guide = nullptr,
+                                 std::vector<GuideRecord>* learning = nullptr) {
+  WalkState<N> state;
+  state.ray = ray;
+  state.from = state.start = ray.origin;
+  state.medium = v.scene.world_medium;
+  state.dispersion_u = dispersion_u;
+  const Camera::Cone cone = v.camera.pixel_cone();
+  state.cone_width_m = cone.width_m;
+  state.cone_spread_rad = cone.spread_rad;
+  Radiance<N> li{v, w, state, rng, rays, ray.origin, {}, 0, 0};
+  li.next_event = v.manifold ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted;
+  li.guide = guide;
+  li.learning = learning;
+  random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);
+  li.finish_learning();
+  return li.l;
+}
 
 }  // namespace bouguer

@@ -5,6 +5,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/integrators/choose.h"
+#include "bouguer/integrators/guiding.h"
 #include "bouguer/integrators/integrators.h"
 
 namespace bouguer {
@@ -43,12 +44,20 @@ Film render(const RenderScene& scene, const RenderSettings& settings, const Rend
     RenderSettings chosen = settings;
     chosen.integrator = choice.chosen;
     FilmBuffer film = choice.film ? std::move(*choice.film) : make_film(scene, keep_spectra);
-    render_into(scene, chosen, film, PixelRegion::whole(scene.camera), {choice.trial_spp, settings.spp}, control,
+    GuideTraining training;
+    const auto guide = prepare_guide(scene, chosen, control, stats, training);
+    RenderControl guided = control;
+    if (guide) guided.guide = guide.get();
+    render_into(scene, chosen, film, PixelRegion::whole(scene.camera), {choice.trial_spp, settings.spp}, guided,
                 stats);
     return resolve(film, settings.spp);
   }
   FilmBuffer film = make_film(scene, keep_spectra);
-  render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, control, stats);
+  GuideTraining training;
+  const auto guide = prepare_guide(scene, settings, control, stats, training);
+  RenderControl guided = control;
+  if (guide) guided.guide = guide.get();
+  render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, guided, stats);
   return resolve(film, settings.spp);
 }
 

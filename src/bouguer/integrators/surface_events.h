@@ -6,6 +6,7 @@
 // Contract: each function reads the scene and changes only the path state it is handed.
 #include "bouguer/integrators/media_travel.h"
 #include "bouguer/integrators/surface_assembly.h"
+#include "bouguer/render/path_guide.h"
 
 namespace bouguer {
 
@@ -106,17 +107,31 @@ bool keep_one_wavelength(const SceneView<N>& v, const SurfaceSeen& seen, Sampled
 template <std::size_t N>
 int keep_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, double u, Rng& rng);
 
-// A path's next step from a surface event: wi drawn from the BSDF in the path's transport mode,
-// path.beta multiplied by its weight, path.medium the one wi travels in, path.ray the next ray from
-// the hit, Russian roulette (`depth`: the path's events so far). Returns the sample's pdf (0:
-// specular), or nullopt when the path ends.
+// A path's next step from a surface event: wi drawn from the BSDF in the path's transport mode
+// (with a guide, from the mixture of the guide and the BSDF, render/path_guide.h, and weighted by
+// the mixture's density), path.beta multiplied by its weight, path.medium the one wi travels in,
+// path.ray the next ray from the hit, Russian roulette (`depth`: the path's events so far).
+// Returns the BSDF's own density of wi (0: specular; the MIS weights read it, guided or not:
+// integrators/guiding.h), or nullopt when the path ends. A guided vertex draws one number more.
 template <std::size_t N>
 std::optional<double> continue_path(const RenderScene& scene, const Hit& hit, const SurfaceEvent<N>& e,
                                     const Vec3& wo, TransportMode mode, int depth, PathHead<N>& path, Rng& rng,
-                                    RouletteReading roulette = {}) {
+                                    RouletteReading roulette = {}, const DirectionGuide& guide = {}) {
+  const bool from_guide = guide && rng.next_double() < guide.alpha;
   const double uc = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
-  const auto s = e.sample(wo, uc, u1, u2, mode);
-  if (!s) return std::nullopt;
+  std::optional<BsdfSampleN<N>> s;
+  if (from_guide) {
+    const Vec3 wi = guide.tree->sample(uc, u1, u2);
+    const double pdf = e.pdf(wo, wi);
+    const double mixture = guide.mixture_pdf(pdf, wi);
+    const SampledSpectrum<N> f = e.eval(wo, wi, mode);
+    if (!(pdf > 0.0) || f.is_zero()) return std::nullopt;
+    s = BsdfSampleN<N>{wi, f * static_cast<float>(1.0 / mixture), pdf, dot(wi, e.ng) * dot(wo, e.ng) < 0.0};
+  } else {
+    s = e.sample(wo, uc, u1, u2, mode);
+    if (!s) return std::nullopt;
+    if (guide && s->pdf > 0.0) s->weight *= static_cast<float>(s->pdf / guide.mixture_pdf(s->pdf, s->wi));
+  }
   const Vec3 wi = s->wi;
   path.beta *= s->weight;
   path.medium = e.medium_towards(wi);

@@ -220,6 +220,17 @@ concept GuidesExits = requires(V& visit) {
   { visit.exit_guide_trail() } -> std::same_as<GuideTrail&>;
 };
 
+// GuidesDirections: direction_guide() -> DirectionGuide, the path guide (render/path_guide.h) to
+//   draw the next direction with at the surface vertex just handed over (a null one: the BSDF's
+//   own, and no number more drawn); learned(point, direction, pdf, beta): the direction then drawn
+//   there, the BSDF's density of it and the throughput after it (the guide's training,
+//   integrators/guiding.h). Medium vertices are never guided (guiding.h says why).
+template <typename V, std::size_t N>
+concept GuidesDirections = requires(V& visit, const Vec3& p, double pdf, const SampledSpectrum<N>& beta) {
+  { visit.direction_guide() } -> std::same_as<DirectionGuide>;
+  visit.learned(p, p, pdf, beta);
+};
+
 // Whether a visitor wants every vertex as a record just now (KeepsRecords).
 template <typename Visitor>
 bool keeps_records(const Visitor& visit) {
@@ -279,6 +290,17 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     else
       return none;
   }();
+  // The visitor's path guide at the vertex it was just handed (GuidesDirections), and its record of
+  // the direction then drawn.
+  auto guide_here = [&]() -> DirectionGuide {
+    if constexpr (GuidesDirections<Visitor, N>)
+      return visit.direction_guide();
+    else
+      return {};
+  };
+  auto learned = [&]([[maybe_unused]] const Vec3& point, [[maybe_unused]] double bsdf_pdf) {
+    if constexpr (GuidesDirections<Visitor, N>) visit.learned(point, state.ray.direction, bsdf_pdf, state.beta);
+  };
   auto make = [&](VertexKind kind, const Vec3& point) {
     Vertex<N> x;
     x.kind = kind;
@@ -451,9 +473,11 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     if (!vx.delta) trail.clear();  // (the visitor may set a surface's: radiance.h)
     if (!record(vx)) return;
     const SurfaceEvent<N>& e = vx.event;
-    const auto bsdf_pdf = continue_path(scene, hit, e, wo, mode, events, state, rng, roulette());
+    const auto bsdf_pdf =
+        continue_path(scene, hit, e, wo, mode, events, state, rng, roulette(), vx.delta ? DirectionGuide{} : guide_here());
     if (!bsdf_pdf) return;
     if (!vx.delta) {
+      learned(hit.point, *bsdf_pdf);
       trail.drew(state.ray.direction, *bsdf_pdf);  // (read only where the visitor set a guide)
     } else if (seen.surface.kind != SurfaceKind::interface ||
                dot(d, hit.normal) * dot(state.ray.direction, hit.normal) <= 0.0) {

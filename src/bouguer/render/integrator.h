@@ -19,6 +19,8 @@
 
 namespace bouguer {
 
+class PathGuide;
+
 struct PixelRegion {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) × [y0, y1)
   static PixelRegion whole(const CameraDesc& c) { return {0, 0, c.width_px, c.height_px}; }
@@ -38,6 +40,9 @@ struct RenderControl {
   // take no more samples. Null: every pixel does. Only the estimators whose samples stay in their
   // pixel read it (those without splats: IntegratorInfo::splats).
   const std::vector<std::uint8_t>* active = nullptr;
+  // Path guiding (render/path_guide.h, integrators/guiding.h): what the path tracer draws a share
+  // of its directions from, trained before the render. Null: unguided.
+  const PathGuide* guide = nullptr;
 };
 
 struct RenderStats {

@@ -119,6 +119,11 @@ SceneBuilder& SceneBuilder::manifold(bool on) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::guiding(bool on) {
+  desc_.render.guiding = on;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::seed(std::int64_t v, const Source& where) {
   desc_.render.seed = static_cast<std::uint64_t>(count_between(v, 0, kMaxSeed, where));
   return *this;
