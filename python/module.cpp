@@ -203,7 +203,7 @@ struct PassState {
   std::condition_variable cv;
   bool done = false, pass_waiting = false;
   std::atomic<bool> cancel{false};
-  std::atomic<double> fraction{0.0}, pass_fraction{0.0};
+  std::atomic<double> fraction{0.0};
   int complete = 0, partial = 0;  // samples every pixel has; those the stopped pass added where it reached
   double partial_fraction = 0.0;  // of the stopped pass's tiles that finished
   std::exception_ptr failure;
@@ -215,8 +215,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// With a budget of seconds, a pass that would not end within it is cut to the samples that will at
-// the rate measured so far, and none is begun when not one more would (apps/bouguer/cmd_render.cpp).
+// The render's passes (integrators/render_into.h: render_passes), at most kMaxPassSpp each, after
+// path guiding's training where the settings ask for it (integrators/guiding.h; with a budget, in at
+// most a quarter of it, the passes in the rest).
 void render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, const RenderArgs& a,
                    RenderStats& stats, PassState& st) {
   const int spp = settings.spp;
@@ -226,39 +227,32 @@ void render_passes(const RenderScene& scene, const RenderSettings& settings, Fil
   RenderControl control;
   control.threads = a.threads;
   control.cancel = &st.cancel;
-  const int first = st.complete;  // samples the film has already (integrator "auto"'s trial)
-  // Path guiding (integrators/guiding.h): trained first; with a budget, in at most a quarter of it.
   GuideTraining training;
   const auto guide = prepare_guide(scene, settings, control, stats, training, budget_s / 4.0);
   control.guide = guide.get();
-  for (int begin = first; begin < spp && !st.cancel;) {
-    int end = std::min(spp, begin + std::clamp(begin, 1, kMaxPassSpp));
-    if (budget_s > 0.0 && begin > first) {
-      const double elapsed = seconds_since(start);
-      const double affordable = (budget_s - elapsed) / (elapsed / (begin - first));  // samples per pixel still in time
-      if (affordable < 1.0) return;
-      end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
-    }
-    control.progress = [&, begin, end](double f) {
-      st.pass_fraction.store(f);
-      const double by_samples = (begin + f * (end - begin)) / spp;
-      st.fraction.store(budget_s > 0.0 ? std::min(1.0, std::max(by_samples, seconds_since(start) / budget_s)) : by_samples);
-    };
-    st.pass_fraction.store(0.0);
-    render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, control, stats);
+  PassOptions options;
+  options.first = st.complete;  // samples the film has already (integrator "auto"'s trial)
+  options.budget_s = budget_s > 0.0 ? std::max(budget_s - seconds_since(start), 1e-9) : 0.0;
+  options.max_pass_spp = kMaxPassSpp;
+  const auto passes_start = std::chrono::steady_clock::now();
+  options.progress = [&](int begin, int end, double f) {
+    const double by_samples = (begin + f * (end - begin)) / spp;
+    st.fraction.store(budget_s > 0.0 ? std::min(1.0, std::max(by_samples, seconds_since(passes_start) / options.budget_s))
+                                     : by_samples);
+  };
+  options.after_pass = [&](int complete) {
     std::unique_lock lock(st.mutex);
-    if (st.cancel) {
-      if (st.pass_fraction.load() >= 1.0) st.complete = end;
-      else st.partial = end - begin, st.partial_fraction = st.pass_fraction.load();
-      return;
-    }
-    st.complete = begin = end;
-    if (hand_over) {
+    st.complete = complete;
+    if (hand_over && !st.cancel) {
       st.pass_waiting = true;
       st.cv.notify_all();
       st.cv.wait(lock, [&] { return !st.pass_waiting; });
     }
-  }
+    return !st.cancel.load();
+  };
+  const Passes p = render_passes(scene, settings, film, control, options, stats);
+  const std::lock_guard lock(st.mutex);
+  st.complete = p.complete, st.partial = p.partial, st.partial_fraction = p.partial_fraction;
 }
 
 // The image of the samples done so far. Light paths splat anywhere: their scale is the light

@@ -19,8 +19,8 @@
 #include "bouguer/io/image_io.h"
 #include "bouguer/io/output_set.h"
 #include "bouguer/integrators/choose.h"
-#include "bouguer/integrators/render_into.h"
 #include "bouguer/integrators/guiding.h"
+#include "bouguer/integrators/render_into.h"
 #include "bouguer/render/adaptive.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/display_white.h"
@@ -92,76 +92,49 @@ struct InterruptGuard {
   ~InterruptGuard() { sigaction(SIGINT, &previous, nullptr); }
 };
 
-// Renders in passes of sample ranges, 1, 1, 2, 4, ... samples per pixel, each pass doubling the
-// total (the image is the same as one pass would give), so an interrupted render has a whole
-// image early. Passes stay few (log2 spp + 1): each one walks the whole film again, which cost
-// rgb3 Whitted 5-15 % when passes were capped at a sixteenth of the samples. Returns the samples per pixel every pixel has, and in `partial` how many more the
-// interrupted pass added to the pixels it reached.
-// With a budget of seconds (--time), a pass that would not end within it is cut to the samples
-// that will, at the rate measured so far, and none is begun when not one more would: any split
-// into passes gives the same image, so the image is that of the samples done (which then depend
-// on the machine's speed).
-// With a noise target (--noise: render/adaptive.h), after each pass the pixels whose error
-// estimate is within it stop (their flags in `active` cleared) and the render ends when none is
-// left; `complete` is then the samples of the pixels that took the most.
-struct Passes {
-  int complete = 0, partial = 0;
-  double partial_fraction = 0.0;  // of the interrupted pass's tiles that finished
-  std::size_t active_left = 0;    // adaptive: the pixels that had not reached the target
-};
-
+// The render's passes (integrators/render_into.h: render_passes) with the progress line (by samples,
+// or with a budget of seconds, by whichever ends the render first), and with a noise target
+// (--noise: render/adaptive.h): after each pass the pixels whose error estimate is within it stop
+// (their flags in `active` cleared), and the render ends when none is left; `complete` is then the
+// samples of the pixels that took the most.
 struct Adaptive {
   NoiseTarget target;
   const SceneDesc* desc = nullptr;  // its display block: the exposure the error is measured at
   std::vector<std::uint8_t> active;
+  std::size_t left = 0;  // the pixels that had not reached the target
 };
 
-Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
-                     Progress& progress, RenderStats& stats, double budget_s = 0.0, Adaptive* adaptive = nullptr,
-                     int first = 0, const PathGuide* guide = nullptr) {
+Passes render_in_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, int threads,
+                        Progress& progress, RenderStats& stats, double budget_s, Adaptive* adaptive, int first,
+                        const PathGuide* guide) {
   const int spp = settings.spp;
   const auto start = std::chrono::steady_clock::now();
-  Passes p;
-  p.complete = first;  // samples the film has already (an automatic choice's trial)
-  if (adaptive) p.active_left = adaptive->active.size();
-  for (int begin = first; begin < spp;) {
-    int end = std::min(spp, begin + std::max(begin, 1));
-    if (budget_s > 0.0 && begin > first) {
-      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const double affordable = (budget_s - elapsed) / (elapsed / (begin - first));  // samples per pixel still in time
-      if (affordable < 1.0) return p;
-      end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
-    }
-    double fraction = 0.0;
-    RenderControl control;
-    control.threads = threads;
-    control.cancel = &g_interrupted;
-    if (adaptive) control.active = &adaptive->active;
-    control.guide = guide;
-    control.progress = [&](double f) {
-      fraction = f;
-      if (budget_s > 0.0)  // the budget ends the render first unless the samples do
-        progress.update(std::min(1.0, std::max((begin + f * (end - begin)) / spp,
-                                               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
-                                                   budget_s)));
-      else
-        progress.update((begin + f * (end - begin)) / spp);
-    };
-    render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, control, stats);
-    if (g_interrupted) {
-      if (fraction >= 1.0) p.complete = end;
-      else p.partial = end - begin, p.partial_fraction = fraction;
-      return p;
-    }
-    p.complete = begin = end;
-    if (adaptive) {
+  RenderControl control;
+  control.threads = threads;
+  control.cancel = &g_interrupted;
+  control.guide = guide;
+  PassOptions options;
+  options.first = first;
+  options.budget_s = budget_s;
+  options.progress = [&](int begin, int end, double f) {
+    if (budget_s > 0.0)  // the budget ends the render first unless the samples do
+      progress.update(std::min(1.0, std::max((begin + f * (end - begin)) / spp,
+                                             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() /
+                                                 budget_s)));
+    else
+      progress.update((begin + f * (end - begin)) / spp);
+  };
+  if (adaptive) {
+    control.active = &adaptive->active;
+    adaptive->left = adaptive->active.size();
+    options.after_pass = [&](int complete) {
       // The display as the film so far resolves it (an automatic exposure is measured on it).
       adaptive->target.display = display_transform(scene, adaptive->desc->display, film.resolve(0.0));
-      p.active_left = retire_converged(film, adaptive->target, end, adaptive->active);
-      if (p.active_left == 0) return p;
-    }
+      adaptive->left = retire_converged(film, adaptive->target, complete, adaptive->active);
+      return adaptive->left > 0;
+    };
   }
-  return p;
+  return render_passes(scene, settings, film, control, options, stats);
 }
 
 // Every file the command line asks for, checked before the scene is even read.
@@ -240,6 +213,7 @@ int run_render(const RenderCli& o) {
                  static_cast<double>(training.bytes) / 1e6);
   }
   Passes passes;
+  std::optional<Adaptive> adaptive;
   if (mpi) {  // one rank of mpirun -np N: rank 0 writes (docs/distributed.md)
     if (!distributed::render_over_ranks(scene, settings, buffer, o.threads, o.quiet,
                                         [&](double f) { progress.update(f); }, stats, guide.get()))
@@ -247,7 +221,6 @@ int run_render(const RenderCli& o) {
     passes.complete = settings.spp;
   } else {
     const InterruptGuard guard;
-    std::optional<Adaptive> adaptive;
     if (o.noise > 0.0) {
       buffer.keep_halves();
       adaptive.emplace();
@@ -257,8 +230,8 @@ int run_render(const RenderCli& o) {
     }
     // A budget of seconds includes the trials.
     const double budget_s = o.time_s > 0.0 ? std::max(o.time_s - stats.seconds, 1e-9) : 0.0;
-    passes = render_passes(scene, settings, buffer, o.threads, progress, stats, budget_s,
-                           adaptive ? &*adaptive : nullptr, first, guide.get());
+    passes = render_in_passes(scene, settings, buffer, o.threads, progress, stats, budget_s,
+                              adaptive ? &*adaptive : nullptr, first, guide.get());
   }
   const bool interrupted = g_interrupted && passes.complete < settings.spp;
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
@@ -296,7 +269,7 @@ int run_render(const RenderCli& o) {
         for (int x = 0; x < buffer.width(); ++x) samples += buffer.weight_at(x, y);
       jv["adaptive"] = {{"noise_delta_e00", o.noise},
                         {"mean_spp", samples / (static_cast<double>(buffer.width()) * buffer.height())},
-                        {"pixels_above_target", passes.active_left}};
+                        {"pixels_above_target", adaptive->left}};
     }
     if (choice) {
       nlohmann::json trials = nlohmann::json::array();

@@ -78,6 +78,27 @@ INSTANTIATE_TEST_SUITE_P(Cli, MpiRender,
                            return fmt::format("{}_{}ranks", std::get<0>(p.param), std::get<1>(p.param));
                          });
 
+// Path guiding: every rank trains the same guide before rendering its pieces (integrators/guiding.h),
+// so the guided image is the one-process one bit for bit; and it is not the unguided one (the guide
+// drew).
+TEST(CliMpi, AGuidedRenderIsTheOneProcessImageBitForBit) {
+  SKIP_WITHOUT_MPI();
+  const auto dir = test::scratch_dir("mpi_guided");
+  // (a red glass ball on a diffuse floor under a small lamp: the floor is guided)
+  const std::string scene = test::test_data("red_ball_lamp/scene.json").string();
+  auto one = render_args(scene, dir / "one.exr", "path", {"--guiding", "on"}, "8");
+  const auto single = test::run_program(one[0], {one.begin() + 1, one.end()});
+  ASSERT_EQ(single.exit_code, 0) << single.err;
+  auto plain = render_args(scene, dir / "plain.exr", "path", {"--guiding", "off"}, "8");
+  ASSERT_EQ(test::run_program(plain[0], {plain.begin() + 1, plain.end()}).exit_code, 0);
+  const auto r = mpirun({{2, render_args(scene, dir / "mpi.exr", "path", {"--guiding", "on"}, "8")}});
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string image = test::read_file(dir / "one.exr");
+  ASSERT_GT(image.size(), 1000u);
+  EXPECT_TRUE(image == test::read_file(dir / "mpi.exr"));
+  EXPECT_FALSE(image == test::read_file(dir / "plain.exr"));
+}
+
 // A rank that exits early (its scene is not there) or renders another job (other options) stops
 // the whole job with a message; the output written before stays as it was.
 TEST(CliMpi, ARankThatFailsStopsTheJobAndKeepsTheEarlierOutput) {

@@ -1,6 +1,7 @@
 #include "bouguer/integrators/render_into.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 
 #include "bouguer/core/error.h"
@@ -33,6 +34,40 @@ void render_into(const RenderScene& scene, const RenderSettings& settings, FilmB
   samples.end = std::min(samples.end, settings.spp);
   if (samples.begin < samples.end) render_function(settings.integrator)(scene, settings, film, region, samples, control, stats);
   stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Passes render_passes(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
+                     const RenderControl& control, const PassOptions& options, RenderStats& stats) {
+  const int spp = settings.spp, first = options.first;
+  const auto start = std::chrono::steady_clock::now();
+  Passes p;
+  p.complete = first;
+  auto stopped = [&] { return control.cancel && control.cancel->load(); };
+  for (int begin = first; begin < spp && !stopped();) {
+    int end = std::min(spp, begin + std::max(begin, 1));
+    if (options.max_pass_spp > 0) end = std::min(end, begin + options.max_pass_spp);
+    if (options.budget_s > 0.0 && begin > first) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double affordable = (options.budget_s - elapsed) / (elapsed / (begin - first));  // samples per pixel still in time
+      if (affordable < 1.0) return p;
+      end = std::min(end, begin + static_cast<int>(std::min(affordable, static_cast<double>(spp))));
+    }
+    std::atomic<double> fraction{0.0};
+    RenderControl pass = control;
+    pass.progress = [&, begin, end](double f) {
+      fraction.store(f);
+      if (options.progress) options.progress(begin, end, f);
+    };
+    render_into(scene, settings, film, PixelRegion::whole(scene.camera), {begin, end}, pass, stats);
+    if (stopped()) {
+      if (fraction.load() >= 1.0) p.complete = end;
+      else p.partial = end - begin, p.partial_fraction = fraction.load();
+      return p;
+    }
+    p.complete = begin = end;
+    if (options.after_pass && !options.after_pass(p.complete)) return p;
+  }
+  return p;
 }
 
 Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
