@@ -44,9 +44,24 @@ ball = {
      "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0.05, 0.35, 0.05]}],
      "emission": {"spectrum": "D65", "scale": 20}}],
   "background": {"spectrum": "E", "scale": 0}}
+# (bench/guiding.sh's third scene: a floor lit only by what a small white patch above it reflects
+# of a lamp below the patch, facing it)
+bounce = {
+  "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
+  "render": {"integrator": "path", "spectral": "hero", "max_depth": 8},
+  "objects": [
+    {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+     "material": {"type": "diffuse", "reflectance": 0.6}},
+    {"name": "patch", "shape": {"type": "quad", "size": [0.15, 0.15]},
+     "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.6, 0]}],
+     "material": {"type": "diffuse", "reflectance": 0.9}},
+    {"name": "lamp", "shape": {"type": "quad", "size": [0.03, 0.03]},
+     "transform": [{"rotate_deg": [-90, [1, 0, 0]]}, {"translate": [0, 0.4, 0]}],
+     "emission": {"spectrum": "D65", "scale": 2000}}],
+  "background": {"spectrum": "E", "scale": 0}}
 caustic = json.load(open(os.path.join(repo, "tests/data/red_ball_lamp/scene.json")))
 caustic["render"]["max_depth"] = 16
-for name, scene in (("ball", ball), ("caustic", caustic)):
+for name, scene in (("ball", ball), ("caustic", caustic), ("bounce", bounce)):
     for manifold in (True, False):
         s = json.loads(json.dumps(scene))
         s["render"]["manifold"] = manifold
@@ -95,6 +110,7 @@ for scene in $scenes; do
     done
     region="0.42 0.64 0.56 0.66"
     [[ $scene == ball ]] && region="0.30 0.70 0.20 0.75"
+    [[ $scene == bounce ]] && region="0.0 1.0 0.0 1.0"
     read -r whole under < <(noise "$tmp/1.pfm" "$tmp/2.pfm" "$region")
     label=$integrator
     [[ $integrator == path ]] && label="path, manifold $manifold"

@@ -15,7 +15,7 @@
 // where the BSDF's is not), and this one leaves next-event estimation its share of the direct
 // light. Weighted by the mixture, the guide, having learned where the lamps are, took weight from
 // the connections through glass that do better there: the scattering ball of bench/guiding.sh
-// came out 17 % noisier at equal samples.
+// came out 17 % noisier at equal samples (96×72).
 //
 // Scattering events are not guided. A guide that is not multiplied by the phase function draws
 // directions whose weight phase/(α·p_guide + (1−α)·phase) runs from about 0.1 to 2 under a forward

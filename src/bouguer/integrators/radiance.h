@@ -58,17 +58,16 @@ struct CasterTrail {
 // A direction the walk drew at a guided-or-guidable vertex, kept until the walk ends to learn the
 // light it found that way (integrators/guiding.h): the throughput after the vertex and the
 // radiance the path had gathered before it.
-template <std::size_t N>
 struct PendingRecord {
   Vec3f point, direction;
-  float pdf = 0.0f;
-  SampledSpectrum<N> beta, l_before;
+  float pdf = 0.0f;       // the mixture's, which drew the direction
+  double carried = 0.0;   // the throughput after the vertex, summed over the wavelengths
+  double gathered = 0.0;  // the radiance the walk had gathered before it, summed likewise
 };
 // The share of a guided vertex's directions drawn from the guide (Müller et al.'s 0.5: the BSDF's
 // or phase function's own half bounds the variance where the guide learned wrong).
 inline constexpr double kGuideAlpha = 0.5;
-// A walk keeps the first and the last kPendingRecords / 2 of them (a dense medium's walk has
-// thousands of vertices; what lies between is what the ends see).
+// A walk keeps the first and the last kPendingRecords / 2 of them (max_depth may be 1000).
 inline constexpr std::size_t kPendingRecords = 64;
 
 // The path tracer's visitor: at each vertex of a camera walk, what it sees directly (an emitter or
@@ -106,7 +105,7 @@ struct Radiance {
   const PathGuide* guide = nullptr;
   DirectionGuide here = {};
   std::vector<GuideRecord>* learning = nullptr;
-  std::vector<PendingRecord<N>> pending = {};
+  std::vector<PendingRecord> pending = {};
   std::size_t drawn = 0;
 
   DirectionGuide direction_guide() const { return here; }
@@ -120,9 +119,9 @@ struct Radiance {
   // (bsdf_pdf: the BSDF's density of d; the record's is the mixture's, which drew it)
   void learned(const Vec3& point, const Vec3& d, double bsdf_pdf, const SampledSpectrum<N>& beta_after) {
     if (!learning) return;
-    const PendingRecord<N> r{Vec3f{static_cast<float>(point.x), static_cast<float>(point.y), static_cast<float>(point.z)},
-                             Vec3f{static_cast<float>(d.x), static_cast<float>(d.y), static_cast<float>(d.z)},
-                             static_cast<float>(here.mixture_pdf(bsdf_pdf, d)), beta_after, l};
+    const PendingRecord r{Vec3f{static_cast<float>(point.x), static_cast<float>(point.y), static_cast<float>(point.z)},
+                          Vec3f{static_cast<float>(d.x), static_cast<float>(d.y), static_cast<float>(d.z)},
+                          static_cast<float>(here.mixture_pdf(bsdf_pdf, d)), sum(beta_after), sum(l)};
     if (pending.size() < kPendingRecords)
       pending.push_back(r);
     else  // (the last half a ring)
@@ -134,12 +133,16 @@ struct Radiance {
   // does not make one record outweigh a thousand), over its density.
   void finish_learning() const {
     if (!learning) return;
-    for (const PendingRecord<N>& r : pending) {
-      double found = 0.0, carried = 0.0;
-      for (std::size_t k = 0; k < N; ++k) found += l[k] - r.l_before[k], carried += r.beta[k];
-      if (carried > 0.0 && r.pdf > 0.0f)
-        learning->push_back(GuideRecord{r.point, r.direction, static_cast<float>(std::max(0.0, found) / carried / r.pdf)});
-    }
+    const double gathered = sum(l);
+    for (const PendingRecord& r : pending)
+      if (r.carried > 0.0 && r.pdf > 0.0f)
+        learning->push_back(
+            GuideRecord{r.point, r.direction, static_cast<float>(std::max(0.0, gathered - r.gathered) / r.carried / r.pdf)});
+  }
+  static double sum(const SampledSpectrum<N>& s) {
+    double total = 0.0;
+    for (std::size_t k = 0; k < N; ++k) total += s[k];
+    return total;
   }
 
   bool through_casters() const {
