@@ -19,6 +19,8 @@
 #include "bouguer/core/frame.h"
 #include "bouguer/core/rng.h"
 #include "bouguer/integrators/manifold.h"
+#include "bouguer/integrators/manifold_chain.h"
+#include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/materials/fresnel.h"
 #include "support/test_scenes.h"
@@ -222,6 +224,31 @@ TEST(ManifoldNextEvent, PointLampUnderFlatLayersLightsTheCeilingAsTheClosedFormS
     EXPECT_LT(worst, 0.003) << c.what;
     EXPECT_NEAR(mean, 1.0, 0.0005) << c.what;
   }
+}
+
+// The chain's own rays (manifold_chain.h: seeding along the straight segment, retracing at each
+// Newton step) are counted with the render's (RenderStats::rays, which --integrator auto's costs
+// read): a 20 mm pane between a point above it and a lamp below, two crossings.
+TEST(ManifoldNextEvent, TheChainsRaysAreCounted) {
+  const SceneDesc desc = parse_scene(R"({
+    "camera": {"position": [0, 0.05, 0.3], "look_at": [0, 0, 0], "resolution": [4, 4]},
+    "render": {"integrator": "path"},
+    "world_medium": "vacuum",
+    "media": {"glass": {"ior": 1.5}},
+    "objects": [{"name": "pane", "shape": {"type": "box", "size": [2, 0.02, 2]}, "transform": [{"translate": [0, 0.01, 0]}],
+                 "inside": "glass"}],
+    "background": {"spectrum": "E", "scale": 0}
+  })", "pane.json");
+  const RenderScene scene = compile(desc);
+  const Vec3 x{0.01, 0.1, 0.0}, lamp{-0.02, -0.05, 0.01};
+  std::uint64_t rays = 0;
+  auto chain = seed_chain(scene, x, nullptr, 0, lamp, rays);
+  ASSERT_TRUE(chain);
+  EXPECT_EQ(chain->count, 2);
+  EXPECT_EQ(rays, 3u) << "to the top face, to the bottom face, on to the lamp";
+  const std::uint64_t seeded = rays;
+  ASSERT_TRUE(solve_chain(scene, x, nullptr, lamp, *chain, rays));
+  EXPECT_GT(rays, seeded) << "Newton's retracing traced no ray, or did not count it";
 }
 
 // The plane's solution itself: Snell's law holds at the point found, to 1e-12, for random points

@@ -380,7 +380,7 @@ SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& 
                                        Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                        const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
   const RenderScene& s = v.scene;
-  if (!solve_chain(s, at.point, at.hit, lamp.p, c)) return {};
+  if (!solve_chain(s, at.point, at.hit, lamp.p, c, rays)) return {};
   std::array<Vec3, kMaxChain> ys{};
   for (int i = 0; i < c.count; ++i) ys[static_cast<std::size_t>(i)] = c.crossing[static_cast<std::size_t>(i)].hit.point;
   const std::span<const Vec3> points(ys.data(), static_cast<std::size_t>(c.count));
@@ -479,7 +479,7 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
   // to its own solve: the refracted path may pass by what the straight one meets.)
   if (!s.rays.analytic(blocker.geometry)) {
     const bool smooth_shaded = dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9;
-    const auto chain = seed_chain(s, at.point, at.hit, inside, lamp->p);
+    const auto chain = seed_chain(s, at.point, at.hit, inside, lamp->p, rays);
     if (chain && (chain->count > 1 || smooth_shaded))
       return delta_through_chain(v, at, *chain, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
     if (smooth_shaded) return {};

@@ -89,9 +89,8 @@ struct Met {
   SurfaceSeen seen;
 };
 std::optional<Met> next_surface(const RenderScene& s, const Vec3& origin, const Vec3& d, double max_m,
-                                InsideSet& inside, bool* gave_up = nullptr) {
+                                InsideSet& inside, std::uint64_t& rays, bool* gave_up = nullptr) {
   RaySegment seg{Ray{origin, d, max_m}, origin, -1, inside};
-  std::uint64_t rays = 0;
   const RayStop stop = advance_to_surface(s, seg, rays, [&](const Hit* hit, const SurfaceSeen*) {
     if (hit) seg.ray.t_max -= length(hit->point - seg.start);  // the next ray: what is left of max_m
     return true;
@@ -133,8 +132,8 @@ std::optional<ChainCrossing> crossing_of(const RenderScene& s, const Vec3& from,
 // The crossing a ray from `from` (on from_hit, or in a medium) along d meets first, if it is the
 // chain's kind of surface and on `geometry`.
 std::optional<ChainCrossing> cross_at(const RenderScene& s, const Vec3& from, const Hit* from_hit, const Vec3& d,
-                                      double max_m, InsideSet inside, std::uint32_t geometry) {
-  const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, d) : from, d, max_m, inside);
+                                      double max_m, InsideSet inside, std::uint32_t geometry, std::uint64_t& rays) {
+  const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, d) : from, d, max_m, inside, rays);
   if (!m || !chain_surface(s, *m) || m->hit.geometry != geometry) return std::nullopt;
   return crossing_of(s, from, d, *m, inside);
 }
@@ -205,7 +204,7 @@ Linearised linearise(const RenderScene& s, const Vec3& x, const Vec3& q, const C
 // The chain traced again from x through `targets` (a point in each crossing's plane): each ray
 // from the crossing before towards the next target, meeting the same surface first.
 std::optional<Chain> retraced(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Chain& c,
-                              const std::array<Vec3, kMaxChain>& targets) {
+                              const std::array<Vec3, kMaxChain>& targets, std::uint64_t& rays) {
   Chain out = c;
   Vec3 from = x;
   const Hit* from_hit = x_hit;
@@ -215,7 +214,7 @@ std::optional<Chain> retraced(const RenderScene& s, const Vec3& x, const Hit* x_
     const double d = length(to);
     if (!(d > 0.0)) return std::nullopt;
     const auto k = cross_at(s, from, from_hit, to / d, 2.0 * d, inside,
-                            c.crossing[static_cast<std::size_t>(i)].hit.geometry);
+                            c.crossing[static_cast<std::size_t>(i)].hit.geometry, rays);
     if (!k) return std::nullopt;
     ChainCrossing& o = out.crossing[static_cast<std::size_t>(i)];
     // The sides it is crossed from stay the seed's (the indices are the chain's).
@@ -234,7 +233,8 @@ Vec3 chain_shading_normal(const RenderScene& s, const Hit& on, const Vec3& point
   return shading_normal(triangle_of(s, on), point);
 }
 
-std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q) {
+std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q,
+                                std::uint64_t& rays) {
   Chain c;
   c.inside_x = inside;
   const double d = length(q - x);
@@ -245,7 +245,7 @@ std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* 
   for (;;) {
     bool gave_up = false;
     const auto m =
-        next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, length(q - from), inside, &gave_up);
+        next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, length(q - from), inside, rays, &gave_up);
     if (gave_up) return std::nullopt;
     if (!m) break;  // clear to the lamp
     if (c.count == kMaxChain || !chain_surface(s, *m)) return std::nullopt;
@@ -290,7 +290,7 @@ double rounding_floor(const Linearised& l, int count) {
 
 }  // namespace
 
-bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c) {
+bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c, std::uint64_t& rays) {
   const int n = 2 * c.count;
   Linearised l = linearise(s, x, q, c);
   for (int iteration = 0; iteration < 40; ++iteration) {
@@ -310,7 +310,7 @@ bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Ve
             l.y[static_cast<std::size_t>(i + 1)] +
             (t.e1 * step[static_cast<std::size_t>(2 * i)] + t.e2 * step[static_cast<std::size_t>(2 * i + 1)]) * lambda;
       }
-      const auto next = retraced(s, x, x_hit, c, targets);
+      const auto next = retraced(s, x, x_hit, c, targets, rays);
       if (!next) continue;
       Linearised m = linearise(s, x, q, *next);
       if (largest(m.value, n) < error) {

@@ -50,12 +50,13 @@ struct Chain {
 // index-matched ones unchanged. Nothing where something else is in the way (an opaque, rough,
 // dispersive or thin surface, an exact shape, a normal map), where there are more than kMaxChain,
 // or none.
-std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q);
+std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q,
+                                std::uint64_t& rays);
 
 // Moves the chain's crossings until each refracts by its shading normal (the contract above);
 // false where Newton fails (no path near the straight line, total internal reflection, a crossing
 // that leaves its surface or a path that meets another first).
-bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c);
+bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c, std::uint64_t& rays);
 
 // The shading normal of a mesh triangle at a point of its plane (its vertex normals interpolated
 // by the point's barycentrics, as RayScene's hits: the geometric normal without them or where they
