@@ -226,6 +226,54 @@ TEST(ManifoldNextEvent, PointLampUnderFlatLayersLightsTheCeilingAsTheClosedFormS
   }
 }
 
+// A flat face whose straight segment to the lamp the chain cannot seed (an opaque ball on it, in
+// the water, away from the refracted path) is left to the face's own exact solve (manifold.h:
+// delta_light_through_interface), which finds the refracted path past the ball. A lamp 50 mm deep,
+// the ceiling 20 mm above the water, the two pixels 100 mm off the axis (refracted at about 44°
+// in the water, their straight segments 18 mm from their refracted paths where the balls sit, 10 mm
+// under the surface): each within 0.5 % of the closed form. With the fallback planted away (no
+// chain, no light), both read 0.
+TEST(ManifoldNextEvent, AFlatFaceTheChainCannotSeedIsSolvedExactly) {
+  constexpr double d = 0.05, h = 0.02, view = 0.25, x_ball = 0.1 * (d - 0.01) / (d + h);
+  constexpr int pixels = 31;
+  const Film film = test::render_text(fmt::format(R"({{
+    "camera": {{"type": "orthographic", "position": [0, 0.01, 0], "look_at": [0, 1, 0], "up": [0, 0, -1],
+               "width": {0}, "resolution": [{1}, {1}]}},
+    "render": {{"integrator": "path", "spectral": "hero", "spp": 16, "max_depth": 1, "seed": 5}},
+    "world_medium": "vacuum",
+    "media": {{"water": {{"ior": {2}}}}},
+    "objects": [
+      {{"name": "water", "shape": {{"type": "box", "size": [2, 0.2, 2]}}, "transform": [{{"translate": [0, -0.1, 0]}}],
+        "inside": "water"}},
+      {{"name": "left", "shape": {{"type": "sphere", "radius": "8 mm"}}, "transform": [{{"translate": [{3}, -0.01, 0]}}],
+        "material": {{"type": "diffuse", "reflectance": 0}}}},
+      {{"name": "right", "shape": {{"type": "sphere", "radius": "8 mm"}}, "transform": [{{"translate": [{4}, -0.01, 0]}}],
+        "material": {{"type": "diffuse", "reflectance": 0}}}},
+      {{"name": "ceiling", "shape": {{"type": "quad", "size": [0.4, 0.4]}},
+        "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, {5}, 0]}}],
+        "material": {{"type": "diffuse", "reflectance": {6}}}}}],
+    "lights": [{{"type": "point", "position": [0, {7}, 0], "spectrum": "D65", "scale": {8}}}],
+    "background": {{"spectrum": "E", "scale": 0}}
+  }})",
+                                                  view, pixels, kN, -x_ball, x_ball, h, kRho, -d, kScale));
+  const double pixel_m = view / pixels;
+  for (const int i : {3, pixels - 1 - 3}) {
+    const int j = pixels / 2;
+    double expected = 0.0;
+    constexpr int kSub = 8;
+    for (int a = 0; a < kSub; ++a)
+      for (int b = 0; b < kSub; ++b) {
+        const double x = -0.5 * view + (i + (a + 0.5) / kSub) * pixel_m;
+        const double z = -0.5 * view + (j + (b + 0.5) / kSub) * pixel_m;
+        expected += layered_ceiling_radiance({{d, kN}, {h, 1.0}}, std::hypot(x, z));
+      }
+    expected /= kSub * kSub;
+    const double ratio = film.rgb_at(i, j)[1] / expected;
+    std::printf("pixel (%d, %d), its straight segment blocked: %.5f of the closed form\n", i, j, ratio);
+    EXPECT_NEAR(ratio, 1.0, 0.005) << "pixel " << i;
+  }
+}
+
 // The chain's own rays (manifold_chain.h: seeding along the straight segment, retracing at each
 // Newton step) are counted with the render's (RenderStats::rays, which --integrator auto's costs
 // read): a 20 mm pane between a point above it and a lamp below, two crossings.
