@@ -81,21 +81,27 @@ double ceiling_radiance(double r) {
 struct CeilingRatio {
   double mean = 0.0, worst = 0.0;
 };
+// The closed form `radiance(r)` averaged over pixel (i, j)'s footprint (8 × 8 points) of an
+// orthographic view `view_m` wide and `pixels` across, centred on the axis.
+template <typename Radiance>
+double footprint_mean(Radiance radiance, double view_m, int pixels, int i, int j) {
+  const double pixel_m = view_m / pixels;
+  double sum = 0.0;
+  constexpr int kSub = 8;
+  for (int a = 0; a < kSub; ++a)
+    for (int b = 0; b < kSub; ++b) {
+      const double x = -0.5 * view_m + (i + (a + 0.5) / kSub) * pixel_m;
+      const double z = -0.5 * view_m + (j + (b + 0.5) / kSub) * pixel_m;
+      sum += radiance(std::hypot(x, z));
+    }
+  return sum / (kSub * kSub);
+}
 template <typename Radiance>
 CeilingRatio ceiling_ratio(const Film& film, Radiance radiance) {
-  const double pixel_m = kView_m / kPixels;
   CeilingRatio r;
   for (int j = 0; j < kPixels; ++j)
     for (int i = 0; i < kPixels; ++i) {
-      double expected = 0.0;
-      constexpr int kSub = 8;
-      for (int a = 0; a < kSub; ++a)
-        for (int b = 0; b < kSub; ++b) {
-          const double x = -0.5 * kView_m + (i + (a + 0.5) / kSub) * pixel_m;
-          const double z = -0.5 * kView_m + (j + (b + 0.5) / kSub) * pixel_m;
-          expected += radiance(std::hypot(x, z));
-        }
-      expected /= kSub * kSub;
+      const double expected = footprint_mean(radiance, kView_m, kPixels, i, j);
       for (int c = 0; c < 3; ++c) {
         const double ratio = film.rgb_at(i, j)[c] / expected;
         r.worst = std::max(r.worst, std::abs(ratio - 1.0));
@@ -256,18 +262,10 @@ TEST(ManifoldNextEvent, AFlatFaceTheChainCannotSeedIsSolvedExactly) {
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
                                                   view, pixels, kN, -x_ball, x_ball, h, kRho, -d, kScale));
-  const double pixel_m = view / pixels;
   for (const int i : {3, pixels - 1 - 3}) {
     const int j = pixels / 2;
-    double expected = 0.0;
-    constexpr int kSub = 8;
-    for (int a = 0; a < kSub; ++a)
-      for (int b = 0; b < kSub; ++b) {
-        const double x = -0.5 * view + (i + (a + 0.5) / kSub) * pixel_m;
-        const double z = -0.5 * view + (j + (b + 0.5) / kSub) * pixel_m;
-        expected += layered_ceiling_radiance({{d, kN}, {h, 1.0}}, std::hypot(x, z));
-      }
-    expected /= kSub * kSub;
+    const double expected = footprint_mean(
+        [&](double r) { return layered_ceiling_radiance({{d, kN}, {h, 1.0}}, r); }, view, pixels, i, j);
     const double ratio = film.rgb_at(i, j)[1] / expected;
     std::printf("pixel (%d, %d), its straight segment blocked: %.5f of the closed form\n", i, j, ratio);
     EXPECT_NEAR(ratio, 1.0, 0.005) << "pixel " << i;
