@@ -200,6 +200,9 @@ int run_render(const RenderCli& o) {
   // budget of seconds, in at most a quarter of what is left of it.
   GuideTraining training;
   std::unique_ptr<PathGuide> guide;
+  if (settings.guiding.value_or(false) && settings.integrator != IntegratorType::path)
+    fmt::print(stderr, "bouguer: warning: guiding: only the path tracer is guided; {} renders unguided\n",
+               integrator_info(settings.integrator).name);
   if (guiding_enabled(settings)) {
     if (!o.quiet) fmt::print(stderr, "guiding: training\n");
     RenderControl control;
@@ -208,9 +211,9 @@ int run_render(const RenderCli& o) {
     const double left_s = o.time_s > 0.0 ? std::max(o.time_s - stats.seconds, 1e-9) : 0.0;
     guide = prepare_guide(scene, settings, control, stats, training, left_s / 4.0);
     if (!o.quiet)
-      fmt::print(stderr, "guiding: {} iterations ({} spp) in {:.2f} s, {} records, {} cells, {:.1f} MB\n",
-                 training.iterations, training.spp, training.seconds, training.records, training.leaves,
-                 static_cast<double>(training.bytes) / 1e6);
+      fmt::print(stderr, "guiding: {} iteration{} ({} spp) in {:.2f} s, {} records, {} cells, {:.1f} MB\n",
+                 training.iterations, training.iterations == 1 ? "" : "s", training.spp, training.seconds,
+                 training.records, training.leaves, static_cast<double>(training.bytes) / 1e6);
   }
   Passes passes;
   std::optional<Adaptive> adaptive;

@@ -214,6 +214,21 @@ TEST(CliRender, BadOverridesAreRefused) {
   }
 }
 
+// Guiding asked of an estimator that has none (bdpt, or the one `auto` chose) renders unguided and
+// says so in one line; the path tracer trains its guide and says how.
+TEST(CliRender, GuidingOnAnEstimatorWithoutItWarns) {
+  const auto dir = test::scratch_dir("cli_guiding");
+  const auto bdpt = test::run_bouguer({"render", kExample, "--integrator", "bdpt", "--guiding", "on", "--spp", "1",
+                                       "--resolution", "8x6", "--quiet", "-o", (dir / "b.png").string()});
+  EXPECT_EQ(bdpt.exit_code, 0) << bdpt.err;
+  EXPECT_EQ(bdpt.err, "bouguer: warning: guiding: only the path tracer is guided; bdpt renders unguided\n");
+  const auto path = test::run_bouguer({"render", kExample, "--integrator", "path", "--guiding", "on", "--spp", "4",
+                                       "--resolution", "8x6", "-o", (dir / "p.png").string()});
+  EXPECT_EQ(path.exit_code, 0) << path.err;
+  EXPECT_NE(path.err.find("guiding: 1 iteration (1 spp)"), std::string::npos) << path.err;
+  EXPECT_EQ(path.err.find("warning"), std::string::npos) << path.err;
+}
+
 }  // namespace
 }  // namespace bouguer
 
