@@ -55,8 +55,8 @@ struct CasterTrail {
   }
 };
 
-// A direction the walk drew at a guided-or-guidable vertex, kept until the walk ends to learn the
-// light it found that way (integrators/guiding.h): the throughput after the vertex and the
+// A direction a training walk drew at a non-specular surface, kept until the walk ends to learn
+// the light it found that way (integrators/guiding.h): the throughput after the vertex and the
 // radiance the path had gathered before it.
 struct PendingRecord {
   Vec3f point, direction;
@@ -65,7 +65,7 @@ struct PendingRecord {
   double gathered = 0.0;  // the radiance the walk had gathered before it, summed likewise
 };
 // The share of a guided vertex's directions drawn from the guide (Müller et al.'s 0.5: the BSDF's
-// or phase function's own half bounds the variance where the guide learned wrong).
+// own half bounds the variance where the guide learned wrong).
 inline constexpr double kGuideAlpha = 0.5;
 // A walk keeps the first and the last kPendingRecords / 2 of them (max_depth may be 1000).
 inline constexpr std::size_t kPendingRecords = 64;

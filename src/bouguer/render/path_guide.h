@@ -3,7 +3,7 @@
 // Path Guiding for Efficient Light-Transport Simulation"): an SD-tree, a binary tree over the
 // scene's bounding cube (cells halved along x, y, z in turn) whose every leaf holds a quadtree
 // over directions. The path tracer draws a share of its directions from it (integrators/guiding.h
-// says how it is trained and mixed with the BSDF or phase function).
+// says how it is trained and mixed with the BSDF, and why scattering events are not guided).
 // Why an SD-tree and not a mixture of lobes (Herholz et al. 2019, Open PGL): training is sums
 // added into a fixed tree, so a fixed order of the records gives the same tree on any number of
 // threads, passes or processes (a mixture's EM fit depends on the order and the batches); a
@@ -57,7 +57,7 @@ class DirectionTree {
 };
 
 // The directions to draw from at one vertex: the learned tree with probability `alpha`, the
-// vertex's own BSDF or phase function otherwise (one-sample MIS: every direction is weighted by
+// vertex's own BSDF otherwise (one-sample MIS: every direction is weighted by
 // the mixture's density, so the estimate stays unbiased whatever the tree learned).
 struct DirectionGuide {
   const DirectionTree* tree = nullptr;  // null: unguided
