@@ -200,7 +200,7 @@ int run_render(const RenderCli& o) {
   // budget of seconds, in at most a quarter of what is left of it.
   GuideTraining training;
   std::unique_ptr<PathGuide> guide;
-  if (settings.guiding.value_or(false) && settings.integrator != IntegratorType::path)
+  if (settings.guiding && settings.integrator != IntegratorType::path)
     fmt::print(stderr, "bouguer: warning: guiding: only the path tracer is guided; {} renders unguided\n",
                integrator_info(settings.integrator).name);
   if (guiding_enabled(settings)) {

@@ -35,7 +35,7 @@ DirectionTree learned_tree() {
       t.add(normalize(d0 + uniform * 0.05), 5.0);
       t.add(normalize(d1 + uniform * 0.4), 1.0);
     }
-    if (pass == 0) t = t.refined(PathGuide::kDirectionRho), t = t;  // (a refined tree has zero sums)
+    if (pass == 0) t = t.refined(PathGuide::kDirectionRho);  // (a refined tree has zero sums)
   }
   return t;
 }

@@ -14,6 +14,14 @@ namespace {
 // estimator's own.
 constexpr std::uint64_t kGuideTrainingSalt = 7;
 constexpr int kBandRows = 16;
+constexpr int kMaxGuideIterations = 7;
+
+// Training iterations for a render of `spp` samples per pixel (prepare_guide says how many).
+int guide_training_iterations(int spp) {
+  int k = 1;
+  while (k < kMaxGuideIterations && (1 << (k + 1)) - 1 <= spp / 4) ++k;
+  return k;
+}
 
 template <std::size_t N>
 void train(const RenderScene& scene, const RenderSettings& settings, int iterations, const RenderControl& control,
@@ -70,33 +78,19 @@ void train(const RenderScene& scene, const RenderSettings& settings, int iterati
 }  // namespace
 
 bool guiding_enabled(const RenderSettings& settings) {
-  if (settings.integrator != IntegratorType::path) return false;
-  return settings.guiding.value_or(false);
-}
-
-int guide_training_iterations(int spp) {
-  int k = 1;
-  while (k < kMaxGuideIterations && (1 << (k + 1)) - 1 <= spp / 4) ++k;
-  return k;
-}
-
-std::unique_ptr<PathGuide> train_path_guide(const RenderScene& scene, const RenderSettings& settings, int iterations,
-                                            const RenderControl& control, RenderStats& stats, GuideTraining& report,
-                                            double max_seconds) {
-  auto guide = std::make_unique<PathGuide>(scene.bounds.centre_m, scene.bounds.radius_m * 1.001);
-  with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    train<N>(scene, settings, iterations, control, stats, report, max_seconds, *guide);
-  });
-  stats.seconds += report.seconds;
-  return guide;
+  return settings.integrator == IntegratorType::path && settings.guiding;
 }
 
 std::unique_ptr<PathGuide> prepare_guide(const RenderScene& scene, const RenderSettings& settings,
                                          const RenderControl& control, RenderStats& stats, GuideTraining& report,
                                          double max_seconds) {
   if (!guiding_enabled(settings)) return nullptr;
-  return train_path_guide(scene, settings, guide_training_iterations(settings.spp), control, stats, report,
-                          max_seconds);
+  auto guide = std::make_unique<PathGuide>(scene.bounds.centre_m, scene.bounds.radius_m * 1.001);
+  with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
+    train<N>(scene, settings, guide_training_iterations(settings.spp), control, stats, report, max_seconds, *guide);
+  });
+  stats.seconds += report.seconds;
+  return guide;
 }
 
 }  // namespace bouguer

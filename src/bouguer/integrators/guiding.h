@@ -36,14 +36,9 @@
 namespace bouguer {
 
 // Whether the settings' render is guided: the path tracer only (bdpt and vcm have their own
-// strategies), where RenderSettings::guiding says so (off where it is unset: on none of #37's
-// scenes did it yet pay for its training at equal time, docs/performance.md).
+// strategies), where RenderSettings::guiding asks for it (off by default: on none of #37's scenes
+// did it yet pay for its training at equal time, docs/performance.md).
 bool guiding_enabled(const RenderSettings& settings);
-
-// Training iterations for a render of `spp` samples per pixel: as many doublings as fit in a
-// quarter of them (1 + 2 + ... + 2^(k−1) ≤ spp/4), at least one, at most kMaxGuideIterations.
-inline constexpr int kMaxGuideIterations = 7;
-int guide_training_iterations(int spp);
 
 struct GuideTraining {
   int iterations = 0;
@@ -53,14 +48,11 @@ struct GuideTraining {
   std::size_t leaves = 0, bytes = 0;
 };
 
-// Trains a guide by `iterations` iterations (fewer where `max_seconds` > 0 and the next would end
-// past it, or where control.cancel is set); the rays traced are added to stats. control.guide and
-// control.active are not read.
-std::unique_ptr<PathGuide> train_path_guide(const RenderScene& scene, const RenderSettings& settings, int iterations,
-                                            const RenderControl& control, RenderStats& stats, GuideTraining& report,
-                                            double max_seconds = 0.0);
-
-// The guide for a render of `settings`: trained where guiding_enabled, null otherwise.
+// The guide for a render of `settings`: trained where guiding_enabled, null otherwise. The training
+// takes as many doublings of the samples as fit in a quarter of the render's (1 + 2 + ... +
+// 2^(k−1) ≤ spp/4), at least one, at most 7; fewer where `max_seconds` > 0 and the next would end
+// past it, or where control.cancel is set. Its rays and seconds are added to stats; control.guide
+// and control.active are not read.
 std::unique_ptr<PathGuide> prepare_guide(const RenderScene& scene, const RenderSettings& settings,
                                          const RenderControl& control, RenderStats& stats, GuideTraining& report,
                                          double max_seconds = 0.0);

@@ -18,7 +18,7 @@
 // them (integrators/scene_view.h). Index-matched interfaces are crossed without a vertex.
 // The walk is the one random walk of integrators/walk.h; radiance.h is its visitor.
 // Path guiding (integrators/guiding.h): where the render control carries a trained guide, half the
-// directions at diffuse surfaces and scattering events are drawn from it.
+// directions at diffuse surfaces are drawn from it.
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/integrators/radiance.h"
 

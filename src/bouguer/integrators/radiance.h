@@ -139,6 +139,8 @@ struct Radiance {
         learning->push_back(
             GuideRecord{r.point, r.direction, static_cast<float>(std::max(0.0, gathered - r.gathered) / r.carried / r.pdf)});
   }
+  // (In double, not SampledSpectrum::average's float: a record subtracts two sums, and what a dim
+  // path adds after a bright one would be lost in a float's rounding.)
   static double sum(const SampledSpectrum<N>& s) {
     double total = 0.0;
     for (std::size_t k = 0; k < N; ++k) total += s[k];

@@ -73,27 +73,25 @@ Passes render_passes(const RenderScene& scene, const RenderSettings& settings, F
 Film render(const RenderScene& scene, const RenderSettings& settings, const RenderControl& control,
             RenderStats& stats, bool keep_spectra) {
   check_settings(scene, settings, keep_spectra);
+  // Samples [first, spp) of `chosen`'s estimator into `film`, guided where the settings ask for it.
+  auto rest = [&](const RenderSettings& chosen, FilmBuffer& film, int first) {
+    GuideTraining training;
+    const auto guide = prepare_guide(scene, chosen, control, stats, training);
+    RenderControl guided = control;
+    if (guide) guided.guide = guide.get();
+    render_into(scene, chosen, film, PixelRegion::whole(scene.camera), {first, settings.spp}, guided, stats);
+    return resolve(film, settings.spp);
+  };
   if (settings.integrator == IntegratorType::automatic) {
     EstimatorChoice choice =
         choose_estimator(scene, settings, auto_trial_spp(settings.spp), keep_spectra, nullptr, control, stats);
     RenderSettings chosen = settings;
     chosen.integrator = choice.chosen;
     FilmBuffer film = choice.film ? std::move(*choice.film) : make_film(scene, keep_spectra);
-    GuideTraining training;
-    const auto guide = prepare_guide(scene, chosen, control, stats, training);
-    RenderControl guided = control;
-    if (guide) guided.guide = guide.get();
-    render_into(scene, chosen, film, PixelRegion::whole(scene.camera), {choice.trial_spp, settings.spp}, guided,
-                stats);
-    return resolve(film, settings.spp);
+    return rest(chosen, film, choice.trial_spp);
   }
   FilmBuffer film = make_film(scene, keep_spectra);
-  GuideTraining training;
-  const auto guide = prepare_guide(scene, settings, control, stats, training);
-  RenderControl guided = control;
-  if (guide) guided.guide = guide.get();
-  render_into(scene, settings, film, PixelRegion::whole(scene.camera), {0, settings.spp}, guided, stats);
-  return resolve(film, settings.spp);
+  return rest(settings, film, 0);
 }
 
 }  // namespace bouguer

@@ -34,31 +34,26 @@ int quadrant(double& x, double& y) {
 
 DirectionTree::DirectionTree() : nodes_(1) {}
 
-double DirectionTree::total() const {
-  const auto& s = nodes_[0].sum;
-  return s[0] + s[1] + s[2] + s[3];
-}
+double DirectionTree::total() const { return nodes_[0].total(); }
 
 Vec3 DirectionTree::sample(double u1, double u2, double u3) const {
   double x0 = 0.0, y0 = 0.0, size = 1.0;
   std::uint32_t n = 0;
   for (;;) {
-    const Node& node = nodes_[n];
-    const double t = node.sum[0] + node.sum[1] + node.sum[2] + node.sum[3];
-    const auto& sum = node.sum;
-    const double target = u1 * t;
+    const auto& sum = nodes_[n].sum;
+    const double target = u1 * nodes_[n].total();
     double below = 0.0;
     int last = 3;  // (the last quadrant with light takes what rounding leaves past the others)
     while (last > 0 && !(sum[static_cast<std::size_t>(last)] > 0.0)) --last;
     int i = 0;
     while (i < last && (below + sum[static_cast<std::size_t>(i)] <= target || !(sum[static_cast<std::size_t>(i)] > 0.0)))
       below += sum[static_cast<std::size_t>(i++)];
-    const double s = node.sum[static_cast<std::size_t>(i)];
+    const double s = sum[static_cast<std::size_t>(i)];
     u1 = s > 0.0 ? std::clamp((target - below) / s, 0.0, 1.0 - 1e-16) : 0.5;
     size *= 0.5;
     x0 += (i & 1) ? size : 0.0;
     y0 += (i & 2) ? size : 0.0;
-    const std::uint32_t c = node.child[static_cast<std::size_t>(i)];
+    const std::uint32_t c = nodes_[n].child[static_cast<std::size_t>(i)];
     if (c == 0) break;
     n = c;
   }
@@ -71,7 +66,7 @@ double DirectionTree::pdf(const Vec3& d) const {
   std::uint32_t n = 0;
   for (;;) {
     const Node& node = nodes_[n];
-    const double t = node.sum[0] + node.sum[1] + node.sum[2] + node.sum[3];
+    const double t = node.total();
     if (!(t > 0.0)) return 0.0;
     const int i = quadrant(x, y);
     p *= 4.0 * node.sum[static_cast<std::size_t>(i)] / t;
@@ -143,7 +138,7 @@ std::uint32_t PathGuide::leaf_index(const Vec3& point) const {
 
 const DirectionTree* PathGuide::at(const Vec3& point) const {
   const Leaf& leaf = leaves_[leaf_index(point)];
-  return leaf.trained && leaf.sampling.total() > 0.0 ? &leaf.sampling : nullptr;
+  return leaf.sampling.total() > 0.0 ? &leaf.sampling : nullptr;  // (a new tree's is 0)
 }
 
 void PathGuide::add(std::span<const GuideRecord> records) {
@@ -176,10 +171,8 @@ void PathGuide::end_iteration(int iteration) {
   for (Leaf& leaf : leaves_) {
     leaf.sampling = leaf.building;
     leaf.building = leaf.sampling.refined(kDirectionRho);
-    leaf.trained = true;
     leaf.records = 0;
   }
-  ++iterations_;
 }
 
 std::size_t PathGuide::bytes() const {

@@ -51,6 +51,7 @@ class DirectionTree {
   struct Node {
     std::array<double, 4> sum{};
     std::array<std::uint32_t, 4> child{};  // 0: the quadrant is a leaf
+    double total() const { return sum[0] + sum[1] + sum[2] + sum[3]; }
   };
   std::uint32_t build_into(DirectionTree& out, int old, double value, int depth, double total, double rho) const;
   std::vector<Node> nodes_;
@@ -85,7 +86,6 @@ class PathGuide {
   // learned), then every leaf draws from what it learned and learns anew on a refined tree.
   void end_iteration(int iteration);
 
-  int iterations() const { return iterations_; }
   std::size_t leaf_count() const { return leaves_.size(); }
   std::size_t bytes() const;  // the memory its trees take
 
@@ -105,13 +105,11 @@ class PathGuide {
   struct Leaf {
     DirectionTree sampling, building;
     std::uint64_t records = 0;
-    bool trained = false;
   };
   std::uint32_t leaf_index(const Vec3& point) const;
   Vec3 lo_, hi_;
   std::vector<Node> nodes_;
   std::vector<Leaf> leaves_;
-  int iterations_ = 0;
 };
 
 }  // namespace bouguer

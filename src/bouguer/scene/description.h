@@ -61,9 +61,9 @@ struct RenderSettings {
   // tracer as before it, lamps behind glass reached only by its own directions (point and spot
   // lamps behind glass not at all).
   bool manifold = true;
-  // path: path guiding at diffuse surfaces (integrators/guiding.h), trained before the render.
-  // Unset: off (guiding_enabled); set: on or off as said.
-  std::optional<bool> guiding;
+  // path: path guiding at diffuse surfaces (integrators/guiding.h), trained before the render; off
+  // unless asked for (guiding_enabled).
+  bool guiding = false;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).
