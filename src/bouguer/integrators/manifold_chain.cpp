@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "bouguer/core/frame.h"
 #include "bouguer/integrators/surface_events.h"
@@ -45,24 +46,39 @@ bool solve_linear(Matrix a, Column b, int n, Column& x) {
 }
 
 // A crossing's triangle: its corners, unit geometric normal, an orthonormal basis (e1, e2) of its
-// plane, and the mesh (its vertex normals).
+// plane, the mesh (its vertex normals), and its edges from p0 with their dot products (the
+// barycentrics of a point in its plane, which a solve asks for many times).
 struct Triangle {
   const Mesh* mesh = nullptr;
+  std::uint32_t geometry = 0, primitive = 0;
   std::array<std::uint32_t, 3> corner{};
-  Vec3 p0, p1, p2, normal, e1, e2;
+  Vec3 p0, normal, e1, e2, a, b;
+  double aa = 0.0, ab = 0.0, bb = 0.0, det = 0.0;
 };
+
+// A triangle's first corner and unit geometric normal (its plane).
+std::pair<Vec3, Vec3> plane_of(const RenderScene& s, const Hit& h) {
+  const Mesh& m = s.rays.mesh(h.geometry);
+  const auto& corner = m.triangles[h.primitive];
+  const Vec3 p0 = m.positions[corner[0]];
+  return {p0, normalize(cross(m.positions[corner[1]] - p0, m.positions[corner[2]] - p0))};
+}
 
 Triangle triangle_of(const RenderScene& s, const Hit& h) {
   Triangle t;
   t.mesh = &s.rays.mesh(h.geometry);
+  t.geometry = h.geometry;
+  t.primitive = h.primitive;
   t.corner = t.mesh->triangles[h.primitive];
   t.p0 = t.mesh->positions[t.corner[0]];
-  t.p1 = t.mesh->positions[t.corner[1]];
-  t.p2 = t.mesh->positions[t.corner[2]];
-  t.normal = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+  t.a = t.mesh->positions[t.corner[1]] - t.p0;
+  t.b = t.mesh->positions[t.corner[2]] - t.p0;
+  t.normal = plane_of(s, h).second;
   const Frame f(t.normal);
   t.e1 = f.s;
   t.e2 = f.t;
+  t.aa = dot(t.a, t.a), t.ab = dot(t.a, t.b), t.bb = dot(t.b, t.b);
+  t.det = t.aa * t.bb - t.ab * t.ab;
   return t;
 }
 
@@ -71,10 +87,9 @@ Triangle triangle_of(const RenderScene& s, const Hit& h) {
 Vec3 shading_normal(const Triangle& t, const Vec3& y) {
   const Mesh& m = *t.mesh;
   if (m.normals.empty()) return t.normal;
-  const Vec3 a = t.p1 - t.p0, b = t.p2 - t.p0, c = y - t.p0;
-  const double aa = dot(a, a), ab = dot(a, b), bb = dot(b, b), ca = dot(c, a), cb = dot(c, b);
-  const double det = aa * bb - ab * ab;
-  const double b1 = (bb * ca - ab * cb) / det, b2 = (aa * cb - ab * ca) / det, b0 = 1.0 - b1 - b2;
+  const Vec3 c = y - t.p0;
+  const double ca = dot(c, t.a), cb = dot(c, t.b);
+  const double b1 = (t.bb * ca - t.ab * cb) / t.det, b2 = (t.aa * cb - t.ab * ca) / t.det, b0 = 1.0 - b1 - b2;
   const Vec3 n = m.normals[t.corner[0]] * b0 + m.normals[t.corner[1]] * b1 + m.normals[t.corner[2]] * b2;
   const double l = length(n);
   return l > 1e-12 && dot(n, t.normal) > 0.0 ? n / l : t.normal;
@@ -116,10 +131,10 @@ std::optional<ChainCrossing> crossing_of(const RenderScene& s, const Vec3& from,
                                          InsideSet inside) {
   ChainCrossing c;
   c.hit = m.hit;
-  const Triangle t = triangle_of(s, c.hit);
-  const double along = dot(d, t.normal);
+  const auto [p0, normal] = plane_of(s, c.hit);
+  const double along = dot(d, normal);
   if (std::abs(along) < 1e-12) return std::nullopt;
-  c.hit.point = from + d * (dot(t.p0 - from, t.normal) / along);
+  c.hit.point = from + d * (dot(p0 - from, normal) / along);
   const bool front = along < 0.0;  // arriving on the side the normal points to
   c.medium_from = front ? m.seen.medium_front : m.seen.medium_behind;
   c.medium_to = front ? m.seen.medium_behind : m.seen.medium_front;
@@ -138,11 +153,12 @@ std::optional<ChainCrossing> cross_at(const RenderScene& s, const Vec3& from, co
   return crossing_of(s, from, d, *m, inside);
 }
 
-// The constraints of the chain's crossings at points y (y[0] = x, y[count + 1] = q), each in its
-// triangle's basis: 2·count values.
-Column constraints(const std::array<Triangle, kMaxChain>& tri, const Chain& c, const std::array<Vec3, kMaxChain + 2>& y) {
-  Column out{};
-  for (int i = 1; i <= c.count; ++i) {
+// The constraints of the chain's crossings first..last (1-based) at points y (y[0] = x,
+// y[count + 1] = q), each in its triangle's basis: two values a crossing, at 2·(i − 1) and
+// 2·i − 1; the others left as they are.
+void constraints(const std::array<Triangle, kMaxChain>& tri, const Chain& c, const std::array<Vec3, kMaxChain + 2>& y,
+                 int first, int last, Column& out) {
+  for (int i = first; i <= last; ++i) {
     const ChainCrossing& k = c.crossing[static_cast<std::size_t>(i - 1)];
     const Triangle& t = tri[static_cast<std::size_t>(i - 1)];
     const Vec3 back = normalize(y[static_cast<std::size_t>(i - 1)] - y[static_cast<std::size_t>(i)]);
@@ -153,7 +169,6 @@ Column constraints(const std::array<Triangle, kMaxChain>& tri, const Chain& c, c
     out[static_cast<std::size_t>(2 * i - 2)] = dot(across, t.e1);
     out[static_cast<std::size_t>(2 * i - 1)] = dot(across, t.e2);
   }
-  return out;
 }
 
 double largest(const Column& v, int n) {
@@ -170,34 +185,53 @@ struct Linearised {
   double step_m = 0.0;
 };
 
-// The constraints at the chain's points and their Jacobian by central differences (each crossing
-// moved in its triangle's plane by 1e-7 of the path's length: the truncation error is 1e-14 of it,
-// the rounding 1e-9 relative, which slows Newton's last step by nothing measurable).
-Linearised linearise(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c) {
+// The chain's points and constraints, the Jacobian not yet (a Newton step's trial point is
+// mostly judged by its constraints alone). A crossing on the same triangle as in `before` takes
+// its triangle from there.
+Linearised evaluate(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c,
+                    const Linearised* before = nullptr) {
   Linearised l;
   l.y[0] = x;
   for (int i = 0; i < c.count; ++i) {
-    l.tri[static_cast<std::size_t>(i)] = triangle_of(s, c.crossing[static_cast<std::size_t>(i)].hit);
-    l.y[static_cast<std::size_t>(i + 1)] = c.crossing[static_cast<std::size_t>(i)].hit.point;
+    const Hit& h = c.crossing[static_cast<std::size_t>(i)].hit;
+    const Triangle* known = before ? &before->tri[static_cast<std::size_t>(i)] : nullptr;
+    l.tri[static_cast<std::size_t>(i)] =
+        known && known->geometry == h.geometry && known->primitive == h.primitive ? *known : triangle_of(s, h);
+    l.y[static_cast<std::size_t>(i + 1)] = h.point;
   }
   l.y[static_cast<std::size_t>(c.count + 1)] = q;
-  l.value = constraints(l.tri, c, l.y);
+  constraints(l.tri, c, l.y, 1, c.count, l.value);
   double path_m = 0.0;
   for (int i = 0; i <= c.count; ++i)
     path_m += length(l.y[static_cast<std::size_t>(i + 1)] - l.y[static_cast<std::size_t>(i)]);
   l.step_m = 1e-7 * path_m;
+  return l;
+}
+
+// The Jacobian of the constraints at l's points by central differences (each crossing moved in
+// its triangle's plane by 1e-7 of the path's length: the truncation error is 1e-14 of it, the
+// rounding 1e-9 relative, which slows Newton's last step by nothing measurable). Moving crossing
+// k changes only the constraints of k and its two neighbours; the rest of its column is 0.
+void differentiate(Linearised& l, const Chain& c) {
   for (int j = 0; j < 2 * c.count; ++j) {
-    const Triangle& t = l.tri[static_cast<std::size_t>(j / 2)];
+    const int k = j / 2 + 1, first = std::max(1, k - 1), last = std::min(c.count, k + 1);
+    const Triangle& t = l.tri[static_cast<std::size_t>(k - 1)];
     const Vec3 dir = (j % 2 == 0 ? t.e1 : t.e2) * l.step_m;
     auto moved = l.y;
-    moved[static_cast<std::size_t>(j / 2 + 1)] = l.y[static_cast<std::size_t>(j / 2 + 1)] + dir;
-    const Column plus = constraints(l.tri, c, moved);
-    moved[static_cast<std::size_t>(j / 2 + 1)] = l.y[static_cast<std::size_t>(j / 2 + 1)] - dir;
-    const Column minus = constraints(l.tri, c, moved);
+    Column plus{}, minus{};
+    moved[static_cast<std::size_t>(k)] = l.y[static_cast<std::size_t>(k)] + dir;
+    constraints(l.tri, c, moved, first, last, plus);
+    moved[static_cast<std::size_t>(k)] = l.y[static_cast<std::size_t>(k)] - dir;
+    constraints(l.tri, c, moved, first, last, minus);
     for (int i = 0; i < 2 * c.count; ++i)
       l.jacobian[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
           (plus[static_cast<std::size_t>(i)] - minus[static_cast<std::size_t>(i)]) / (2.0 * l.step_m);
   }
+}
+
+Linearised linearise(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c) {
+  Linearised l = evaluate(s, x, q, c);
+  differentiate(l, c);
   return l;
 }
 
@@ -312,8 +346,9 @@ bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Ve
       }
       const auto next = retraced(s, x, x_hit, c, targets, rays);
       if (!next) continue;
-      Linearised m = linearise(s, x, q, *next);
+      Linearised m = evaluate(s, x, q, *next, &l);
       if (largest(m.value, n) < error) {
+        differentiate(m, *next);
         c = *next;
         l = std::move(m);
         moved = true;
@@ -337,9 +372,10 @@ double chain_reverse_tube(const RenderScene& s, const Vec3& x, const Vec3& q, co
     const Vec3 dq = (a == 0 ? across.s : across.t) * l.step_m;
     auto moved = l.y;
     moved[static_cast<std::size_t>(c.count + 1)] = q + dq;
-    const Column plus = constraints(l.tri, c, moved);
+    Column plus{}, minus{};  // (only the last crossing's constraints see q)
+    constraints(l.tri, c, moved, c.count, c.count, plus);
     moved[static_cast<std::size_t>(c.count + 1)] = q - dq;
-    const Column minus = constraints(l.tri, c, moved);
+    constraints(l.tri, c, moved, c.count, c.count, minus);
     Column rhs{}, dy{};
     for (int i = 0; i < n; ++i)
       rhs[static_cast<std::size_t>(i)] =
