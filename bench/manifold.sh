@@ -28,44 +28,13 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 python3 - "$repo" "$tmp" <<'PY'
 import json, os, sys
-repo, out = sys.argv[1], sys.argv[2]
-ball = {
-  "camera": {"position": [0, 0.12, 0.32], "look_at": [0, 0.05, 0], "fov_deg": 35, "resolution": [96, 72]},
-  "render": {"integrator": "path", "spectral": "full", "max_depth": 256},
-  "world_medium": "vacuum",
-  "media": {"milky": {"ior": 1.33, "scattering": {"unit": "attenuation_per_m", "wavelength_nm": [450, 550, 650],
-                                                  "value": [30, 12, 6], "phase": {"type": "henyey_greenstein", "g": 0.7}}}},
-  "objects": [
-    {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
-     "material": {"type": "diffuse", "reflectance": 0.5}},
-    {"name": "ball", "shape": {"type": "sphere", "radius": "50 mm"}, "transform": [{"translate": [0, 0.05, 0]}],
-     "inside": "milky"},
-    {"name": "lamp", "shape": {"type": "quad", "size": [0.2, 0.2]},
-     "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0.05, 0.35, 0.05]}],
-     "emission": {"spectrum": "D65", "scale": 20}}],
-  "background": {"spectrum": "E", "scale": 0}}
-# (bench/guiding.sh's third scene: a floor lit only by what a small white patch above it reflects
-# of a lamp below the patch, facing it)
-bounce = {
-  "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
-  "render": {"integrator": "path", "spectral": "hero", "max_depth": 8},
-  "objects": [
-    {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
-     "material": {"type": "diffuse", "reflectance": 0.6}},
-    {"name": "patch", "shape": {"type": "quad", "size": [0.15, 0.15]},
-     "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.6, 0]}],
-     "material": {"type": "diffuse", "reflectance": 0.9}},
-    {"name": "lamp", "shape": {"type": "quad", "size": [0.03, 0.03]},
-     "transform": [{"rotate_deg": [-90, [1, 0, 0]]}, {"translate": [0, 0.4, 0]}],
-     "emission": {"spectrum": "D65", "scale": 2000}}],
-  "background": {"spectrum": "E", "scale": 0}}
-caustic = json.load(open(os.path.join(repo, "tests/data/red_ball_lamp/scene.json")))
-caustic["render"]["max_depth"] = 16
-for name, scene in (("ball", ball), ("caustic", caustic), ("bounce", bounce)):
+sys.path.insert(0, os.path.join(sys.argv[1], "bench"))
+import scenes  # bench/scenes.py: ball, caustic and bounce
+for name in ("ball", "caustic", "bounce"):
     for manifold in (True, False):
-        s = json.loads(json.dumps(scene))
+        s = scenes.scene(name)
         s["render"]["manifold"] = manifold
-        json.dump(s, open(os.path.join(out, "%s-%s.json" % (name, "on" if manifold else "off")), "w"))
+        json.dump(s, open(os.path.join(sys.argv[2], "%s-%s.json" % (name, "on" if manifold else "off")), "w"))
 PY
 # Mean ΔE00 between two renders over the whole frame and over the region (x0 x1 y0 y1, fractions).
 noise() {

@@ -17,30 +17,16 @@ resolution=${RESOLUTION:-32x24}
 repo=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-python3 - "$repo/scenes/showcase/milk-and-juice.json" "$tmp/glass.json" <<'PY'
-import json, os, sys
-source, out = sys.argv[1], sys.argv[2]
-scene = json.load(open(source))
-scene["objects"] = [o for o in scene["objects"] if "skimmed" not in o["name"] and "orange" not in o["name"]]
-for o in scene["objects"]:
-    if "whole milk" in o["name"]:
-        o["transform"] = []
-scene["camera"]["position"] = [0, "120 mm", "190 mm"]
-scene["camera"]["look_at"] = [0, "45 mm", 0]
-scene["camera"]["fov_deg"] = 30
-env = scene["background"]["environment"]
-scene["background"]["environment"] = os.path.normpath(os.path.join(os.path.dirname(source), env))
-json.dump(scene, open(out, "w"), indent=1)
-PY
+python3 "$repo/bench/scenes.py" "$tmp" milk
 seconds() { python3 -c "import json,sys; print('%.2f' % json.load(open(sys.argv[1]))['seconds'])" "$1"; }
-"$bin" render "$tmp/glass.json" --resolution "$resolution" --spp "$ref_spp" --seed 1000 --threads "$threads" --quiet \
+"$bin" render "$tmp/milk.json" --resolution "$resolution" --spp "$ref_spp" --seed 1000 --threads "$threads" --quiet \
   -o "$tmp/reference.exr" --stats-json "$tmp/reference.stats"
 echo "reference: $resolution, $ref_spp spp in $(seconds "$tmp/reference.stats") s"
 echo "| spp | seconds at $resolution | mean ΔE00 |"
 echo "|---|---|---|"
 spp=16
 while [ "$spp" -le "$max_spp" ]; do
-  "$bin" render "$tmp/glass.json" --resolution "$resolution" --spp "$spp" --seed 1 --threads "$threads" --quiet \
+  "$bin" render "$tmp/milk.json" --resolution "$resolution" --spp "$spp" --seed 1 --threads "$threads" --quiet \
     -o "$tmp/r.exr" --stats-json "$tmp/r.stats"
   de=$("$bin" compare "$tmp/r.exr" "$tmp/reference.exr" | sed -n 's/.*mean \([0-9.]*\).*/\1/p')
   echo "| $spp | $(seconds "$tmp/r.stats") | $de |"

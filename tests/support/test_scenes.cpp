@@ -1,6 +1,9 @@
 #include "support/test_scenes.h"
 
+#include "support/test_support.h"
+
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -88,25 +91,9 @@ std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed) {
 // so it leaves the liquid dark; the bidirectional estimator's light subpaths enter the glass and
 // their medium vertices are connected to the camera and to camera-path vertices.
 std::string lit_tumbler(const char* integrator) {
-  return fmt::format(R"({{
-    "camera": {{"position": [0, "60 mm", "260 mm"], "look_at": [0, "45 mm", 0], "fov_deg": 22, "resolution": [16, 16]}},
-    "render": {{"integrator": "{}", "spectral": "hero", "max_depth": 64}},
-    "world_medium": "air",
-    "media": {{"glass": {{"ior": 1.52}},
-               "haze": {{"ior": 1.33, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
-                                                    "value": [30, 15], "phase": {{"type": "henyey_greenstein", "g": 0.3}}}}}}}},
-    "objects": [
-      {{"name": "tumbler", "shape": {{"type": "vessel", "wall": "2 mm", "fill": 0.8, "segments": 64,
-                                    "profile": [[0, 0], ["30 mm", 0], ["32 mm", "90 mm"]]}},
-        "inside": "glass", "contents": "haze"}},
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.05}}}}
-    ],
-    "lights": [{{"type": "point", "position": ["-150 mm", "120 mm", "80 mm"], "spectrum": "A", "scale": 0.02}},
-               {{"type": "spot", "position": ["200 mm", "50 mm", 0], "look_at": [0, "40 mm", 0], "cone_deg": 12,
-                 "falloff_deg": 8, "spectrum": "D65", "scale": 0.05}}]
-  }})",
-                     integrator);
+  nlohmann::json scene = nlohmann::json::parse(read_file(test_data("lit_tumbler/scene.json")));
+  scene["render"]["integrator"] = integrator;
+  return scene.dump();
 }
 
 const char* const kChromaticSigmaS =

@@ -21,7 +21,9 @@ std::string room_scene(const char* integrator, int spp, std::uint64_t seed);
 std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed);
 
 // A glass tumbler of a dilute scattering liquid on a dark floor, lit only by a point light and a
-// spot (16 × 16, hero): only light subpaths reach the liquid through the glass.
+// spot (16 × 16, hero): light reaches the liquid only through the glass (light subpaths, or the
+// path tracer's connections through the walls). The scene is tests/data/lit_tumbler/scene.json
+// (bench/hard_scenes.py renders it too) with `integrator` set.
 std::string lit_tumbler(const char* integrator);
 
 extern const char* const kChromaticSigmaS;  // a strongly chromatic σ_s: blue scatters 5× as much as red

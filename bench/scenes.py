@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""The benchmark scenes of #37, in one place (bench/manifold.sh, bench/guiding.sh,
+bench/whole_milk_glass.sh and bench/hard_scenes.py write theirs from here).
+
+    python3 bench/scenes.py OUTDIR NAME...     writes OUTDIR/NAME.json for each NAME
+
+  ball     a ball of scattering medium inside a refracting boundary (n = 1.33, σ_s 30/12/6 per m at
+           450/550/650 nm, g 0.7, radius 50 mm) on a grey floor under a 200 mm square lamp: every
+           scattering event inside reaches the lamp through one crossing
+  caustic  tests/data/red_ball_lamp: a 20 mm red glass ball under a 5 mm spherical lamp (the caustic
+           and the coloured shadow under the ball come through two crossings), max_depth 16
+  tumbler  tests/data/lit_tumbler: a glass tumbler of a dilute scattering liquid lit by a point and a
+           spot lamp (light reaches the liquid only through the glass)
+  milk     the whole-milk tumbler of scenes/showcase/milk-and-juice.json alone on its sweep under the
+           studio map, framed so that it fills most of the picture (#20's glass of whole milk)
+  bounce   a floor lit only by a small white patch that a lamp below it shines on (guiding's
+           textbook case)
+
+Paths inside the scenes (the studio map) are made absolute, so OUTDIR may be anywhere.
+"""
+import copy
+import json
+import os
+import sys
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _load(relative):
+    path = os.path.join(REPO, relative)
+    scene = json.load(open(path))
+    env = scene.get("background", {}).get("environment")
+    if env:
+        scene["background"]["environment"] = os.path.normpath(os.path.join(os.path.dirname(path), env))
+    return scene
+
+
+def ball():
+    return {
+        "camera": {"position": [0, 0.12, 0.32], "look_at": [0, 0.05, 0], "fov_deg": 35, "resolution": [96, 72]},
+        "render": {"integrator": "path", "spectral": "full", "max_depth": 256},
+        "world_medium": "vacuum",
+        "media": {"milky": {"ior": 1.33, "scattering": {
+            "unit": "attenuation_per_m", "wavelength_nm": [450, 550, 650], "value": [30, 12, 6],
+            "phase": {"type": "henyey_greenstein", "g": 0.7}}}},
+        "objects": [
+            {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+             "material": {"type": "diffuse", "reflectance": 0.5}},
+            {"name": "ball", "shape": {"type": "sphere", "radius": "50 mm"}, "transform": [{"translate": [0, 0.05, 0]}],
+             "inside": "milky"},
+            {"name": "lamp", "shape": {"type": "quad", "size": [0.2, 0.2]},
+             "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0.05, 0.35, 0.05]}],
+             "emission": {"spectrum": "D65", "scale": 20}}],
+        "background": {"spectrum": "E", "scale": 0}}
+
+
+def caustic():
+    scene = _load("tests/data/red_ball_lamp/scene.json")
+    scene["render"]["max_depth"] = 16
+    return scene
+
+
+def tumbler():
+    scene = _load("tests/data/lit_tumbler/scene.json")
+    scene["camera"]["resolution"] = [64, 64]
+    return scene
+
+
+def milk():
+    scene = _load("scenes/showcase/milk-and-juice.json")
+    scene["objects"] = [o for o in scene["objects"] if "skimmed" not in o["name"] and "orange" not in o["name"]]
+    for o in scene["objects"]:
+        if "whole milk" in o["name"]:
+            o["transform"] = []
+    scene["camera"]["position"] = [0, "120 mm", "190 mm"]
+    scene["camera"]["look_at"] = [0, "45 mm", 0]
+    scene["camera"]["fov_deg"] = 30
+    return scene
+
+
+def bounce():
+    return {
+        "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
+        "render": {"integrator": "path", "spectral": "hero", "max_depth": 8},
+        "objects": [
+            {"name": "floor", "shape": {"type": "quad", "size": [2, 2]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+             "material": {"type": "diffuse", "reflectance": 0.6}},
+            {"name": "patch", "shape": {"type": "quad", "size": [0.15, 0.15]},
+             "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.6, 0]}],
+             "material": {"type": "diffuse", "reflectance": 0.9}},
+            {"name": "lamp", "shape": {"type": "quad", "size": [0.03, 0.03]},
+             "transform": [{"rotate_deg": [-90, [1, 0, 0]]}, {"translate": [0, 0.4, 0]}],
+             "emission": {"spectrum": "D65", "scale": 2000}}],
+        "background": {"spectrum": "E", "scale": 0}}
+
+
+SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "milk": milk, "bounce": bounce}
+
+
+def scene(name):
+    return copy.deepcopy(SCENES[name]())
+
+
+def main(argv):
+    if len(argv) < 3 or any(name not in SCENES for name in argv[2:]):
+        sys.exit("usage: scenes.py OUTDIR NAME... (names: %s)" % " ".join(SCENES))
+    for name in argv[2:]:
+        with open(os.path.join(argv[1], name + ".json"), "w") as f:
+            json.dump(scene(name), f, indent=1)
+
+
+if __name__ == "__main__":
+    main(sys.argv)
