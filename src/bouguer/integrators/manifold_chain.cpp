@@ -54,6 +54,7 @@ struct Triangle {
   std::array<std::uint32_t, 3> corner{};
   Vec3 p0, normal, e1, e2, a, b;
   double aa = 0.0, ab = 0.0, bb = 0.0, det = 0.0;
+  Vec3 grad1, grad2;  // the gradients of the barycentrics of corners 1 and 2 in its plane
 };
 
 // A triangle's first corner and unit geometric normal (its plane).
@@ -79,20 +80,26 @@ Triangle triangle_of(const RenderScene& s, const Hit& h) {
   t.e2 = f.t;
   t.aa = dot(t.a, t.a), t.ab = dot(t.a, t.b), t.bb = dot(t.b, t.b);
   t.det = t.aa * t.bb - t.ab * t.ab;
+  t.grad1 = (t.a * t.bb - t.b * t.ab) / t.det;
+  t.grad2 = (t.b * t.aa - t.a * t.ab) / t.det;
   return t;
 }
 
 // The interpolated shading normal at a point of the triangle's plane (inside it or, during a
-// Newton step, just past an edge: the affine interpolation extends smoothly).
-Vec3 shading_normal(const Triangle& t, const Vec3& y) {
+// Newton step, just past an edge: the affine interpolation extends smoothly), and the length of
+// the interpolated normal it is (0 where the geometric normal stands in, which does not turn).
+Vec3 shading_normal(const Triangle& t, const Vec3& y, double* interpolated_length = nullptr) {
   const Mesh& m = *t.mesh;
+  if (interpolated_length) *interpolated_length = 0.0;
   if (m.normals.empty()) return t.normal;
   const Vec3 c = y - t.p0;
   const double ca = dot(c, t.a), cb = dot(c, t.b);
   const double b1 = (t.bb * ca - t.ab * cb) / t.det, b2 = (t.aa * cb - t.ab * ca) / t.det, b0 = 1.0 - b1 - b2;
   const Vec3 n = m.normals[t.corner[0]] * b0 + m.normals[t.corner[1]] * b1 + m.normals[t.corner[2]] * b2;
   const double l = length(n);
-  return l > 1e-12 && dot(n, t.normal) > 0.0 ? n / l : t.normal;
+  if (!(l > 1e-12 && dot(n, t.normal) > 0.0)) return t.normal;
+  if (interpolated_length) *interpolated_length = l;
+  return n / l;
 }
 
 // The surface a ray from `origin` along d meets first within max_m, seen from the nested set
@@ -153,22 +160,22 @@ std::optional<ChainCrossing> cross_at(const RenderScene& s, const Vec3& from, co
   return crossing_of(s, from, d, *m, inside);
 }
 
-// The constraints of the chain's crossings first..last (1-based) at points y (y[0] = x,
-// y[count + 1] = q), each in its triangle's basis: two values a crossing, at 2·(i − 1) and
-// 2·i − 1; the others left as they are.
-void constraints(const std::array<Triangle, kMaxChain>& tri, const Chain& c, const std::array<Vec3, kMaxChain + 2>& y,
-                 int first, int last, Column& out) {
-  for (int i = first; i <= last; ++i) {
-    const ChainCrossing& k = c.crossing[static_cast<std::size_t>(i - 1)];
-    const Triangle& t = tri[static_cast<std::size_t>(i - 1)];
-    const Vec3 back = normalize(y[static_cast<std::size_t>(i - 1)] - y[static_cast<std::size_t>(i)]);
-    const Vec3 ahead = normalize(y[static_cast<std::size_t>(i + 1)] - y[static_cast<std::size_t>(i)]);
-    const Vec3 h = back * k.eta_from + ahead * k.eta_to;
-    const Vec3 n = shading_normal(t, y[static_cast<std::size_t>(i)]);
-    const Vec3 across = h - n * dot(h, n);
-    out[static_cast<std::size_t>(2 * i - 2)] = dot(across, t.e1);
-    out[static_cast<std::size_t>(2 * i - 1)] = dot(across, t.e2);
-  }
+// What a crossing's constraints are made of at the chain's points: the unit directions back and
+// ahead and their lengths, h = η_before·back + η_after·ahead, the shading normal and the length of
+// the interpolated normal it was divided by (0 where the geometric normal stands in: no change).
+struct CrossingLocal {
+  Vec3 back, ahead, h, n;
+  double back_m = 0.0, ahead_m = 0.0, normal_length = 0.0;
+};
+
+CrossingLocal crossing_local(const Triangle& t, const ChainCrossing& k, const Vec3& before, const Vec3& y,
+                             const Vec3& after) {
+  CrossingLocal o;
+  o.back_m = length(before - y), o.ahead_m = length(after - y);
+  o.back = (before - y) / o.back_m, o.ahead = (after - y) / o.ahead_m;
+  o.h = o.back * k.eta_from + o.ahead * k.eta_to;
+  o.n = shading_normal(t, y, &o.normal_length);
+  return o;
 }
 
 double largest(const Column& v, int n) {
@@ -177,12 +184,15 @@ double largest(const Column& v, int n) {
   return m;
 }
 
+// The chain at its points y (y[0] = x, y[count + 1] = q): each crossing's triangle and local
+// quantities, the constraints (two a crossing, along e1 and e2 of its triangle: the part of h
+// across the shading normal) and, once differentiated, their Jacobian.
 struct Linearised {
   std::array<Triangle, kMaxChain> tri;
   std::array<Vec3, kMaxChain + 2> y;
+  std::array<CrossingLocal, kMaxChain> local;
   Column value{};
   Matrix jacobian{};  // ∂C/∂(the crossings' coordinates along e1, e2 of their triangles)
-  double step_m = 0.0;
 };
 
 // The chain's points and constraints, the Jacobian not yet (a Newton step's trial point is
@@ -200,32 +210,52 @@ Linearised evaluate(const RenderScene& s, const Vec3& x, const Vec3& q, const Ch
     l.y[static_cast<std::size_t>(i + 1)] = h.point;
   }
   l.y[static_cast<std::size_t>(c.count + 1)] = q;
-  constraints(l.tri, c, l.y, 1, c.count, l.value);
-  double path_m = 0.0;
-  for (int i = 0; i <= c.count; ++i)
-    path_m += length(l.y[static_cast<std::size_t>(i + 1)] - l.y[static_cast<std::size_t>(i)]);
-  l.step_m = 1e-7 * path_m;
+  for (int i = 1; i <= c.count; ++i) {
+    const Triangle& t = l.tri[static_cast<std::size_t>(i - 1)];
+    const CrossingLocal& o = l.local[static_cast<std::size_t>(i - 1)] =
+        crossing_local(t, c.crossing[static_cast<std::size_t>(i - 1)], l.y[static_cast<std::size_t>(i - 1)],
+                       l.y[static_cast<std::size_t>(i)], l.y[static_cast<std::size_t>(i + 1)]);
+    const Vec3 across = o.h - o.n * dot(o.h, o.n);
+    l.value[static_cast<std::size_t>(2 * i - 2)] = dot(across, t.e1);
+    l.value[static_cast<std::size_t>(2 * i - 1)] = dot(across, t.e2);
+  }
   return l;
 }
 
-// The Jacobian of the constraints at l's points by central differences (each crossing moved in
-// its triangle's plane by 1e-7 of the path's length: the truncation error is 1e-14 of it, the
-// rounding 1e-9 relative, which slows Newton's last step by nothing measurable). Moving crossing
-// k changes only the constraints of k and its two neighbours; the rest of its column is 0.
+// The change of a crossing's two constraints when its neighbours and itself move by d_before,
+// d_after and d_y (d(across) with across = h − n(n·h), then along e1 and e2).
+std::array<double, 2> constraint_change(const Triangle& t, const ChainCrossing& k, const CrossingLocal& o,
+                                        const Vec3& d_before, const Vec3& d_y, const Vec3& d_after) {
+  const Vec3 v_back = d_before - d_y, v_ahead = d_after - d_y;
+  const Vec3 d_back = (v_back - o.back * dot(o.back, v_back)) / o.back_m;
+  const Vec3 d_ahead = (v_ahead - o.ahead * dot(o.ahead, v_ahead)) / o.ahead_m;
+  const Vec3 dh = d_back * k.eta_from + d_ahead * k.eta_to;
+  Vec3 dn{};
+  if (o.normal_length > 0.0) {
+    const Mesh& m = *t.mesh;
+    const Vec3 n0 = m.normals[t.corner[0]];
+    const Vec3 dN = (m.normals[t.corner[1]] - n0) * dot(t.grad1, d_y) + (m.normals[t.corner[2]] - n0) * dot(t.grad2, d_y);
+    dn = (dN - o.n * dot(o.n, dN)) / o.normal_length;
+  }
+  const Vec3 d_across = dh - dn * dot(o.n, o.h) - o.n * (dot(dn, o.h) + dot(o.n, dh));
+  return {dot(d_across, t.e1), dot(d_across, t.e2)};
+}
+
+// The Jacobian of the constraints at l's points, in closed form: moving crossing k in its
+// triangle's plane changes only its own constraints and its two neighbours'.
 void differentiate(Linearised& l, const Chain& c) {
+  for (auto& row : l.jacobian) row.fill(0.0);
   for (int j = 0; j < 2 * c.count; ++j) {
-    const int k = j / 2 + 1, first = std::max(1, k - 1), last = std::min(c.count, k + 1);
+    const int k = j / 2 + 1;
     const Triangle& t = l.tri[static_cast<std::size_t>(k - 1)];
-    const Vec3 dir = (j % 2 == 0 ? t.e1 : t.e2) * l.step_m;
-    auto moved = l.y;
-    Column plus{}, minus{};
-    moved[static_cast<std::size_t>(k)] = l.y[static_cast<std::size_t>(k)] + dir;
-    constraints(l.tri, c, moved, first, last, plus);
-    moved[static_cast<std::size_t>(k)] = l.y[static_cast<std::size_t>(k)] - dir;
-    constraints(l.tri, c, moved, first, last, minus);
-    for (int i = 0; i < 2 * c.count; ++i)
-      l.jacobian[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
-          (plus[static_cast<std::size_t>(i)] - minus[static_cast<std::size_t>(i)]) / (2.0 * l.step_m);
+    const Vec3 u = j % 2 == 0 ? t.e1 : t.e2;
+    for (int i = std::max(1, k - 1); i <= std::min(c.count, k + 1); ++i) {
+      const Vec3 d_before = i == k + 1 ? u : Vec3{}, d_y = i == k ? u : Vec3{}, d_after = i == k - 1 ? u : Vec3{};
+      const auto dc = constraint_change(l.tri[static_cast<std::size_t>(i - 1)], c.crossing[static_cast<std::size_t>(i - 1)],
+                                        l.local[static_cast<std::size_t>(i - 1)], d_before, d_y, d_after);
+      l.jacobian[static_cast<std::size_t>(2 * i - 2)][static_cast<std::size_t>(j)] = dc[0];
+      l.jacobian[static_cast<std::size_t>(2 * i - 1)][static_cast<std::size_t>(j)] = dc[1];
+    }
   }
 }
 
@@ -367,19 +397,15 @@ double chain_reverse_tube(const RenderScene& s, const Vec3& x, const Vec3& q, co
   const Vec3 first = c.crossing[0].hit.point;
   const double first_m = length(first - x);
   const Vec3 wi = (first - x) / first_m;
+  const auto last_i = static_cast<std::size_t>(c.count - 1);
   std::array<Vec3, 2> turn{};  // how the first direction turns per metre q moves along s and t
   for (int a = 0; a < 2; ++a) {
-    const Vec3 dq = (a == 0 ? across.s : across.t) * l.step_m;
-    auto moved = l.y;
-    moved[static_cast<std::size_t>(c.count + 1)] = q + dq;
-    Column plus{}, minus{};  // (only the last crossing's constraints see q)
-    constraints(l.tri, c, moved, c.count, c.count, plus);
-    moved[static_cast<std::size_t>(c.count + 1)] = q - dq;
-    constraints(l.tri, c, moved, c.count, c.count, minus);
+    // (only the last crossing's constraints see q)
+    const auto dc = constraint_change(l.tri[last_i], c.crossing[last_i], l.local[last_i], Vec3{}, Vec3{},
+                                      a == 0 ? across.s : across.t);
     Column rhs{}, dy{};
-    for (int i = 0; i < n; ++i)
-      rhs[static_cast<std::size_t>(i)] =
-          -(plus[static_cast<std::size_t>(i)] - minus[static_cast<std::size_t>(i)]) / (2.0 * l.step_m);
+    rhs[static_cast<std::size_t>(n - 2)] = -dc[0];
+    rhs[static_cast<std::size_t>(n - 1)] = -dc[1];
     if (!solve_linear(l.jacobian, rhs, n, dy)) return 0.0;
     const Vec3 dfirst = l.tri[0].e1 * dy[0] + l.tri[0].e2 * dy[1];
     turn[static_cast<std::size_t>(a)] = (dfirst - wi * dot(dfirst, wi)) / first_m;
