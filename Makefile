@@ -8,7 +8,7 @@ FUZZ_TARGETS ?=
 FUZZ_LONG_SECONDS ?= 3600
 ASAN_BUILD ?= build-asan
 
-.PHONY: all deps configure build demo test test-long bench convergence estimators choose fuzz fuzz-long test-asan clean blender-addon
+.PHONY: all deps configure build demo test test-long bench convergence estimators hard-scenes choose fuzz fuzz-long test-asan clean blender-addon
 
 all: build
 
@@ -43,6 +43,11 @@ convergence: build
 # Seconds path and bdpt need to reach mean ΔE00 < 2 and < 1 on the caustic scenes (tens of minutes).
 estimators: build
 	@bash bench/estimators.sh $(BUILD)
+
+# #37's four hard scenes: time to mean ΔE00 < 1, this build against the one #37 was filed against
+# (c4d0b2d, built once in build-base-c4d0b2d/; about 40 minutes on 2 cores).
+hard-scenes: build
+	@python3 bench/hard_scenes.py $(BUILD)/bouguer
 
 # What --integrator auto rests on: each estimator's cost per ray, and auto's choice on four showcases.
 choose: build

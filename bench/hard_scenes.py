@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """#37's four benchmarks: time to a mean ΔE00 below 1, this build against an older one.
 
-    bench/hard_scenes.py NEW BASE [--scenes ball caustic tumbler milk] [--threads 2]
+    bench/hard_scenes.py [NEW [BASE]] [--scenes ball caustic tumbler milk] [--threads 2]
 
-NEW and BASE are two bouguer executables (the issue asks for the build it was filed against:
-c4d0b2d, the commit before #37's first). The scenes are bench/scenes.py's: the scattering ball,
+NEW is a bouguer executable (build/bouguer by default). BASE is another, or a git revision to
+build one from (a git worktree with a Release build of bouguer in build-base-REVISION/ at the
+repository's root, which git ignores, kept for the next run); by default c4d0b2d, the commit #37 was filed
+against (the one before its first). The scenes are bench/scenes.py's: the scattering ball,
 the red glass ball under a 5 mm spherical lamp, the lit tumbler and the glass of whole milk.
 
 Per scene: one reference, rendered by NEW with the scene's reference estimator at many samples
@@ -13,9 +15,10 @@ Per scene: one reference, rendered by NEW with the scene's reference estimator a
 render's mean ΔE00 to the reference is below 1, its time passes the scene's limit or its count passes
 --max-spp. The time to ΔE00 1 is read between the two renders on either side of it (on a straight
 line in log time against log ΔE00); a run that never got there is extrapolated from its last two
-renders (marked "extrapolated"), unless its error had stopped falling as noise falls (slope above
-−0.15: "stalls", a bias, no time). The reference's own error adds to every figure (about as
-√(e² + e_ref²)); both builds are measured against the same reference, so it moves both.
+renders (marked "extrapolated"), unless its error had all but stopped falling (slope above
+−0.15: "stalls", a bias or a tail far heavier than noise's; no time). The reference's own error
+adds to every figure (about as √(e² + e_ref²)); both builds are measured against the same
+reference, so it moves both.
 
 One reference for both builds: both are unbiased estimators of the same scene, except where a
 build is not (BASE's path tracer reaches no light through the glass from a point or spot lamp: on
@@ -74,7 +77,7 @@ def time_to_one(points):
         return t * e * e, "from the first render, as 1/√t"
     (t1, e1), (t2, e2) = points[-2:] if len(points) > 1 else (points[0], points[0])
     slope = math.log(e2 / e1) / math.log(t2 / t1) if t2 > t1 else -0.5
-    if slope > -0.15:  # no longer falling as noise does: a bias (light it does not reach)
+    if slope > -0.15:  # hardly falling: a bias (light it does not reach) or a very heavy tail
         return math.inf, "stalls at ΔE00 %.2f (slope %.2f)" % (e2, slope)
     slope = max(slope, -1.0)
     return t2 * math.exp(math.log(1 / e2) / slope), "extrapolated (slope %.2f)" % slope
@@ -123,15 +126,33 @@ def bench_scene(name, builds, args, tmp):
     sys.stdout.flush()
 
 
+def base_executable(base):
+    """BASE as an executable: itself, or bouguer built at that git revision."""
+    if os.path.isfile(base) and os.access(base, os.X_OK):
+        return os.path.realpath(base)
+    repo = os.path.dirname(scenes.REPO + "/")
+    revision = subprocess.run(["git", "-C", repo, "rev-parse", "--short", base + "^{commit}"], check=True,
+                              capture_output=True, text=True).stdout.strip()
+    tree = os.path.join(repo, "build-base-" + revision)
+    binary = os.path.join(tree, "build", "bouguer")
+    if not os.path.exists(binary):
+        if not os.path.exists(tree):
+            subprocess.run(["git", "-C", repo, "worktree", "add", "--detach", tree, revision], check=True)
+        subprocess.run(["cmake", "-S", tree, "-B", os.path.join(tree, "build"), "-G", "Ninja",
+                        "-DCMAKE_BUILD_TYPE=Release"], check=True, stdout=subprocess.DEVNULL)
+        subprocess.run(["cmake", "--build", os.path.join(tree, "build"), "--target", "bouguer"], check=True)
+    return binary
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("new")
-    parser.add_argument("base")
+    parser.add_argument("new", nargs="?", default=os.path.join(scenes.REPO, "build", "bouguer"))
+    parser.add_argument("base", nargs="?", default="c4d0b2d")
     parser.add_argument("--scenes", nargs="+", default=list(CONFIG), choices=list(CONFIG))
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--max-spp", type=int, default=65536)
     args = parser.parse_args()
-    builds = [("NEW", os.path.realpath(args.new)), ("BASE", os.path.realpath(args.base))]
+    builds = [("NEW", os.path.realpath(args.new)), ("BASE", base_executable(args.base))]
     with tempfile.TemporaryDirectory() as tmp:
         for name in args.scenes:
             bench_scene(name, builds, args, tmp)
