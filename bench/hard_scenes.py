@@ -98,8 +98,8 @@ def bench_scene(name, builds, args, tmp):
     active = set(points)
     spp, level = first_spp, 0
     while active:
+        order = builds if level % 2 == 0 else builds[::-1]
         for estimator in ESTIMATORS:
-            order = builds if level % 2 == 0 else builds[::-1]
             for label, binary in order:
                 if (label, estimator) not in active:
                     continue
@@ -130,7 +130,7 @@ def base_executable(base):
     """BASE as an executable: itself, or bouguer built at that git revision."""
     if os.path.isfile(base) and os.access(base, os.X_OK):
         return os.path.realpath(base)
-    repo = os.path.dirname(scenes.REPO + "/")
+    repo = scenes.REPO
     revision = subprocess.run(["git", "-C", repo, "rev-parse", "--short", base + "^{commit}"], check=True,
                               capture_output=True, text=True).stdout.strip()
     tree = os.path.join(repo, "build-base-" + revision)

@@ -46,15 +46,14 @@ bool solve_linear(Matrix a, Column b, int n, Column& x) {
 }
 
 // A crossing's triangle: its corners, unit geometric normal, an orthonormal basis (e1, e2) of its
-// plane, the mesh (its vertex normals), and its edges from p0 with their dot products (the
-// barycentrics of a point in its plane, which a solve asks for many times).
+// plane, the mesh (its vertex normals), and the gradients in its plane of the barycentrics of
+// corners 1 and 2 (a point's barycentrics, which a solve asks for many times, are then two dot
+// products; and they are what the shading normal's derivative is made of).
 struct Triangle {
   const Mesh* mesh = nullptr;
   std::uint32_t geometry = 0, primitive = 0;
   std::array<std::uint32_t, 3> corner{};
-  Vec3 p0, normal, e1, e2, a, b;
-  double aa = 0.0, ab = 0.0, bb = 0.0, det = 0.0;
-  Vec3 grad1, grad2;  // the gradients of the barycentrics of corners 1 and 2 in its plane
+  Vec3 p0, normal, e1, e2, grad1, grad2;
 };
 
 // A triangle's first corner and unit geometric normal (its plane).
@@ -72,16 +71,14 @@ Triangle triangle_of(const RenderScene& s, const Hit& h) {
   t.primitive = h.primitive;
   t.corner = t.mesh->triangles[h.primitive];
   t.p0 = t.mesh->positions[t.corner[0]];
-  t.a = t.mesh->positions[t.corner[1]] - t.p0;
-  t.b = t.mesh->positions[t.corner[2]] - t.p0;
-  t.normal = plane_of(s, h).second;
+  const Vec3 a = t.mesh->positions[t.corner[1]] - t.p0, b = t.mesh->positions[t.corner[2]] - t.p0;
+  t.normal = normalize(cross(a, b));
   const Frame f(t.normal);
   t.e1 = f.s;
   t.e2 = f.t;
-  t.aa = dot(t.a, t.a), t.ab = dot(t.a, t.b), t.bb = dot(t.b, t.b);
-  t.det = t.aa * t.bb - t.ab * t.ab;
-  t.grad1 = (t.a * t.bb - t.b * t.ab) / t.det;
-  t.grad2 = (t.b * t.aa - t.a * t.ab) / t.det;
+  const double aa = dot(a, a), ab = dot(a, b), bb = dot(b, b), det = aa * bb - ab * ab;
+  t.grad1 = (a * bb - b * ab) / det;
+  t.grad2 = (b * aa - a * ab) / det;
   return t;
 }
 
@@ -93,8 +90,7 @@ Vec3 shading_normal(const Triangle& t, const Vec3& y, double* interpolated_lengt
   if (interpolated_length) *interpolated_length = 0.0;
   if (m.normals.empty()) return t.normal;
   const Vec3 c = y - t.p0;
-  const double ca = dot(c, t.a), cb = dot(c, t.b);
-  const double b1 = (t.bb * ca - t.ab * cb) / t.det, b2 = (t.aa * cb - t.ab * ca) / t.det, b0 = 1.0 - b1 - b2;
+  const double b1 = dot(c, t.grad1), b2 = dot(c, t.grad2), b0 = 1.0 - b1 - b2;
   const Vec3 n = m.normals[t.corner[0]] * b0 + m.normals[t.corner[1]] * b1 + m.normals[t.corner[2]] * b2;
   const double l = length(n);
   if (!(l > 1e-12 && dot(n, t.normal) > 0.0)) return t.normal;
