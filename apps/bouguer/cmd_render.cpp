@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bouguer/core/error.h"
+#include "bouguer/core/memory.h"
 #include "bouguer/distributed/distributed.h"
 #include "bouguer/io/atomic_file.h"
 #include "bouguer/io/image_io.h"
@@ -293,7 +294,8 @@ int run_render(const RenderCli& o) {
                        {"records", training.records}, {"cells", training.leaves}, {"bytes", training.bytes}};
     if (stats.iterations > 0)
       jv["vcm"] = {{"iterations", stats.iterations}, {"light_paths", stats.light_paths}, {"photons", stats.photons},
-                   {"merges", stats.merges}, {"last_radius_m", stats.radius_m}};
+                   {"merges", stats.merges}, {"last_radius_m", stats.radius_m},
+                   {"light_subpath_bytes", stats.light_subpath_bytes}};
     stats_text = jv.dump(2) + "\n";
   }
   // All or nothing: no file is replaced unless every output was written.
@@ -331,8 +333,9 @@ int run_render(const RenderCli& o) {
       }
     }
     if (stats.iterations > 0)
-      fmt::print("  {} iterations: {} light paths, {} photons, {} merges, radius {:.3g} mm at the last\n",
-                 stats.iterations, stats.light_paths, stats.photons, stats.merges, stats.radius_m * 1e3);
+      fmt::print("  {} iterations: {} light paths ({} kept at most), {} photons, {} merges, radius {:.3g} mm at the last\n",
+                 stats.iterations, stats.light_paths, format_bytes(stats.light_subpath_bytes), stats.photons,
+                 stats.merges, stats.radius_m * 1e3);
   }
   return 0;
 }

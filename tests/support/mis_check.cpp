@@ -88,7 +88,7 @@ void check_path(Bdpt<N>& bdpt, const RenderScene& scene, const std::vector<Verte
         split(k, true);
         bdpt.subpath_sums(l2, true, sums);
         const auto q = static_cast<std::size_t>(k);
-        sum += bdpt.merge_weight(c2, static_cast<int>(c2.size()), l2[q].wo, bidir::merge_source(l2, q, sums));
+        sum += bdpt.merge_weight(c2, static_cast<int>(c2.size()), l2[q], l2[q - 1], sums[q]);
       }
   }
   out.sums.push_back(sum);

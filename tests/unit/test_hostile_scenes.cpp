@@ -320,6 +320,29 @@ TEST(HostileScene, ARenderTooLargeForMemoryIsRefusedBeforeItAllocates) {
   EXPECT_TRUE(has(spheres, " of memory; ")) << spheres;
 }
 
+TEST(HostileScene, VcmLightSubpathsBeyondTheMemoryAreRefusedBeforeTheyGrow) {
+  // vcm keeps every pixel's light subpath for its iteration, 2 kB a vertex in full spectrum: at
+  // 1024 x 1024 about 3 GB where the lamp's light subpaths mostly end on the floor, in a budget of
+  // 384 MiB (the film's 80 MiB fits). One thread, so that no other thread allocates between the
+  // check and the array's growth. A missing check ends in std::bad_alloc instead.
+  const std::string outcome = test::run_with_memory_budget(
+      [] {
+        SceneDesc desc = parse_scene(scene(), "s.json");
+        desc.camera.width_px = desc.camera.height_px = 1024;
+        desc.render.integrator = IntegratorType::vcm;
+        desc.render.spectral = SpectralMode::full;
+        const RenderScene s = compile(desc);
+        FilmBuffer film = make_film(s, false);
+        RenderControl control;
+        control.threads = 1;
+        RenderStats stats;
+        render_into(s, desc.render, film, PixelRegion::whole(s.camera), {0, 1}, control, stats);
+      },
+      std::size_t{384} << 20);
+  EXPECT_TRUE(has(outcome, "error: s.json: the store of light subpaths of iteration 1 needs about ")) << outcome;
+  EXPECT_TRUE(has(outcome, " is available")) << outcome;
+}
+
 TEST(HostileScene, NonFinitePixelsAreCountedWithTheFirst) {
   Film film(4, 3, {500.0});
   EXPECT_EQ(find_non_finite(film).count, 0u);

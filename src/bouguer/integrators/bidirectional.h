@@ -33,6 +33,7 @@
 // path tracer's image instead of losing what scattered more than max_depth times.
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -76,34 +77,6 @@ inline double ratio2(double pdf_rev, double pdf_fwd) { return sq(remap0(pdf_rev)
 // strategy: light scattered once in a liquid behind glass from a point lamp).
 inline double merge2(double pdf, double eta) { return sq(remap0(pdf) * eta); }
 
-// What a merge's weight needs of the light vertex before the photon: where it is (for the density
-// of sampling it from the merge point) and the density with which the light subpath made it.
-struct LightPredecessor {
-  Vec3 point, normal;
-  VertexKind kind = VertexKind::light;
-  double sigma_rho = 0.0;
-  bool infinite = false;
-  double pdf_fwd = 0.0;
-  bool delta = false;
-  bool on_surface() const { return normal != Vec3{}; }
-};
-
-// What a merge's weight needs of the photon's light subpath (vcm.cpp keeps it in each photon):
-// the photon's density, its subpath's folded sum (Bdpt::subpath_sums) and its predecessor.
-struct MergeSource {
-  double pdf_fwd = 0.0;
-  double sums = 0.0;
-  double tau_in = 0.0;
-  LightPredecessor prev;
-};
-
-template <std::size_t N>
-MergeSource merge_source(const std::vector<Vertex<N>>& lp, std::size_t j, const std::vector<double>& sums) {
-  const Vertex<N>& x = lp[j];
-  const Vertex<N>& p = lp[j - 1];
-  return {x.pdf_fwd, sums[j], x.tau_in, {p.point, p.normal, p.kind, p.sigma_rho, p.infinite, p.pdf_fwd, p.delta}};
-}
-
 template <std::size_t N>
 class Bdpt {
  public:
@@ -118,18 +91,22 @@ class Bdpt {
   // tests/support/mis_check.h).
   void camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const SampledSpectrum<N>* keep);
   const SampledSpectrum<N>& camera_tail() const { return tail_; }
-  void light_subpath(std::vector<Vertex<N>>& path) { light_subpath(path, rng_); }
-  // The same from its own random stream (vcm.cpp traces each light subpath twice: for the photons,
-  // then for the connections of its pixel).
-  void light_subpath(std::vector<Vertex<N>>& path, Rng& rng);
+  void light_subpath(std::vector<Vertex<N>>& path) {
+    path.clear();
+    append_light_subpath(path, rng_);
+  }
+  // A light subpath from its own random stream appended to `vertices` (vcm.cpp: one per pixel and
+  // iteration, all of a tile's in one array); returns the number of its vertices.
+  std::size_t append_light_subpath(std::vector<Vertex<N>>& vertices, Rng& rng);
   // The strategy (s, t) over the two subpaths: its contribution, weighted; t = 1 splats it.
-  SampledSpectrum<N> connect(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera, int s, int t,
+  SampledSpectrum<N> connect(std::span<const Vertex<N>> light, const std::vector<Vertex<N>>& camera, int s, int t,
                              FilmBuffer& film, const SampledSpectrum<N>& keep);
   // Every strategy (s, t) within the depth, summed (light tracing splatted).
-  SampledSpectrum<N> connect_all(std::vector<Vertex<N>>& light, std::vector<Vertex<N>>& camera, FilmBuffer& film,
+  SampledSpectrum<N> connect_all(std::span<const Vertex<N>> light, std::vector<Vertex<N>>& camera, FilmBuffer& film,
                                  const SampledSpectrum<N>& keep) {
     const int nc = static_cast<int>(camera.size()), nl = static_cast<int>(light.size());
-    if (light.empty()) light.emplace_back();  // the slot of s = 1's own light sample
+    const Vertex<N> slot;  // where the light subpath is empty, the slot of s = 1's own light sample
+    if (light.empty()) light = std::span<const Vertex<N>>(&slot, 1);
     fold_mis(light, camera);
     SampledSpectrum<N> l;
     for (int t = 1; t <= nc; ++t)
@@ -159,14 +136,17 @@ class Bdpt {
   // The MIS (below mis_weight): fold_mis(light, camera) once the subpaths are made, then the
   // weight of any strategy over them in O(1). `sampled` stands for light[0] (s = 1) or
   // camera[0] (t = 1).
-  void fold_mis(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera) {
+  void fold_mis(std::span<const Vertex<N>> light, const std::vector<Vertex<N>>& camera) {
     subpath_sums(light, true, light_sums_);
     subpath_sums(camera, false, camera_sums_);
   }
-  void subpath_sums(const std::vector<Vertex<N>>& path, bool light, std::vector<double>& sums) const;
-  double mis_weight(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera,
+  void subpath_sums(std::span<const Vertex<N>> path, bool light, std::vector<double>& sums) const;
+  double mis_weight(std::span<const Vertex<N>> light, const std::vector<Vertex<N>>& camera,
                     const Vertex<N>* sampled, int s, int t, double tau) const;
-  double merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vec3& wo, const MergeSource& q) const;
+  // A merge of camera[t − 1] with light vertex q (≥ 1st of its subpath, `prev` before it, `sums`
+  // its subpath's folded sum at q: subpath_sums).
+  double merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vertex<N>& q, const Vertex<N>& prev,
+                      double sums) const;
 
   void set_merging(const Merging& m) { merging_ = m; }
   bool merges() const { return merging_.eta_surface > 0.0; }
@@ -198,7 +178,7 @@ class Bdpt {
     return buffers[k];
   }
 
-  double light_side(const std::vector<Vertex<N>>& light, int s, const Vertex<N>& qs, double qs_rev,
+  double light_side(std::span<const Vertex<N>> light, int s, const Vertex<N>& qs, double qs_rev,
                     double qs_minus_rev) const;
   double camera_side(const std::vector<Vertex<N>>& camera, int t, double pt_rev, double pt_minus_rev) const;
 };
@@ -283,15 +263,16 @@ void Bdpt<N>::camera_subpath(const Ray& ray, std::vector<Vertex<N>>& path, const
 }
 
 template <std::size_t N>
-void Bdpt<N>::light_subpath(std::vector<Vertex<N>>& path, Rng& rng) {
-  path.clear();
+std::size_t Bdpt<N>::append_light_subpath(std::vector<Vertex<N>>& vertices, Rng& rng) {
+  const std::size_t first = vertices.size();
   Vertex<N> y;
   WalkState<N> state;
-  if (!start_light_subpath(v_, w_, rng, y, state)) return;
-  path.push_back(y);
+  if (!start_light_subpath(v_, w_, rng, y, state)) return 0;
+  vertices.push_back(y);
   state.kept = kept_;
-  KeepVertices<N> keep{path, static_cast<std::size_t>(v_.max_depth) + 1};
+  KeepVertices<N> keep{vertices, static_cast<std::size_t>(v_.max_depth) + 1, first};
   random_walk(v_, media_, TransportMode::importance, state, w_, rng, rays_, keep);
+  return vertices.size() - first;
 }
 
 // The density with which a light subpath starts at light vertex y: the light's pmf times its
@@ -356,7 +337,7 @@ SampledSpectrum<N> Bdpt<N>::f(const Vertex<N>& x, const Vec3& wi, TransportMode 
 // sides' folded sums to them: O(1) a connection or merge. Nothing is modified, so a sampled
 // light or lens vertex is just passed in. `tau` is the connection's scattering depth.
 template <std::size_t N>
-double Bdpt<N>::mis_weight(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera,
+double Bdpt<N>::mis_weight(std::span<const Vertex<N>> light, const std::vector<Vertex<N>>& camera,
                            const Vertex<N>* sampled, int s, int t, double tau) const {
   if (s + t == 2) return 1.0;
   const Vertex<N>& pt = sampled && t == 1 ? *sampled : camera[static_cast<std::size_t>(t - 1)];
@@ -381,7 +362,7 @@ double Bdpt<N>::mis_weight(const std::vector<Vertex<N>>& light, const std::vecto
 // qs = light[s − 1] (or the sampled light vertex), its density qs_rev from the camera side and
 // qs_minus_rev its predecessor's; the rest is light_sums_[s − 1], folded when the subpath was made.
 template <std::size_t N>
-double Bdpt<N>::light_side(const std::vector<Vertex<N>>& light, int s, const Vertex<N>& qs, double qs_rev,
+double Bdpt<N>::light_side(std::span<const Vertex<N>> light, int s, const Vertex<N>& qs, double qs_rev,
                            double qs_minus_rev) const {
   // qs's own strategies: the connection just before it (qs is not specular: it connects) and
   // merging at it.
@@ -419,7 +400,7 @@ double Bdpt<N>::camera_side(const std::vector<Vertex<N>>& camera, int t, double 
 // there. Camera: sums[k] (k ≥ 1), the same for the camera vertices 1 … k − 1, relative to a
 // connection at camera[k].
 template <std::size_t N>
-void Bdpt<N>::subpath_sums(const std::vector<Vertex<N>>& path, bool light, std::vector<double>& sums) const {
+void Bdpt<N>::subpath_sums(std::span<const Vertex<N>> path, bool light, std::vector<double>& sums) const {
   sums.assign(path.size() + 1, 0.0);
   if (light) {
     for (std::size_t j = 1; j < path.size(); ++j) {
@@ -438,20 +419,22 @@ void Bdpt<N>::subpath_sums(const std::vector<Vertex<N>>& path, bool light, std::
   }
 }
 
-// The MIS weight of merging camera[t − 1] with a photon (light vertex q, `wo` towards its
+// The MIS weight of merging camera[t − 1] with a photon (light vertex q, q.wo towards its
 // predecessor): the merge's squared density over that of every strategy for the same path,
 // relative to the connection of q's predecessor with camera[t − 1] (s = q's place, t). The
-// light side is folded into q.sums at the photon's own place, as SmallVCM's photons keep dVCM
+// light side is folded into `sums` at the photon's own place, as SmallVCM's photons keep dVCM
 // and dVM: the merge point stands in for q there.
 template <std::size_t N>
-double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vec3& wo, const MergeSource& q) const {
+double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vertex<N>& q, const Vertex<N>& prev,
+                             double sums) const {
   const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
-  const double rev_prev = to_area_density(direction_pdf(pt, wo, false), pt.point, q.prev, q.tau_in);
+  const Vec3& wo = q.wo;
+  const double rev_prev = to_area_density(direction_pdf(pt, wo, false), pt.point, prev, q.tau_in);
   const double rev_before =
       t >= 3 ? to_area_density(direction_pdf(pt, wo, true), pt.point, camera[static_cast<std::size_t>(t - 2)], pt.tau_in)
              : 0.0;
   const double own = merge2(q.pdf_fwd, eta(pt));
-  const double sum = (q.prev.delta ? 0.0 : 1.0) + ratio2(rev_prev, q.prev.pdf_fwd) * q.sums +
+  const double sum = (prev.delta ? 0.0 : 1.0) + ratio2(rev_prev, prev.pdf_fwd) * sums +
                      camera_side(camera, t, q.pdf_fwd, rev_before);
   return sum > 0.0 ? own / sum : 0.0;
 }
@@ -466,7 +449,7 @@ double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) 
 }
 
 template <std::size_t N>
-SampledSpectrum<N> Bdpt<N>::connect(const std::vector<Vertex<N>>& light, const std::vector<Vertex<N>>& camera, int s, int t,
+SampledSpectrum<N> Bdpt<N>::connect(std::span<const Vertex<N>> light, const std::vector<Vertex<N>>& camera, int s, int t,
                                     FilmBuffer& film, const SampledSpectrum<N>& keep) {
   // A path that crossed a dispersive interface counts at the kept wavelength only (weight N).
   auto mask = [&](bool dispersed) { return dispersed ? keep : SampledSpectrum<N>::constant(1.0f); };

@@ -2,13 +2,14 @@
 // Pantaleoni, Jensen 2012 "unified path sampling"): bidirectional path tracing (bidirectional.h)
 // and photon mapping in one estimator, weighted by the power heuristic over both families of
 // strategies. It renders in iterations; iteration i (the sample index i of every pixel):
-//   1. one light subpath per pixel of the whole image, traced from its own random stream; every
-//      vertex where a path can merge (a non-specular surface, a medium) becomes a photon;
+//   1. one light subpath per pixel of the whole image, traced from its own random stream and kept
+//      for the iteration; every vertex where a path can merge (a non-specular surface, a medium)
+//      becomes a photon, a record that points at its vertex;
 //   2. the photons sorted into a grid of cells 2r wide, in an order that depends on nothing but
 //      the paths (so neither the thread count nor the pixel region changes the sums);
-//   3. per pixel of the region a camera subpath, connected to the light subpath of the same pixel
-//      (traced again from the same stream) by every bidirectional strategy, and merged at each of
-//      its vertices with the photons within r: surfaces by the disc πr², media by the ball 4/3·πr³.
+//   3. per pixel of the region a camera subpath, connected to the kept light subpath of the same
+//      pixel by every bidirectional strategy, and merged at each of its vertices with the photons
+//      within r: surfaces by the disc πr², media by the ball 4/3·πr³.
 // The radius shrinks as r_i = r_1·i^((α−1)/2), α = 0.75 (progressive photon mapping), so the
 // estimator is consistent: its bias vanishes as iterations grow. r_1 is two pixel footprints at
 // the camera's look-at distance unless the scene says (render.merge_radius).
@@ -22,13 +23,15 @@
 // MIS. One formulation for every strategy (bidirectional.h's mis_weight and merge_weight,
 // Georgiev's recursion on the walk's area densities): the connections' weights count the merges
 // too, and a merge's is the same sum written from the photon's side, whose light subpath is
-// folded into one number in the photon record (MergeSource), as SmallVCM's photons keep dVCM/dVM.
+// folded into one number in the photon record (Photon::sums), as SmallVCM's photons keep dVCM/dVM.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <mutex>
 #include <numbers>
+#include <span>
 #include <tuple>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -44,17 +47,32 @@ using bidir::begin_sample;
 constexpr std::uint64_t kCameraSalt = 6, kLightSalt = 7, kIterationSalt = 8;
 constexpr double kAlpha = 0.75;
 
+// A photon: a vertex of a light subpath where a path can merge. The vertex itself stays in the
+// iteration's kept light subpaths (LightSubpaths), which the merges read through `vertex`; the
+// record holds what the grid sorts and looks up by, and the subpath's folded MIS.
 template <std::size_t N>
 struct Photon {
-  Vec3 point, normal;  // normal: zero at a medium photon
-  Vec3 wo;             // unit, towards the predecessor
-  int medium = -1;     // a medium photon's medium
-  SampledSpectrum<N> beta, r_u;
-  bidir::MergeSource mis;
-  bool dispersed = false;
+  Vec3 point;
+  const Vertex<N>* vertex = nullptr;
+  int medium = -1;    // a medium photon's medium, -1 on a surface
+  double sums = 0.0;  // its subpath's folded MIS sum at the photon (Bdpt::subpath_sums)
   int index = 0;  // its place in the light subpath (≥ 1)
   std::uint32_t path = 0;
   std::uint64_t cell = 0;
+};
+
+// The light subpaths of an iteration, traced once: the photons point into them, and the camera
+// pass connects each pixel's camera subpath to its own. Each tile's vertices are one array, found
+// by the tile's first pixel, which the tile reuses over the iterations (a vertex is 2 kB in full
+// mode: fresh pages each iteration cost more than tracing the subpath again); each pixel's subpath
+// is a span of its tile's.
+template <std::size_t N>
+struct LightSubpaths {
+  std::unordered_map<std::uint64_t, std::vector<Vertex<N>>> tiles;
+  std::vector<std::span<const Vertex<N>>> of_pixel;  // every pixel of the image
+  std::size_t vertices = 0;
+  // The memory they fill.
+  std::uint64_t bytes() const { return vertices * sizeof(Vertex<N>) + of_pixel.size() * sizeof(of_pixel[0]); }
 };
 
 // The grid cell of a point, packed: 21 bits per axis (neighbours never alias).
@@ -112,26 +130,23 @@ class PhotonGrid {
   double radius_ = 0.0, cell_ = 1.0;
 };
 
-// The photon lookup of an iteration: the surface and the medium photons apart (kept by render
-// over the iterations, so that each iteration's photons replace the last's in place).
+// What an iteration keeps: its light subpaths, and its photon lookup, the surface and the medium
+// photons apart (kept by render over the iterations, so that each iteration reuses the last's
+// storage).
 template <std::size_t N>
-struct PhotonLookup {
+struct IterationStore {
+  LightSubpaths<N> light;
   PhotonGrid<N> surfaces, media;
 };
 
 template <std::size_t N>
-Photon<N> make_photon(const std::vector<Vertex<N>>& lp, std::size_t j, const std::vector<double>& sums,
+Photon<N> make_photon(std::span<const Vertex<N>> lp, std::size_t j, const std::vector<double>& sums,
                       std::uint32_t path) {
   const Vertex<N>& x = lp[j];
   Photon<N> q;
   q.point = x.point;
-  q.normal = x.normal;
-  q.wo = x.wo;
   q.medium = x.kind == VertexKind::medium ? x.medium : -1;
-  q.beta = x.beta;
-  q.r_u = x.r_u;
-  q.mis = bidir::merge_source(lp, j, sums);
-  q.dispersed = x.dispersed;
+  q.sums = sums[j];
   q.index = static_cast<int>(j);
   q.path = path;
   return q;
@@ -143,14 +158,14 @@ double iteration_radius(double r1, int it) { return r1 * std::pow(static_cast<do
 // One iteration of the estimator, in its stages: trace_light_subpaths (the photons),
 // build_photon_lookup (the grids), camera_pass (per pixel: connections and merges) and merge (one
 // camera vertex with the photons around it). Everything its paths share is fixed at construction;
-// its photons go into `lookup`.
+// its light subpaths and photons go into `store`.
 template <std::size_t N>
 class Iteration {
  public:
   Iteration(const SceneView<N>& view, const RenderSettings& settings, int width, int height, int it, double r1,
-            const WavelengthStrata& strata, const WavelengthStrata& heroes, PhotonLookup<N>& lookup)
+            const WavelengthStrata& strata, const WavelengthStrata& heroes, IterationStore<N>& store)
       : view_(view), scene_(view.scene), settings_(settings), width_(width), height_(height), it_(it),
-        w_(view.tables.wavelengths(0.0)), kept_(w_), lookup_(lookup) {
+        w_(view.tables.wavelengths(0.0)), kept_(w_), store_(store) {
     // The iteration's wavelengths, hero, kept wavelength and σ̄_s, shared by all its paths.
     const bool hero = settings.spectral == SpectralMode::hero;
     Rng irng = sample_rng(settings.seed, 0, it, kIterationSalt);
@@ -170,14 +185,26 @@ class Iteration {
   Iteration& operator=(const Iteration&) = delete;
   double radius_m() const { return radius_m_; }
 
-  // 1. One light subpath per pixel of the whole image, from its own random stream; its vertices
-  // where a path can merge become the photons (by tile, as the threads made them).
-  std::vector<std::vector<Photon<N>>> trace_light_subpaths(const RenderControl& control, RenderStats& stats) const {
+  // 1. One light subpath per pixel of the whole image, from its own random stream, kept for the
+  // camera pass's connections; its vertices where a path can merge become the photons (by tile,
+  // as the threads made them).
+  std::vector<std::vector<Photon<N>>> trace_light_subpaths(const RenderControl& control, RenderStats& stats) {
+    LightSubpaths<N>& light = store_.light;
+    light.vertices = 0;
+    light.of_pixel.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), {});
     std::vector<std::vector<Photon<N>>> tiles_photons;
     std::mutex tiles_mutex;
     for_each_tile(PixelRegion{0, 0, width_, height_}, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
+      std::vector<Vertex<N>>* array = nullptr;
+      {
+        const std::lock_guard<std::mutex> lock(tiles_mutex);
+        array = &light.tiles[pixel_index(tile.x0, tile.y0, width_)];
+      }
+      std::vector<Vertex<N>>& vertices = *array;  // the tile's light subpaths, one after another
+      vertices.clear();
       std::vector<Photon<N>> mine;
-      std::vector<Vertex<N>> lp;
+      std::vector<std::size_t> photon_vertex;  // each photon's vertex, as an index into `vertices`
+      std::vector<std::pair<std::uint64_t, std::size_t>> first_of_pixel;
       std::vector<double> sums;
       SampledWavelengths<N> wl = w_;
       for (int y = tile.y0; y < tile.y1; ++y)
@@ -185,13 +212,34 @@ class Iteration {
           const std::uint64_t pixel = pixel_index(x, y, width_);
           Rng lrng = sample_rng(settings_.seed, pixel, it_, kLightSalt);
           Bdpt<N> b = bdpt(wl, lrng, rays);
-          b.light_subpath(lp, lrng);
+          // Room for a whole subpath, checked against the memory before the array grows.
+          const std::size_t most = static_cast<std::size_t>(settings_.max_depth) + 1;
+          if (vertices.capacity() - vertices.size() < most) {
+            const std::size_t grown = std::max(2 * vertices.capacity(), vertices.size() + most);
+            require_memory((grown - vertices.capacity()) * sizeof(Vertex<N>),
+                           fmt::format("{}: the store of light subpaths of iteration {}", scene_.file.string(), it_ + 1));
+            vertices.reserve(grown);
+          }
+          const std::size_t first = vertices.size();
+          const std::size_t n = b.append_light_subpath(vertices, lrng);
+          const std::span<const Vertex<N>> lp(vertices.data() + first, n);
           b.subpath_sums(lp, true, sums);
-          for (std::size_t j = 1; j < lp.size(); ++j)
-            if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings_.max_depth)
+          for (std::size_t j = 1; j < n; ++j)
+            if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings_.max_depth) {
               mine.push_back(make_photon(lp, j, sums, static_cast<std::uint32_t>(pixel)));
+              photon_vertex.push_back(first + j);
+            }
+          first_of_pixel.emplace_back(pixel, first);
         }
+      // `vertices` is whole: its addresses are final.
+      for (std::size_t i = 0; i < mine.size(); ++i) mine[i].vertex = vertices.data() + photon_vertex[i];
+      for (std::size_t k = 0; k < first_of_pixel.size(); ++k) {
+        const std::size_t end = k + 1 < first_of_pixel.size() ? first_of_pixel[k + 1].second : vertices.size();
+        light.of_pixel[first_of_pixel[k].first] =
+            std::span<const Vertex<N>>(vertices.data() + first_of_pixel[k].second, end - first_of_pixel[k].second);
+      }
       const std::lock_guard<std::mutex> lock(tiles_mutex);
+      light.vertices += vertices.size();
       tiles_photons.push_back(std::move(mine));
     });
     return tiles_photons;
@@ -208,20 +256,21 @@ class Iteration {
     for (auto& t : tiles_photons)
       for (Photon<N>& q : t) (q.medium >= 0 ? in_media : on_surfaces).push_back(std::move(q));
     tiles_photons.clear();
-    lookup_.surfaces.build(std::move(on_surfaces), radius_m_);
-    lookup_.media.build(std::move(in_media), radius_m_);
+    store_.surfaces.build(std::move(on_surfaces), radius_m_);
+    store_.media.build(std::move(in_media), radius_m_);
   }
-  std::size_t photons() const { return lookup_.surfaces.size() + lookup_.media.size(); }
+  std::size_t photons() const { return store_.surfaces.size() + store_.media.size(); }
+  std::uint64_t light_subpath_bytes() const { return store_.light.bytes(); }
 
-  // 3. Per pixel of the region a camera subpath, connected to the light subpath of the same pixel
-  // (traced again from the same stream) by every bidirectional strategy, and merged at each of
-  // its vertices. Returns the merges made.
+  // 3. Per pixel of the region a camera subpath, connected to the kept light subpath of the same
+  // pixel by every bidirectional strategy, and merged at each of its vertices. Returns the merges
+  // made.
   std::uint64_t camera_pass(PixelRegion region, const RenderControl& control, RenderStats& stats,
                             FilmBuffer& film) const {
     std::atomic<std::uint64_t> merges{0};
     for_each_tile(region, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
       std::uint64_t merged = 0;
-      std::vector<Vertex<N>> camera_path, light_path;
+      std::vector<Vertex<N>> camera_path;
       SampledWavelengths<N> wc = w_;
       for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
@@ -234,12 +283,11 @@ class Iteration {
             splits.reset(settings_.seed, pixel, settings_.spp, kSplitStrataSalt);
             wc.split_u = splits.u(it_);
           }
-          Rng lrng = sample_rng(settings_.seed, pixel, it_, kLightSalt);
           Bdpt<N> b = bdpt(wc, rng, rays);
           const auto [u, v] = subpixel(it_, settings_.spp, settings_.seed, pixel, rng);
           b.camera_subpath(view_.camera.generate_ray(x + u, y + v), camera_path, &keep_);
-          b.light_subpath(light_path, lrng);
-          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep_) + b.camera_tail();
+          SampledSpectrum<N> l =
+              b.connect_all(store_.light.of_pixel[pixel], camera_path, film, keep_) + b.camera_tail();
           for (int t = 2; t <= static_cast<int>(camera_path.size()); ++t) merge(b, camera_path, t, wc, l, merged);
           add_camera_sample(film, view_.tables, wc, x, y, it_, l);
         }
@@ -261,11 +309,12 @@ class Iteration {
       sigma_s = view_.tables.at(sm.sigma_s, wc) * static_cast<float>(concentration_at(sm.density, pt.point));
     }
     const double norm = 1.0 / (in_medium ? merging_.eta_medium : merging_.eta_surface);
-    auto one = [&](const Photon<N>& q) {
-      if (q.index + t - 2 > settings_.max_depth) return;
+    auto one = [&](const Photon<N>& photon) {
+      if (photon.index + t - 2 > settings_.max_depth) return;
+      if (in_medium && photon.medium != pt.medium) return;
+      const Vertex<N>& q = *photon.vertex;
       SampledSpectrum<N> f;
       if (in_medium) {
-        if (q.medium != pt.medium) return;
         const float phase = static_cast<float>(phase_value(scattering_medium(scene_, pt.medium)->phase, -pt.wo, q.wo));
         for (std::size_t k = 0; k < N; ++k) f[k] = sigma_s[k] > 0.0f ? phase / sigma_s[k] : 0.0f;
         f *= static_cast<float>(norm);
@@ -280,9 +329,9 @@ class Iteration {
           pt.beta * f * q.beta * ((pt.dispersed || q.dispersed) ? keep_ : SampledSpectrum<N>::constant(1.0f));
       if (c.is_zero()) return;
       ++merged;
-      l += c * static_cast<float>(b.merge_weight(camera, t, q.wo, q.mis) / mean_ratio(scene_, pt.r_u * q.r_u));
+      l += c * static_cast<float>(b.merge_weight(camera, t, q, *(photon.vertex - 1), photon.sums) / mean_ratio(scene_, pt.r_u * q.r_u));
     };
-    (in_medium ? lookup_.media : lookup_.surfaces).around(pt.point, one);
+    (in_medium ? store_.media : store_.surfaces).around(pt.point, one);
   }
 
  private:
@@ -302,7 +351,7 @@ class Iteration {
   WalkMedia media_;
   double radius_m_ = 0.0;
   bidir::Merging merging_;
-  PhotonLookup<N>& lookup_;
+  IterationStore<N>& store_;
 };
 
 template <std::size_t N>
@@ -316,7 +365,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
   strata.reset(settings.seed, ~std::uint64_t{0}, settings.spp);
   heroes.reset(settings.seed, ~std::uint64_t{0}, settings.spp, kHeroStrataSalt);
   const int iterations = range.end - range.begin;
-  PhotonLookup<N> lookup;
+  IterationStore<N> store;
   for (int it = range.begin; it < range.end; ++it) {
     if (control.cancel && control.cancel->load()) return;
     // Each iteration's two halves report progress: the light subpaths, then the camera pass.
@@ -328,7 +377,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
       }
       return c;
     };
-    Iteration<N> iteration(view, settings, film.width(), film.height(), it, r1, strata, heroes, lookup);
+    Iteration<N> iteration(view, settings, film.width(), film.height(), it, r1, strata, heroes, store);
     auto photons = iteration.trace_light_subpaths(half(0), stats);
     // Ctrl-C: the image keeps whole iterations only; the progress says how many, which the film's
     // splat normalisation reads.
@@ -344,6 +393,7 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
     ++stats.iterations;
     stats.light_paths += static_cast<std::uint64_t>(film.width()) * static_cast<std::uint64_t>(film.height());
     stats.photons += iteration.photons();
+    stats.light_subpath_bytes = std::max(stats.light_subpath_bytes, iteration.light_subpath_bytes());
     stats.merges += merges;
     stats.radius_m = iteration.radius_m();
   }

@@ -104,7 +104,7 @@ struct WalkState : PathHead<N> {
 
 // Converts a solid-angle density at `from` towards `to` into one per unit area at `to` (none for
 // a light at infinity), times the segment's distance density. `to`: a Vertex, or any record with
-// its point, normal, kind, sigma_rho, infinite and on_surface() (vcm.cpp's photons).
+// its point, normal, kind, sigma_rho, infinite and on_surface().
 template <typename V>
 double to_area_density(double pdf_dir, const Vec3& from, const V& to, double tau, bool parallel = false) {
   double pdf = pdf_dir;
@@ -552,11 +552,12 @@ bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, 
 template <std::size_t N>
 struct KeepVertices {
   static constexpr bool kReverse = true;
-  std::vector<Vertex<N>>& path;
+  std::vector<Vertex<N>>& path;  // the subpath is path[first..]
   std::size_t max_vertices;
+  std::size_t first = 0;
   bool vertex(const Vertex<N>& x) {
     path.push_back(x);
-    return path.size() < max_vertices;
+    return path.size() - first < max_vertices;
   }
   void reverse(double pdf_dir) {
     const Vertex<N>& at = path.back();

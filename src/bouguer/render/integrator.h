@@ -48,11 +48,12 @@ struct RenderControl {
 struct RenderStats {
   double seconds = 0.0;
   std::uint64_t rays = 0;
-  // vcm: its iterations, the light subpaths they traced, the photons they kept, the merges made
-  // and the radius of the last iteration.
+  // vcm: its iterations, the light subpaths they traced, the photons they kept, the merges made,
+  // the radius of the last iteration and the most memory an iteration's kept light subpaths held.
   int iterations = 0;
   std::uint64_t light_paths = 0, photons = 0, merges = 0;
   double radius_m = 0.0;
+  std::uint64_t light_subpath_bytes = 0;
 };
 
 using RenderFn = void (*)(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
