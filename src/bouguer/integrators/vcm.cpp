@@ -194,6 +194,8 @@ class Iteration {
     light.of_pixel.assign(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_), {});
     std::vector<std::vector<Photon<N>>> tiles_photons;
     std::mutex tiles_mutex;
+    std::atomic<std::uint64_t> store_bytes{0};  // the arrays' capacity (for the message)
+    for (const auto& [first_pixel, array] : light.tiles) store_bytes += array.capacity() * sizeof(Vertex<N>);
     for_each_tile(PixelRegion{0, 0, width_, height_}, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
       std::vector<Vertex<N>>* array = nullptr;
       {
@@ -216,9 +218,11 @@ class Iteration {
           const std::size_t most = static_cast<std::size_t>(settings_.max_depth) + 1;
           if (vertices.capacity() - vertices.size() < most) {
             const std::size_t grown = std::max(2 * vertices.capacity(), vertices.size() + most);
-            require_memory((grown - vertices.capacity()) * sizeof(Vertex<N>),
-                           fmt::format("{}: the store of light subpaths of iteration {}", scene_.file.string(), it_ + 1));
+            const std::uint64_t more = (grown - vertices.capacity()) * sizeof(Vertex<N>);
+            require_memory(more, fmt::format("{}: the store of light subpaths of iteration {} (past {} of them)",
+                                             scene_.file.string(), it_ + 1, format_bytes(store_bytes.load())));
             vertices.reserve(grown);
+            store_bytes += more;
           }
           const std::size_t first = vertices.size();
           const std::size_t n = b.append_light_subpath(vertices, lrng);
