@@ -218,11 +218,12 @@ class Iteration {
           const std::size_t most = static_cast<std::size_t>(settings_.max_depth) + 1;
           if (vertices.capacity() - vertices.size() < most) {
             const std::size_t grown = std::max(2 * vertices.capacity(), vertices.size() + most);
-            const std::uint64_t more = (grown - vertices.capacity()) * sizeof(Vertex<N>);
-            require_memory(more, fmt::format("{}: the store of light subpaths of iteration {} (past {} of them)",
-                                             scene_.file.string(), it_ + 1, format_bytes(store_bytes.load())));
+            // The new array is whole before the old one goes.
+            require_memory(grown * sizeof(Vertex<N>),
+                           fmt::format("{}: the store of light subpaths of iteration {} (past {} of them)",
+                                       scene_.file.string(), it_ + 1, format_bytes(store_bytes.load())));
+            store_bytes += (grown - vertices.capacity()) * sizeof(Vertex<N>);
             vertices.reserve(grown);
-            store_bytes += more;
           }
           const std::size_t first = vertices.size();
           const std::size_t n = b.append_light_subpath(vertices, lrng);
