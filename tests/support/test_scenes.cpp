@@ -96,6 +96,19 @@ std::string lit_tumbler(const char* integrator) {
   return scene.dump();
 }
 
+std::string red_ball_from_above(const char* integrator) {
+  nlohmann::json scene = nlohmann::json::parse(read_file(test_data("red_ball_lamp/scene.json")));
+  scene["camera"] = nlohmann::json::parse(
+      R"({"position": [0.03, 0.5, 0.012], "look_at": [0.03, 0, 0.012], "up": [0, 0, -1], "fov_deg": 13,
+          "resolution": [48, 48]})");
+  for (auto& o : scene["objects"])
+    if (o["name"] == "lamp") o["transform"] = nlohmann::json::parse(R"([{"translate": [-0.10, 0.06, -0.05]}])");
+  scene["background"]["scale"] = 0;
+  scene["render"]["integrator"] = integrator;
+  scene["render"]["max_depth"] = 8;
+  return scene.dump();
+}
+
 const char* const kChromaticSigmaS =
     R"("unit": "attenuation_per_m", "wavelength_nm": [400, 550, 700], "value": [300, 120, 60])";
 

@@ -26,6 +26,12 @@ std::string caustic_scene(const char* integrator, int spp, std::uint64_t seed);
 // (bench/hard_scenes.py renders it too) with `integrator` set.
 std::string lit_tumbler(const char* integrator);
 
+// tests/data/red_ball_lamp (a 20 mm red glass ball under a 5 mm spherical lamp) with the lamp moved
+// to the side (at (−100, 60, −50) mm) so that the caustic and the shadow fall on the floor beside
+// the ball, seen from straight above (48 × 48, 2.2 mm a pixel at the floor), with no sky: all the
+// light is the lamp's, through the glass or not. `integrator` set, max_depth 8.
+std::string red_ball_from_above(const char* integrator);
+
 extern const char* const kChromaticSigmaS;  // a strongly chromatic σ_s: blue scatters 5× as much as red
 
 // White furnace: a medium that scatters without absorbing (albedo 1, chromatic σ_s, HG g = 0.7)
