@@ -33,6 +33,7 @@
 // path tracer's image instead of losing what scattered more than max_depth times.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -105,8 +106,8 @@ class Bdpt {
   SampledSpectrum<N> connect_all(std::span<const Vertex<N>> light, std::vector<Vertex<N>>& camera, FilmBuffer& film,
                                  const SampledSpectrum<N>& keep) {
     const int nc = static_cast<int>(camera.size()), nl = static_cast<int>(light.size());
-    const Vertex<N> slot;  // where the light subpath is empty, the slot of s = 1's own light sample
-    if (light.empty()) light = std::span<const Vertex<N>>(&slot, 1);
+    std::optional<Vertex<N>> slot;  // where the light subpath is empty, the slot of s = 1's own light sample
+    if (light.empty()) light = std::span<const Vertex<N>>(&slot.emplace(), 1);
     fold_mis(light, camera);
     SampledSpectrum<N> l;
     for (int t = 1; t <= nc; ++t)
