@@ -7,10 +7,12 @@
 
 #include <array>
 #include <cmath>
+#include <span>
 
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/render/compare.h"
 #include "bouguer/integrators/render_into.h"
+#include "bouguer/integrators/walk.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
@@ -392,6 +394,36 @@ TEST(Bidirectional, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_
 
 // With merging: the connections' weights and the merges' (at every vertex where a path can merge,
 // surfaces and the medium alike) of every full path sum to 1.
+// vcm keeps each pixel's light subpath for its iteration and states the memory (--stats-json's
+// vcm.light_subpath_bytes): under a spot aimed at a floor that catches all of its cone, with
+// max_depth 1, every light subpath is its lamp vertex and one floor vertex, so an iteration keeps
+// exactly two vertices and a span per pixel, in full (2000-byte vertices) and hero (528). A
+// subpath kept twice, or not counted, reads otherwise.
+TEST(VertexMerging, KeepsTwoVerticesAPixelUnderASpotAndSaysSo) {
+  for (const char* spectral : {"full", "hero"}) {
+    SceneDesc desc = parse_scene(fmt::format(R"({{
+      "camera": {{"type": "orthographic", "position": [0, 1, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                 "width": "100 mm", "resolution": [12, 10]}},
+      "render": {{"integrator": "vcm", "spectral": "{}", "spp": 3, "max_depth": 1}},
+      "world_medium": "vacuum",
+      "objects": [{{"name": "floor", "shape": {{"type": "quad", "size": [2, 2]}},
+                    "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}], "material": {{"type": "diffuse", "reflectance": 0.5}}}}],
+      "lights": [{{"type": "spot", "position": [0, 0.2, 0], "look_at": [0, 0, 0], "cone_deg": 10, "spectrum": "D65", "scale": 4}}]
+    }})",
+                                             spectral),
+                                 "spot.json");
+    const RenderScene scene = compile(desc);
+    FilmBuffer film = make_film(scene, false);
+    RenderStats stats;
+    render_into(scene, desc.render, film, PixelRegion::whole(scene.camera), {0, 3}, RenderControl{}, stats);
+    const std::uint64_t vertex = std::string(spectral) == "full" ? sizeof(Vertex<kFullBins>) : sizeof(Vertex<kHeroCount>);
+    EXPECT_EQ(stats.iterations, 3) << spectral;
+    EXPECT_EQ(stats.light_paths, 3u * 120u) << spectral;
+    EXPECT_EQ(stats.photons, 3u * 120u) << spectral << ": one floor photon a subpath";
+    EXPECT_EQ(stats.light_subpath_bytes, 120u * (2u * vertex + sizeof(std::span<const Vertex<kFullBins>>))) << spectral;
+  }
+}
+
 TEST(VertexMerging, StrategyWeightsOfEveryPathSumToOne) { expect_weights_sum_to_one(vcm_mis_check, "vcm"); }
 
 // A scattering liquid in a box with a refracting boundary (n = 1.33) under a point lamp: a path that
