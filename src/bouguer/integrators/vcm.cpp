@@ -205,8 +205,11 @@ class Iteration {
       std::vector<Vertex<N>>& vertices = *array;  // the tile's light subpaths, one after another
       vertices.clear();
       std::vector<Photon<N>> mine;
-      std::vector<std::size_t> photon_vertex;  // each photon's vertex, as an index into `vertices`
-      std::vector<std::pair<std::uint64_t, std::size_t>> first_of_pixel;
+      struct Subpath {
+        std::uint64_t pixel;
+        std::size_t first, count;  // its vertices in `vertices`
+      };
+      std::vector<Subpath> subpaths;
       std::vector<double> sums;
       SampledWavelengths<N> wl = w_;
       for (int y = tile.y0; y < tile.y1; ++y)
@@ -230,19 +233,14 @@ class Iteration {
           const std::span<const Vertex<N>> lp(vertices.data() + first, n);
           b.subpath_sums(lp, true, sums);
           for (std::size_t j = 1; j < n; ++j)
-            if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings_.max_depth) {
+            if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings_.max_depth)
               mine.push_back(make_photon(lp, j, sums, static_cast<std::uint32_t>(pixel)));
-              photon_vertex.push_back(first + j);
-            }
-          first_of_pixel.emplace_back(pixel, first);
+          subpaths.push_back({pixel, first, n});
         }
-      // `vertices` is whole: its addresses are final.
-      for (std::size_t i = 0; i < mine.size(); ++i) mine[i].vertex = vertices.data() + photon_vertex[i];
-      for (std::size_t k = 0; k < first_of_pixel.size(); ++k) {
-        const std::size_t end = k + 1 < first_of_pixel.size() ? first_of_pixel[k + 1].second : vertices.size();
-        light.of_pixel[first_of_pixel[k].first] =
-            std::span<const Vertex<N>>(vertices.data() + first_of_pixel[k].second, end - first_of_pixel[k].second);
-      }
+      // `vertices` is whole: its addresses are final. A photon's vertex is its place in its path.
+      for (const Subpath& p : subpaths)
+        light.of_pixel[p.pixel] = std::span<const Vertex<N>>(vertices.data() + p.first, p.count);
+      for (Photon<N>& q : mine) q.vertex = &light.of_pixel[q.path][static_cast<std::size_t>(q.index)];
       const std::lock_guard<std::mutex> lock(tiles_mutex);
       light.vertices += vertices.size();
       tiles_photons.push_back(std::move(mine));
