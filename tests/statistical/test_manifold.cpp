@@ -759,37 +759,53 @@ TEST(ManifoldNextEvent, CausticUnderAGlassBallFromASphericalLampMatchesTheWalksA
 }
 
 // A ball of scattering medium (n = 1.33, the issue's σ_s 30/12/6 per m three times over, g 0.7,
-// radius 25 mm: optical radius 2.25 in blue) close under a large quad lamp, where the walk's own
-// directions reach the lamp about as well as the connections do: every scattering event inside
-// reaches it through one crossing, and the two are weighted by MIS. Connections against walks, as
-// above, over the ball and the floor around it. A connection left unweighted (counted in full
-// beside the walk's weighted share) came out 21 % bright over the ball; a walk left unweighted,
-// 12 %.
-TEST(ManifoldNextEvent, ScatteringBallUnderAQuadLampMatchesTheWalksAlone) {
-  auto scene = [](bool manifold, int spp) {
-    return parse_scene(fmt::format(R"({{
+// radius 25 mm: optical radius 2.25 in blue) close under a quad lamp `lamp_m` across (its radiance
+// scaled to the same power), `ball` its shape.
+SceneDesc scattering_ball_under_a_quad(bool manifold, int spp, double lamp_m, const char* ball) {
+  return parse_scene(fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0.09, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
                "width": 0.12, "resolution": [24, 24]}},
-    "render": {{"integrator": "path", "spectral": "full", "spp": {}, "max_depth": 64, "seed": 1, "manifold": {}}},
+    "render": {{"integrator": "path", "spectral": "full", "spp": {}, "max_depth": 64, "seed": 1, "manifold": {},
+               "area_lamp_chains": true}},
     "world_medium": "vacuum",
     "media": {{"milky": {{"ior": 1.33, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [450, 550, 650],
                          "value": [90, 36, 18], "phase": {{"type": "henyey_greenstein", "g": 0.7}}}}}}}},
     "objects": [
       {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
         "material": {{"type": "diffuse", "reflectance": 0.5}}}},
-      {{"name": "ball", "shape": {{"type": "sphere", "radius": 0.025}}, "transform": [{{"translate": [0, 0.03, 0]}}],
+      {{"name": "ball", "shape": {{"type": "sphere", "radius": 0.025{}}}, "transform": [{{"translate": [0, 0.03, 0]}}],
         "inside": "milky"}},
-      {{"name": "lamp", "shape": {{"type": "quad", "size": [0.6, 0.6]}},
+      {{"name": "lamp", "shape": {{"type": "quad", "size": [{}, {}]}},
         "transform": [{{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0.03, 0.1, 0]}}],
-        "emission": {{"spectrum": "D65", "scale": 0.5}}}}
+        "emission": {{"spectrum": "D65", "scale": {}}}}}
     ],
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
-                                   spp, manifold ? "true" : "false"),
-                       "milky.json");
-  };
-  expect_floor_agrees(test::render_seeds(scene(true, 16), kSeeds, 1), test::render_seeds(scene(false, 96), kSeeds, 1),
+                                 spp, manifold ? "true" : "false", ball, lamp_m, lamp_m, 0.5 * 0.36 / (lamp_m * lamp_m)),
+                     "milky.json");
+}
+
+// The exact ball under a large lamp (0.6 m), where the walk's own directions reach the lamp about as
+// well as the connections do: every scattering event inside reaches it through one crossing, and
+// the two are weighted by MIS. Connections against walks, as above, over the ball and the floor
+// around it. A connection left unweighted (counted in full beside the walk's weighted share) came
+// out 21 % bright over the ball; a walk left unweighted, 12 %.
+TEST(ManifoldNextEvent, ScatteringBallUnderAQuadLampMatchesTheWalksAlone) {
+  expect_floor_agrees(test::render_seeds(scattering_ball_under_a_quad(true, 16, 0.6, ""), kSeeds, 1),
+                      test::render_seeds(scattering_ball_under_a_quad(false, 96, 0.6, ""), kSeeds, 1),
                       "scattering ball under a quad lamp, connections against walks", true);
+}
+
+// The same ball a smooth-shaded mesh (64 segments) under a lamp 0.2 m across: its scattering events
+// reach the lamp through chains of one mesh face (area_light_through_chain, asked for: the lamp is
+// too large for it by default), weighted against the walks that refract onto it (ChainTrail), and
+// the floor under the ball through two. A walk left unweighted read 20 % bright over the ball (1.43
+// against 1.19 in red), a connection left unweighted 40 %; both fail it on the floor too.
+TEST(ManifoldNextEvent, ScatteringMeshBallUnderAQuadLampMatchesTheWalksAlone) {
+  const char* mesh = R"(, "tessellate": true, "segments": 64)";
+  expect_floor_agrees(test::render_seeds(scattering_ball_under_a_quad(true, 64, 0.2, mesh), kSeeds, 1),
+                      test::render_seeds(scattering_ball_under_a_quad(false, 128, 0.2, mesh), kSeeds, 1),
+                      "smooth-shaded scattering ball under a quad lamp, chains against walks", true);
 }
 
 // The connections draw from a stream of their own, seeded from the pixel sample's generator: the
@@ -806,17 +822,18 @@ TEST(ManifoldNextEvent, TheSameImageAtAnyThreadCount) {
 
 // A white furnace lit by lamps: inside a closed box whose walls are lamps of radiance 1 (two-sided
 // quads, D65 at Y = 1: linear sRGB (1, 1, 1)), a white diffuse ball (reflectance 1), a clear glass
-// ball (a caster crossed twice) and a glass ball of a medium that scatters without absorbing (a
-// caster crossed once) neither absorb nor emit, so every pixel is 1. The diffuse ball and the
-// scattering events reach the walls through the casters both by connections and by the walk's
-// own directions, weighted by MIS: weights that did not sum to 1 would show (a walk left
-// unweighted read 1.015–1.022, a connection left unweighted 1.024–1.032). Within 1 % and 3
-// standard errors, in full and hero modes.
-TEST(ManifoldNextEvent, WhiteFurnaceOfLampsWithCasters) {
+// ball and a glass ball of a medium that scatters without absorbing neither absorb nor emit, so
+// every pixel is 1. The diffuse ball and the scattering events reach the walls through the glass
+// both by connections and by the walk's own directions, weighted by MIS: weights that did not sum
+// to 1 would show. Within 1 % and 3 standard errors, in full and hero modes. `balls` is the glass
+// balls' shape: exact spheres (casters, crossed twice and once) or smooth-shaded meshes (chains of
+// mesh faces: two crossings, one).
+void expect_white_furnace_of_lamps(const char* balls, const char* what) {
   for (const char* mode : {"full", "hero"}) {
     const Film f = test::render_text(fmt::format(R"({{
     "camera": {{"position": [0, 0.02, 0.16], "look_at": [0, 0, 0], "fov_deg": 50, "resolution": [16, 12]}},
-    "render": {{"integrator": "path", "spectral": "{}", "spp": 256, "max_depth": 256, "seed": 3}},
+    "render": {{"integrator": "path", "spectral": "{}", "spp": 256, "max_depth": 256, "seed": 3,
+               "area_lamp_chains": true}},
     "world_medium": "vacuum",
     "media": {{"glass": {{"ior": 1.5}},
               "milky": {{"ior": 1.33, "scattering": {{"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
@@ -826,21 +843,91 @@ TEST(ManifoldNextEvent, WhiteFurnaceOfLampsWithCasters) {
         "emission": {{"spectrum": "D65", "scale": 1, "two_sided": true}}}},
       {{"name": "white", "shape": {{"type": "sphere", "radius": 0.025}}, "transform": [{{"translate": [-0.05, -0.03, 0]}}],
         "material": {{"type": "diffuse", "reflectance": 1.0}}}},
-      {{"name": "clear", "shape": {{"type": "sphere", "radius": 0.03}}, "transform": [{{"translate": [0.0, -0.03, -0.05]}}],
+      {{"name": "clear", "shape": {{"type": "sphere", "radius": 0.03{}}}, "transform": [{{"translate": [0.0, -0.03, -0.05]}}],
         "inside": "glass"}},
-      {{"name": "milky", "shape": {{"type": "sphere", "radius": 0.025}}, "transform": [{{"translate": [0.05, -0.02, 0]}}],
+      {{"name": "milky", "shape": {{"type": "sphere", "radius": 0.025{}}}, "transform": [{{"translate": [0.05, -0.02, 0]}}],
         "inside": "milky"}}
     ],
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
-                                                 mode));
+                                                 mode, balls, balls));
     for (int c = 0; c < 3; ++c) {
       const test::Estimate e = test::channel_estimate(f, c, 0, 0, f.width, f.height);
-      std::printf("furnace of lamps with casters (%s) ch %d: %.5f ± %.5f\n", mode, c, e.mean, e.standard_error);
-      EXPECT_NEAR(e.mean, 1.0, 0.01) << mode << " ch " << c;
+      std::printf("furnace of lamps with %s (%s) ch %d: %.5f ± %.5f\n", what, mode, c, e.mean, e.standard_error);
+      EXPECT_NEAR(e.mean, 1.0, 0.01) << what << ", " << mode << " ch " << c;
       EXPECT_LT(3.0 * e.standard_error, 0.01) << mode << " ch " << c << ": too few samples for the tolerance";
     }
   }
+}
+
+// Exact spheres: a walk left unweighted read 1.015–1.022, a connection left unweighted 1.024–1.032.
+TEST(ManifoldNextEvent, WhiteFurnaceOfLampsWithCasters) { expect_white_furnace_of_lamps("", "casters"); }
+
+// Smooth-shaded tessellated spheres (48 segments): the walls' points drawn for the straight line,
+// hidden by the glass, are reached through chains of mesh faces (area_light_through_chain; the walls
+// are far too large for that by default, so the scene asks for it), and the walks that refract onto
+// a wall are weighted against them (ChainTrail). Measured: a walk left
+// unweighted read 1.015–1.022, a connection left unweighted 1.026–1.031, both weighted 0.9995–0.9999.
+TEST(ManifoldNextEvent, WhiteFurnaceOfLampsWithChains) {
+  expect_white_furnace_of_lamps(R"(, "tessellate": true, "segments": 48)", "chains");
+}
+
+// Which lamps next-event estimation reaches through chains of mesh faces unless the scene says
+// (Surface::small_lamp, SceneView::lamp_through_chains): those that subtend less than
+// kLampChainSolidAngle (0.05 sr) seen from the nearest smooth refracting mesh. The lit tumbler's
+// 20 mm softbox 150 mm away (about 0.02 sr) and 5 mm bulb (0.004 sr) yes; a 100 mm panel 3 mm from a
+// glass tank (the sunset-in-a-tank showcase's case) no; a 5 mm bulb at the centre of a 100 mm mesh
+// globe (0.008 sr seen from its wall) yes, inside an exact globe (a caster's, not a chain's) no.
+// `area_lamp_chains` true or false in the render settings: every lamp, or none.
+TEST(ManifoldNextEvent, AreaLampChainsRunForLampsSmallSeenFromTheGlass) {
+  auto small = [](const std::string& lamps, const char* glass) {
+    const RenderScene s = compile(parse_scene(fmt::format(R"({{
+    "camera": {{"position": [0, 0.06, 0.26], "look_at": [0, 0.045, 0], "fov_deg": 22, "resolution": [8, 8]}},
+    "render": {{"integrator": "path"}},
+    "media": {{"glass": {{"ior": 1.52}}}},
+    "objects": [{}{}]
+  }})",
+                                                   glass, lamps),
+                                       "lamps.json"));
+    std::vector<bool> out;
+    for (const Surface& f : s.surfaces)
+      if (f.kind == SurfaceKind::emitter) out.push_back(f.small_lamp);
+    EXPECT_EQ(s.small_lamps, std::find(out.begin(), out.end(), true) != out.end());
+    return out;
+  };
+  const char* tumbler = R"({"name": "tumbler", "shape": {"type": "vessel", "wall": "2 mm", "segments": 64,
+      "profile": [[0, 0], ["30 mm", 0], ["32 mm", "90 mm"]]}, "inside": "glass"})";
+  const std::string softbox_and_bulb = R"(,
+      {"name": "softbox", "shape": {"type": "quad", "size": ["20 mm", "20 mm"]},
+       "transform": [{"rotate_deg": [90, [0, 1, 0]]}, {"translate": ["-150 mm", "30 mm", "40 mm"]}],
+       "emission": {"spectrum": "D65", "two_sided": true}},
+      {"name": "bulb", "shape": {"type": "sphere", "radius": "5 mm"}, "transform": [{"translate": ["150 mm", "60 mm", "-60 mm"]}],
+       "emission": {"spectrum": "A"}})";
+  EXPECT_EQ(small(softbox_and_bulb, tumbler), (std::vector<bool>{true, true}));
+  const char* tank = R"({"name": "tank", "shape": {"type": "box", "size": ["320 mm", "90 mm", "90 mm"]}, "inside": "glass"})";
+  const std::string panel = R"(,
+      {"name": "panel", "shape": {"type": "quad", "size": ["100 mm", "100 mm"]},
+       "transform": [{"rotate_deg": [90, [0, 1, 0]]}, {"translate": ["-163 mm", 0, 0]}], "emission": {"spectrum": "D65"}})";
+  EXPECT_EQ(small(panel, tank), (std::vector<bool>{false}));
+  const char* globe = R"({"name": "globe", "shape": {"type": "sphere", "radius": "50 mm", "tessellate": true}, "inside": "glass"})";
+  const std::string bulb = R"(,
+      {"name": "bulb", "shape": {"type": "sphere", "radius": "5 mm"}, "emission": {"spectrum": "A"}})";
+  EXPECT_EQ(small(bulb, globe), (std::vector<bool>{true}));
+  const char* exact_globe = R"({"name": "globe", "shape": {"type": "sphere", "radius": "50 mm"}, "inside": "glass"})";
+  EXPECT_EQ(small(bulb, exact_globe), (std::vector<bool>{false}));
+  // The render's setting over the compiled flags.
+  RenderScene s;
+  s.surfaces.resize(2);
+  s.surfaces[1].small_lamp = true;
+  const SpectralTables<3> tables(s.spectra, SpectralMode::rgb3);
+  const Camera camera(CameraDesc{});
+  SceneView<3> v{s, tables, camera};
+  EXPECT_FALSE(v.lamp_through_chains(0));
+  EXPECT_TRUE(v.lamp_through_chains(1));
+  v.area_lamp_chains = true;
+  EXPECT_TRUE(v.lamp_through_chains(0));
+  v.area_lamp_chains = false;
+  EXPECT_FALSE(v.lamp_through_chains(1));
 }
 
 }  // namespace

@@ -102,6 +102,15 @@ TEST(SceneLoader, ManifoldKeyIsABoolean) {
   };
   EXPECT_TRUE(parse_scene(with(""), "a.json").render.manifold);
   EXPECT_FALSE(parse_scene(with(R"(, "manifold": false)"), "a.json").render.manifold);
+  EXPECT_FALSE(parse_scene(with(""), "a.json").render.area_lamp_chains.has_value());
+  EXPECT_EQ(parse_scene(with(R"(, "area_lamp_chains": true)"), "a.json").render.area_lamp_chains, true);
+  EXPECT_EQ(parse_scene(with(R"(, "area_lamp_chains": false)"), "a.json").render.area_lamp_chains, false);
+  try {
+    parse_scene(with(R"(, "area_lamp_chains": "yes")"), "a.json");
+    ADD_FAILURE() << "a string loaded as area_lamp_chains";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("render.area_lamp_chains"), std::string::npos) << e.what();
+  }
   try {
     parse_scene(with(R"(, "manifold": 3)"), "a.json");
     ADD_FAILURE() << "a number loaded as manifold";

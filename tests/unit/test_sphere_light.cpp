@@ -119,5 +119,42 @@ TEST(SphereLight, EmissionSamplingDrawsTheDensitiesItReports) {
   EXPECT_NEAR(power(light, bounds, [](int) { return 2.0; }), kPi * 4.0 * kPi * 0.0625 * 2.0, 1e-12);
 }
 
+// pdf_point, the density per m² of the point sample_li draws (integrators/manifold.h goes on from
+// that point through refracting faces, and the walks weigh themselves against it): over the
+// sphere it integrates to 1 (the cone's points, each counted once; a far side counted too, or the
+// cone's density left per steradian, would not), it is the cone's density times cos θ_q / d² at
+// the points sample_li draws and 0 on the far side; on a one-sided triangle 1/A in front, 0 behind.
+TEST(SphereLight, ThePointDensityIsTheConesPerSquareMetre) {
+  const Vec3 centre{0.1, 0.2, -0.3};
+  const Light light = SphereLight{0, centre, 0.05, 0};
+  const Vec3 p = centre + normalize(Vec3{0.3, -0.5, 0.8}) * 0.2;
+  // ∫ pdf_point dA over the sphere, by a midpoint rule in (cos θ, φ) (area element r² dcos θ dφ).
+  constexpr int kSteps = 800;
+  double integral = 0.0;
+  for (int i = 0; i < kSteps; ++i)
+    for (int j = 0; j < kSteps; ++j) {
+      const double mu = -1.0 + 2.0 * (i + 0.5) / kSteps, phi = 2.0 * kPi * (j + 0.5) / kSteps;
+      const double r = std::sqrt(1.0 - mu * mu);
+      const Vec3 q = centre + Vec3{r * std::cos(phi), r * std::sin(phi), mu} * 0.05;
+      integral += pdf_point(light, p, q) * 0.05 * 0.05 * (2.0 / kSteps) * (2.0 * kPi / kSteps);
+    }
+  EXPECT_NEAR(integral, 1.0, 2e-3);
+  for (const double u : {0.1, 0.5, 0.9}) {
+    const auto li = sample_li(light, p, u, 1.0 - u);
+    ASSERT_TRUE(li);
+    const Vec3 q = p + li->wi * li->distance_m;
+    const double cos_q = -dot(normalize(q - centre), li->wi);
+    EXPECT_NEAR(pdf_point(light, p, q) / (li->pdf * cos_q / (li->distance_m * li->distance_m)), 1.0, 1e-9);
+    EXPECT_EQ(pdf_point(light, p, centre * 2.0 - q), 0.0);  // the point opposite: the far side
+  }
+  AreaLight a;
+  a.p0 = Vec3{0, 0, 0}, a.p1 = Vec3{1, 0, 0}, a.p2 = Vec3{0, 2, 0}, a.normal = Vec3{0, 0, 1}, a.area_m2 = 1.0;
+  const Vec3 on{0.2, 0.3, 0.0};
+  EXPECT_DOUBLE_EQ(pdf_point(a, Vec3{0.5, 0.5, 1.0}, on), 1.0);
+  EXPECT_EQ(pdf_point(a, Vec3{0.5, 0.5, -1.0}, on), 0.0);
+  a.two_sided = true;
+  EXPECT_DOUBLE_EQ(pdf_point(a, Vec3{0.5, 0.5, -1.0}, on), 1.0);
+}
+
 }  // namespace
 }  // namespace bouguer

@@ -117,16 +117,28 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   }
   if (chosen) {
     const auto& [index, p_choice] = *chosen;
-    if (const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, u1, u2)) {
+    const Light& light = s.lights[static_cast<std::size_t>(index)];
+    if (const auto li = sample_li(light, at.point, u1, u2)) {
       double vertex_pdf = 0.0;
       const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
+      bool glass = false;
+      std::optional<Transmission<N>> t;
       if (!f.is_zero())
-        if (const auto t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays)) {
-          const double light_pdf = p_choice * li->pdf;
-          const double weight = (mis ? mis_weight(light_pdf, vertex_pdf, *t) : 1.0) * li->factor /
-                                (light_pdf * light_ratio(*t));
-          sum += f * sample_radiance(v, *li, w) * t->tr * static_cast<float>(weight);
-        }
+        t = transmission(v, at, li->wi, li->distance_m, medium_towards(li->wi), w, rng, rays, {},
+                         interfaces ? &glass : nullptr);
+      if (t) {
+        const double light_pdf = p_choice * li->pdf;
+        const double weight = (mis ? mis_weight(light_pdf, vertex_pdf, *t) : 1.0) * li->factor /
+                              (light_pdf * light_ratio(*t));
+        sum += f * sample_radiance(v, *li, w) * t->tr * static_cast<float>(weight);
+      } else if (interfaces && (glass || f.is_zero()) && lamp_through_chains(v, light)) {
+        // Hidden by smooth refracting faces of meshes (or turned away from the vertex, where a
+        // refracted path may still reach it): on through them from the same point (manifold.h;
+        // the chain's own seed finds nothing where the straight segment is clear or blocked).
+        const Vec3 y = at.point + li->wi * li->distance_m;
+        sum += area_light_through_chain(v, at, light, y, p_choice * pdf_point(light, at.point, y), towards,
+                                        medium_towards, w, path_r_u, rng, rays);
+      }
     }
   }
   for (const int index : s.delta_lights) {

@@ -31,7 +31,7 @@ void train(const RenderScene& scene, const RenderSettings& settings, int iterati
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
-                          settings.manifold};
+                          settings.manifold, settings.area_lamp_chains};
   const int width = scene.camera.width_px, height = scene.camera.height_px;
   RenderControl c;
   c.threads = control.threads;

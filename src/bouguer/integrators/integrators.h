@@ -103,7 +103,7 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
-                          settings.manifold};
+                          settings.manifold, settings.area_lamp_chains};
   for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, range, control, stats, 0,
                            [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                std::uint64_t& rays) {

@@ -286,4 +286,35 @@ CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCa
   return out;
 }
 
+CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                         std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays) {
+  CasterPathDensities out;
+  const Vec3& q = light_hit.point;
+  const Surface& surface = s.surfaces[light_hit.geometry];
+  const auto index = static_cast<std::size_t>(surface.first_light) + light_hit.primitive;
+  if (ys.empty()) return out;
+  const double point_pdf = s.area_lights.pmf[index] * pdf_point(s.lights[index], x, q);
+  if (!(point_pdf > 0.0)) return out;
+  // The connection's own seed and solve for this point, and the walk's path among them (to the
+  // walk's single precision).
+  const InsideSet towards = x_hit ? inside_towards(s, *x_hit, inside, normalize(q - x)) : inside;
+  auto c = seed_chain(s, x, x_hit, towards, q, rays);
+  if (!c || c->count != static_cast<int>(ys.size()) || !solve_chain(s, x, x_hit, q, *c, rays)) return out;
+  Vec3 from = x;
+  for (int k = 0; k < c->count; ++k) {
+    const ChainCrossing& o = c->crossing[static_cast<std::size_t>(k)];
+    const double tolerance = 1e-5 * std::max(length(q - x), s.rays.rounding_scale_m(o.hit.point));
+    if (length(o.hit.point - ys[static_cast<std::size_t>(k)]) > tolerance) return out;
+    // The walk's choice to refract here, by the shading normal it refracted by.
+    const Vec3 n = chain_shading_normal(s, o.hit, o.hit.point), d = normalize(o.hit.point - from);
+    const double cos_i = std::abs(dot(d, n)), cos_t = cos_theta_transmitted(cos_i, o.eta_from, o.eta_to);
+    out.refraction *= cos_t > 0.0 ? 1.0 - fresnel_dielectric(cos_i, cos_t, o.eta_from, o.eta_to) : 0.0;
+    from = o.hit.point;
+  }
+  const double reverse = chain_reverse_tube(s, x, q, *c);
+  const double cos_light = std::abs(dot(light_hit.normal, normalize(q - from)));
+  if (cos_light > 0.0 && reverse > 0.0 && std::isfinite(reverse)) out.connection = point_pdf / (cos_light * reverse);
+  return out;
+}
+
 }  // namespace bouguer

@@ -28,6 +28,9 @@
 // density times the refraction probabilities, in the walk by caster_path_densities
 // (radiance.h: CasterTrail). A path the solve misses (two solutions closer than the scan's
 // interval, near a caustic's fold) is the walk's alone: caster_path_densities runs the same solve.
+// Area and spherical lights hidden by smooth faces of meshes (small ones by default: SceneView::
+// lamp_through_chains) likewise through their chain from the point next-event estimation drew
+// (area_light_through_chain), weighed in the walk by chain_path_densities (radiance.h: ChainTrail).
 #include <array>
 #include <algorithm>
 #include <limits>
@@ -375,32 +378,54 @@ SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, In
 // étendue makes that the forward tube dω_q/dA⊥_x of `through`; with shading normals it is what
 // the walk's own directions would gather from a lamp of vanishing size ("Radiance across a
 // refraction": no n² in the radiance, flux conserved).
-template <std::size_t N, typename Towards, typename MediumTowards>
-SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& at, Chain c, const DeltaLamp& lamp,
-                                       Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
-                                       const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+// Follows a solved chain from the vertex (follow_crossings): the walk meets each crossing where the
+// solve put it (Embree's float hit within a hundred times its rounding), on the same surface, and
+// refracts there by its shading normal.
+template <std::size_t N, typename MediumTowards>
+std::optional<Reach<N>> follow_chain(const SceneView<N>& v, const PathVertex& at, const Chain& c, const Vec3& q,
+                                     MediumTowards medium_towards, const SampledWavelengths<N>& w, Rng& rng,
+                                     std::uint64_t& rays) {
   const RenderScene& s = v.scene;
-  if (!solve_chain(s, at.point, at.hit, lamp.p, c, rays)) return {};
   std::array<Vec3, kMaxChain> ys{};
   for (int i = 0; i < c.count; ++i) ys[static_cast<std::size_t>(i)] = c.crossing[static_cast<std::size_t>(i)].hit.point;
   const std::span<const Vec3> points(ys.data(), static_cast<std::size_t>(c.count));
-  // The walk meets each crossing where the solve put it (Embree's float hit within a hundred times
-  // its rounding), on the same surface.
   auto normal_there = [&](std::size_t i, const Hit& face) -> std::optional<Vec3> {
     const Hit& k = c.crossing[i].hit;
     if (face.geometry != k.geometry || length(face.point - points[i]) > 1e-5 * s.rays.rounding_scale_m(points[i]))
       return std::nullopt;
     return chain_shading_normal(s, k, points[i]);
   };
-  const auto r = follow_crossings(v, at, c.inside_x, medium_towards, points, lamp.p, normal_there, w, rng, rays);
+  return follow_crossings(v, at, c.inside_x, medium_towards, points, q, normal_there, w, rng, rays);
+}
+
+// (η_x/η_q)²: the chain's first index over its last, squared (the ray tube's étendue factor).
+inline double chain_eta_ratio2(const Chain& c) {
+  const double r = c.crossing[0].eta_from / c.crossing[static_cast<std::size_t>(c.count - 1)].eta_to;
+  return r * r;
+}
+
+// The light of delta lamp `lamp` at vertex `at` through a chain of mesh faces (manifold_chain.h,
+// seeded from the straight segment): the path on which each crossing refracts by its shading
+// normal, then as `through`: f·|cos θ| towards its first crossing, the lamp's intensity and
+// profile, Fresnel at each crossing (by the shading normal, as the walk), every segment's
+// transmittance, and the ray tube (η_x/η_q)²·dω_x/dA⊥_q: where the normals are the faces' own,
+// étendue makes that the forward tube dω_q/dA⊥_x of `through`; with shading normals it is what
+// the walk's own directions would gather from a lamp of vanishing size ("Radiance across a
+// refraction": no n² in the radiance, flux conserved).
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& at, Chain c, const DeltaLamp& lamp,
+                                       Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                                       const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  const RenderScene& s = v.scene;
+  if (!solve_chain(s, at.point, at.hit, lamp.p, c, rays)) return {};
+  const auto r = follow_chain(v, at, c, lamp.p, medium_towards, w, rng, rays);
   if (!r) return {};
   double vertex_pdf = 0.0;
   const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
   if (fv.is_zero()) return {};
   const LightEnd<N> e = delta_lamp_end(v, lamp, *r, w, rng, rays);
   if (e.value.is_zero()) return {};
-  const double eta_ratio = c.crossing[0].eta_from / c.crossing[static_cast<std::size_t>(c.count - 1)].eta_to;
-  const double tube = eta_ratio * eta_ratio * chain_reverse_tube(s, at.point, lamp.p, c);
+  const double tube = chain_eta_ratio2(c) * chain_reverse_tube(s, at.point, lamp.p, c);
   if (!(tube > 0.0) || !std::isfinite(tube)) return {};
   return fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * tube / mean_ratio(s, path_r_u, r->r_l * e.r_l));
 }
@@ -443,6 +468,60 @@ inline std::optional<LightAreaSample> facing_point(const Light& light, const Man
 
 }  // namespace manifold_detail
 
+// Whether next-event estimation goes on to this area or spherical light through chains of mesh
+// faces (SceneView::lamp_through_chains: RenderSettings::area_lamp_chains, or the lamp's size seen
+// from the glass).
+template <std::size_t N>
+bool lamp_through_chains(const SceneView<N>& v, const Light& light) {
+  if (const auto* a = std::get_if<AreaLight>(&light)) return v.lamp_through_chains(a->geometry);
+  if (const auto* sphere = std::get_if<SphereLight>(&light)) return v.lamp_through_chains(sphere->geometry);
+  return false;
+}
+
+// The light of an area or spherical lamp at vertex `at` through a chain of mesh faces, from the
+// point y next-event estimation drew on it for the straight line (its density per m², the lamp's
+// choice by power included: point_pdf), where the straight segment is hidden by smooth
+// refracting faces. The path Newton reaches from the straight line (delta_through_chain's), then:
+// f·|cos θ| towards its first crossing, the lamp's radiance towards the path's last direction,
+// Fresnel at each crossing, every segment's transmittance, and the change of variables from the
+// point to the vertex's directions, |cos θ_y|·dω_x/dA⊥_y (the reverse tube), times (η_x/η_y)² as
+// for a delta lamp. Weighted by the power heuristic against the walk's own paths through the same
+// faces (its direction's density times the probability of refracting at each crossing: radiance.h,
+// ChainTrail), with the connection's density point_pdf / (|cos θ_y|·dω_x/dA⊥_y).
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> area_light_through_chain(const SceneView<N>& v, const PathVertex& at, const Light& light,
+                                            const Vec3& y, double point_pdf, Towards towards,
+                                            MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                                            const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  const RenderScene& s = v.scene;
+  if (!(point_pdf > 0.0)) return {};
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(y - at.point)) : at.inside;
+  auto c = seed_chain(s, at.point, at.hit, inside, y, rays);
+  if (!c || !solve_chain(s, at.point, at.hit, y, *c, rays)) return {};
+  const auto r = manifold_detail::follow_chain(v, at, *c, y, medium_towards, w, rng, rays);
+  if (!r) return {};
+  double vertex_pdf = 0.0;
+  const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
+  if (fv.is_zero()) return {};
+  // On to the lamp: clear up to it, then its surface there, seen from the path's side.
+  const auto t =
+      transmission(v, PathVertex{r->last.point, &r->last, r->inside}, r->to_light, r->light_m, r->medium, w, rng, rays);
+  if (!t) return {};
+  const auto hit = s.rays.intersect(Ray{y - r->to_light * (r->light_m * 1e-4), r->to_light, r->light_m * 2e-4});
+  ++rays;
+  if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter || &surface_light_at(s, *hit) != &light) return {};
+  const double cos_light = std::abs(dot(hit->normal, r->to_light));
+  const double reverse = chain_reverse_tube(s, at.point, y, *c);
+  if (!(cos_light > 0.0) || !(reverse > 0.0) || !std::isfinite(reverse)) return {};
+  const SampledSpectrum<N> r_l = r->r_l * t->ratios.r_l, r_u = r->r_u * t->ratios.r_u;
+  const double p_connection = point_pdf / (cos_light * reverse);
+  const double weight = power_heuristic(p_connection * mean_ratio(s, path_r_u, r_l),
+                                        vertex_pdf * r->fresnel * mean_ratio(s, path_r_u, r_u));
+  return fv * emitted(v, *hit, -r->to_light, w) * r->tr * t->tr *
+         static_cast<float>(weight * r->fresnel * manifold_detail::chain_eta_ratio2(*c) * reverse * cos_light /
+                            (point_pdf * mean_ratio(s, path_r_u, r_l)));
+}
+
 // A walk's path from the connecting vertex x through refractions of caster c (at crossings ys) to
 // a lamp hit (an area or spherical light): the solid-angle density with which the connection at
 // x draws that path (0 where it would not: its full solve does not find the path, or a spherical
@@ -454,6 +533,16 @@ struct CasterPathDensities {
 };
 CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCaster& c, const Vec3& x,
                                           const std::array<Vec3, 2>& ys, int crossings, const Hit& light_hit);
+
+// The same for a walk's path from the connecting vertex x (on the surface x_hit, or in a medium:
+// null; `inside` the nested set there, a surface's as the walk arrived) through refractions at
+// mesh faces (crossings `ys`, in order) to a lamp hit: the density with which next-event
+// estimation draws the lamp point for the straight line (pdf_point, the lamp's choice by power)
+// and area_light_through_chain then finds this path (0 where the straight segment does not cross
+// the same surfaces, Newton from it reaches another path or none), over the change of variables;
+// and the walk's probability of refracting at each crossing.
+CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                         std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays);
 
 // The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
 // whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals or

@@ -304,8 +304,9 @@ std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* 
   const Hit* from_hit = x_hit;
   for (;;) {
     bool gave_up = false;
-    const auto m =
-        next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, length(q - from), inside, rays, &gave_up);
+    // (Short of q as a shadow ray stops short of its target: q may lie on an area light's surface.)
+    const double left_m = length(q - from), short_m = std::max(0.0, left_m * (1.0 - 1e-4) - 2.0 * ray_offset_m(q));
+    const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, short_m, inside, rays, &gave_up);
     if (gave_up) return std::nullopt;
     if (!m) break;  // clear to the lamp
     if (c.count == kMaxChain || !chain_surface(s, *m)) return std::nullopt;

@@ -2,9 +2,10 @@
 // Next-event estimation through a chain of smooth refracting faces of meshes, shading normals
 // included: the glass wall of a tumbler, a liquid's surface and the glass above it, a smooth-shaded
 // bottle (Hanika, Droske, Fascione 2015's manifold walk). Where manifold.h solves one flat face or
-// an exact sphere in closed form, here the path from a vertex x to a point lamp q through one to
-// kMaxChain crossings is found by Newton's method on the constraints that make each crossing a
-// refraction by the surface's interpolated shading normal (the normal the walk refracts by):
+// an exact sphere in closed form, here the path from a vertex x to a point lamp q (or a point drawn
+// on an area or spherical lamp) through one to kMaxChain crossings is found by Newton's method on
+// the constraints that make each crossing a refraction by the surface's interpolated shading
+// normal (the normal the walk refracts by):
 //   C_i = the part of η_before·w_back + η_after·w_ahead across the shading normal n_i = 0,
 // w_back and w_ahead the unit directions from crossing i to its neighbours (x or the crossing
 // before, the next or q). Each crossing moves in its triangle's plane (positions and normals are
@@ -45,7 +46,8 @@ struct Chain {
   InsideSet inside_x = 0;
 };
 
-// The smooth refracting interfaces the straight segment from x to q crosses, in order (the
+// The smooth refracting interfaces the straight segment from x to q crosses (short of q, as a
+// shadow ray stops: q may be a point on an area lamp's surface), in order (the
 // nested set `inside` leaving x; `x_hit` the surface x is on, or null in a medium), crossing
 // index-matched ones unchanged. Nothing where something else is in the way (an opaque, rough,
 // dispersive or thin surface, an exact shape, a normal map), where there are more than kMaxChain,

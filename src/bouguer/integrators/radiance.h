@@ -8,51 +8,95 @@
 
 namespace bouguer {
 
-// The walk's side of next-event estimation through the casters (manifold.h): since the last
-// vertex that connected through them (a non-specular surface or a scattering event of the path
-// tracer), the refractions at one caster the walk has made. A lamp it then reaches after one of
-// them, or after two from outside the caster, is a path the connection also draws: the two are
-// weighted against each other by the power heuristic (manifold.h: caster_path_densities). Whether
-// a specular vertex refracted shows only at the next one, by the side of the surface the walk
-// left along.
-struct CasterTrail {
+// The refractions a walk has made since its last connecting vertex (a non-specular surface or a
+// scattering event of the path tracer), up to K of them: the trails below are made of it. Whether a
+// specular vertex refracted shows only at the next one, by the side of the surface the walk left
+// along.
+template <std::size_t K>
+struct Refractions {
   bool open = false;
-  const ManifoldCaster* caster = nullptr;
   int crossings = 0;
-  bool from_outside = false;
-  bool pending = false;  // the last vertex was at a caster; wo and normal there
+  bool pending = false;  // the last vertex was a crossing; wo and normal there
   Vec3 wo{}, normal{};
-  Vec3 x{};              // the connecting vertex
-  double pdf_x = 0.0;    // the density of the direction the walk left it along
-  std::array<Vec3, 2> crossing{};
+  double pdf_x = 0.0;    // the density of the direction the walk left the connecting vertex along
+  std::array<Vec3, K> crossing{};
 
-  void start(bool connected, const Vec3& at) {
-    *this = CasterTrail{};
-    open = connected, x = at;
-  }
+  void restart(bool connected) { open = connected, crossings = 0, pending = false; }
   // The walk went on from the pending vertex along d: open only if it refracted there.
   bool settle(const Vec3& d) {
     if (pending && dot(d, normal) * dot(wo, normal) >= 0.0) open = false;
     pending = false;
     return open;
   }
-  // A specular vertex at `hit`, the walk arriving from wo_here along a direction of density
-  // pdf_dir.
-  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
-    if (!settle(-wo_here)) return;
-    const ManifoldCaster* at = find_caster(scene, hit.geometry);
-    if (!at || (crossings > 0 && at != caster) || crossings == 2) {
-      open = false;
-      return;
-    }
-    if (crossings == 0) caster = at, from_outside = dot(wo_here, hit.normal) > 0.0, pdf_x = pdf_dir;
+  bool full() const { return crossings == static_cast<int>(K); }
+  // A crossing at `hit`, the walk arriving from wo_here along a direction of density pdf_dir.
+  void add(const Hit& hit, const Vec3& wo_here, double pdf_dir) {
+    if (crossings == 0) pdf_x = pdf_dir;
     crossing[static_cast<std::size_t>(crossings++)] = hit.point;
     pending = true, wo = wo_here, normal = hit.normal;
   }
+  std::span<const Vec3> points() const { return {crossing.data(), static_cast<std::size_t>(crossings)}; }
+};
+
+// The walk's side of next-event estimation through the casters (manifold.h): its refractions at one
+// caster. A lamp it then reaches after one of them, or after two from outside the caster, is a
+// path the connection also draws: the two are weighted against each other by the power heuristic
+// (manifold.h: caster_path_densities).
+struct CasterTrail {
+  Refractions<2> path;
+  const ManifoldCaster* caster = nullptr;
+  bool from_outside = false;
+  Vec3 x{};  // the connecting vertex
+
+  void start(bool connected, const Vec3& at) {
+    *this = CasterTrail{};
+    path.open = connected, x = at;
+  }
+  // A specular vertex at `hit`, the walk arriving from wo_here along a direction of density
+  // pdf_dir.
+  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
+    if (!path.settle(-wo_here)) return;
+    const ManifoldCaster* at = find_caster(scene, hit.geometry);
+    if (!at || (path.crossings > 0 && at != caster) || path.full()) {
+      path.open = false;
+      return;
+    }
+    if (path.crossings == 0) caster = at, from_outside = dot(wo_here, hit.normal) > 0.0;
+    path.add(hit, wo_here, pdf_dir);
+  }
   // A lamp reached along d: whether the connection through the caster draws this path too.
   bool shared_with_connection(const Vec3& d) {
-    return settle(d) && (crossings == 1 || (crossings == 2 && from_outside && caster->twice));
+    return path.settle(d) && (path.crossings == 1 || (path.crossings == 2 && from_outside && caster->twice));
   }
+};
+
+// The same for chains of mesh faces (manifold.h: area_light_through_chain): the walk's refractions at
+// faces of meshes, up to kMaxChain. A lamp it then reaches is weighted against the connection from
+// the connecting vertex, which may draw the same path (chain_path_densities runs the connection's
+// own seed and solve for the lamp point and looks for the walk's path among what they find).
+// Reflections and exact shapes close it.
+struct ChainTrail {
+  Refractions<kMaxChain> path;
+  Vec3 x{};  // the connecting vertex, on the surface x_hit (when on_surface)
+  bool on_surface = false;
+  Hit x_hit{};
+  InsideSet inside = 0;  // the nested set there (a surface's as the walk arrived)
+
+  void start(bool connected, const Vec3& at, const Hit* hit, InsideSet in) {
+    path.restart(connected);
+    x = at, on_surface = hit != nullptr, inside = in;
+    if (hit) x_hit = *hit;
+  }
+  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
+    if (!path.settle(-wo_here)) return;
+    if (scene.rays.analytic(hit.geometry) || path.full()) {
+      path.open = false;
+      return;
+    }
+    path.add(hit, wo_here, pdf_dir);
+  }
+  // A lamp reached along d after refracting at least once.
+  bool reached_through(const Vec3& d) { return path.settle(d) && path.crossings > 0; }
 };
 
 // A direction a training walk drew at a non-specular surface, kept until the walk ends to learn
@@ -99,6 +143,7 @@ struct Radiance {
   // (direct_light.h: NextEvent::lights_map_and_interfaces), a bidirectional tail does not.
   NextEvent next_event = NextEvent::lights_and_map_weighted;
   CasterTrail casters = {};
+  ChainTrail chains = {};
   // Path guiding (render/path_guide.h): the guide drawn from (null: none), its mixture at the
   // surface vertex just handed over, and, while it trains (integrators/guiding.h), where the walk's
   // records go.
@@ -151,11 +196,27 @@ struct Radiance {
     return next_event == NextEvent::lights_map_and_interfaces && !v.scene.casters.empty();
   }
 
+  // Area and spherical lamps through chains of mesh faces: where next-event estimation goes on
+  // through them (direct_light.h).
+  bool through_chains() const {
+    return next_event == NextEvent::lights_map_and_interfaces && v.any_lamp_through_chains();
+  }
+
   GuideTrail& exit_guide_trail() { return trail; }
   const SurfaceDistance& surface_distance() const { return near; }
   float split_weight() const { return bin_weight; }
 
   void add(const SampledSpectrum<N>& c) { l += dispersed_keep && state.dispersed ? c * *dispersed_keep : c; }
+
+  // A lamp met through refractions from the connecting vertex (left along a direction of density
+  // pdf_x), weighted against the connection through the glass with the densities p.
+  void add_against_connection(const Vertex<N>& x, double pdf_x, const CasterPathDensities& p) {
+    const double weight = p.connection > 0.0 && pdf_x > 0.0
+                              ? spectral_power_heuristic(v.scene, pdf_x * p.refraction, state.mis.r_u, p.connection,
+                                                         state.mis.r_l)
+                              : 1.0;
+    add(x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(v.scene, state.mis.r_u)));
+  }
 
   // A light met along a direction drawn with density state.pdf_dir (0: specular, or the camera).
   void arrived_at_light(const Vertex<N>& x) {
@@ -180,16 +241,19 @@ struct Radiance {
       add(x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
       return;
     }
-    if (casters.open && casters.shared_with_connection(d)) {  // (manifold.h: through_casters)
-      const CasterPathDensities p =
-          caster_path_densities(scene, *casters.caster, casters.x, casters.crossing, casters.crossings, x.hit);
+    if (casters.path.open && casters.shared_with_connection(d)) {  // (manifold.h: through_casters)
       // (A specular lobe drawn at the connecting vertex, density 0, is the walk's alone: the
       // connection evaluates only the vertex's finite part.)
-      const double weight = p.connection > 0.0 && casters.pdf_x > 0.0
-                                ? spectral_power_heuristic(scene, casters.pdf_x * p.refraction, state.mis.r_u,
-                                                           p.connection, state.mis.r_l)
-                                : 1.0;
-      add(x.beta * emitted(v, x.hit, x.wo, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
+      add_against_connection(x, casters.path.pdf_x,
+                             caster_path_densities(scene, *casters.caster, casters.x, casters.path.crossing,
+                                                   casters.path.crossings, x.hit));
+      return;
+    }
+    if (chains.path.open && v.lamp_through_chains(x.hit.geometry) &&
+        chains.reached_through(d)) {  // (manifold.h: area_light_through_chain)
+      add_against_connection(x, chains.path.pdf_x,
+                             chain_path_densities(scene, chains.x, chains.on_surface ? &chains.x_hit : nullptr,
+                                                  chains.inside, chains.path.points(), x.hit, rays));
       return;
     }
     const double weight =
@@ -203,7 +267,7 @@ struct Radiance {
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
     return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight,
-                    next_event, casters, guide, here, learning};
+                    next_event, casters, chains, guide, here, learning};
   }
   void join(const Radiance& child) {
     child.finish_learning();
@@ -227,8 +291,10 @@ struct Radiance {
                                 next_event, guided ? &through : nullptr));
       if (guided) trail.guide = surface_exit_guide();
       casters.start(through_casters(), x.point);
-    } else if (casters.open) {
-      casters.specular(v.scene, x.hit, x.wo, state.pdf_dir);
+      chains.start(through_chains(), x.point, &x.hit, x.event.inside);
+    } else {
+      if (casters.path.open) casters.specular(v.scene, x.hit, x.wo, state.pdf_dir);
+      if (chains.path.open) chains.specular(v.scene, x.hit, x.wo, state.pdf_dir);
     }
     moved_to(x.point, x.delta);
     return true;
@@ -242,6 +308,7 @@ struct Radiance {
     // (the direction it arrived along: the walk replaces the ray's after this)
     const MediumPoint at{point, state.ray.direction, scattering_medium(scene, medium)->phase, medium, state.inside};
     casters.start(through_casters(), point);
+    chains.start(through_chains(), point, nullptr, state.inside);
     // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
     const double q = nee_probability_in_medium(v, medium, point, w, near);
     if (q >= 1.0 || rng.next_double() < q)

@@ -182,6 +182,21 @@ double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q) 
   return 0.0;  // delta lights are never found by chance
 }
 
+double pdf_point(const Light& light, const Vec3& p, const Vec3& q) {
+  const Vec3 to = q - p;
+  const double d2 = dot(to, to);
+  if (!(d2 > 0.0)) return 0.0;
+  const Vec3 wi = to / std::sqrt(d2);
+  if (const auto* a = std::get_if<AreaLight>(&light))
+    return a->area_m2 > 0.0 && emitted_factor(*a, -wi) != 0.0 && dot(a->normal, wi) != 0.0 ? 1.0 / a->area_m2 : 0.0;
+  if (const auto* sp = std::get_if<SphereLight>(&light)) {
+    // The cone's directions meet the near cap only: the points whose outward normal faces p.
+    const double cos_q = -dot(normalize(q - sp->centre_m), wi);
+    return cos_q > 0.0 ? pdf_li(light, p, wi, q) * cos_q / d2 : 0.0;
+  }
+  return 0.0;
+}
+
 std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
                                        double u3, double u4) {
   LightLeSample s;

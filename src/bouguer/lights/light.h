@@ -136,6 +136,11 @@ struct LightAreaSample {
 };
 std::optional<LightAreaSample> sample_area(const Light& light, double u1, double u2);
 double pdf_li(const Light& light, const Vec3& p, const Vec3& wi, const Vec3& q);
+// The density per m² with which sample_li from p draws the point q of an area light or an emitting
+// sphere (0 where it never draws it: behind a one-sided area light, a sphere's far side or from
+// inside it). Next-event estimation through a chain of refractions (integrators/manifold.h) goes on
+// from the point drawn for the straight line, and the walks weigh themselves against it with this.
+double pdf_point(const Light& light, const Vec3& p, const Vec3& q);
 std::optional<LightLeSample> sample_le(const Light& light, const SceneBounds& bounds, double u1, double u2,
                                        double u3, double u4);
 // The densities with which sample_le draws a ray leaving `light` in `direction` (area lights and

@@ -114,6 +114,11 @@ SceneBuilder& SceneBuilder::exit_guide(bool on) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::area_lamp_chains(bool on) {
+  desc_.render.area_lamp_chains = on;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::manifold(bool on) {
   desc_.render.manifold = on;
   return *this;

@@ -51,6 +51,7 @@ class SceneBuilder {
   SceneBuilder& merge_radius(double radius_m, const Source& where);  // vcm's first merging radius
   SceneBuilder& exit_guide(bool on);  // path: RenderSettings::exit_guide
   SceneBuilder& manifold(bool on);    // path: RenderSettings::manifold
+  SceneBuilder& area_lamp_chains(bool on);  // path: RenderSettings::area_lamp_chains
   SceneBuilder& guiding(bool on);     // path: RenderSettings::guiding
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <tuple>
@@ -132,6 +133,7 @@ void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, c
       for (std::size_t k = 0; k < 3; ++k) a.uv[k] = m.uvs[t[k]];
       a.texture_mean = std::max(texture_mean_luminance(s.textures, texture, a.uv), kMinTextureMean);
     }
+    surface.emitting_area_m2 += a.area_m2;
     s.lights.push_back(a);
   }
 }
@@ -546,6 +548,61 @@ void add_casters(RenderScene& s) {
   }
 }
 
+// Which emitters are small seen from the glass (Surface::small_lamp): those that subtend less than
+// kLampChainSolidAngle seen from the nearest point of a smooth refracting mesh (an area light's whole emitter: its area over
+// the squared distance from its centroid; a sphere: its cone from its centre's distance). A lamp
+// inside a glass globe is measured from the globe's wall.
+void mark_small_lamps(RenderScene& s) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::uint32_t> glass;
+  std::size_t triangles = 0, emitters = 0;
+  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
+    const Surface& f = s.surfaces[g];
+    if (f.kind == SurfaceKind::interface && f.roughness == 0.0 && f.normal_map < 0 && !s.rays.analytic(g))
+      glass.push_back(g), triangles += s.rays.mesh(g).triangles.size();
+    emitters += f.kind == SurfaceKind::emitter;
+  }
+  if (glass.empty()) return;
+  // The distance from p to the nearest glass: every triangle, or (past some 10⁸ tests, which a
+  // scene of many lamps and dense glass would take seconds over) the meshes' vertices.
+  const bool every_triangle = triangles * emitters < 100'000'000;
+  auto nearest_glass = [&](const Vec3& p) {
+    double best = kInf;
+    for (const std::uint32_t g : glass) {
+      const Mesh& m = s.rays.mesh(g);
+      if (every_triangle)
+        for (const auto& t : m.triangles)
+          best = std::min(best, triangle_distance(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]));
+      else
+        for (const Vec3& v : m.positions) best = std::min(best, length(v - p));
+    }
+    return best;
+  };
+  for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
+    Surface& f = s.surfaces[g];
+    if (f.kind != SurfaceKind::emitter || f.first_light < 0) continue;
+    const Light& light = s.lights[static_cast<std::size_t>(f.first_light)];
+    double solid_angle = kInf;
+    if (const auto* sphere = std::get_if<SphereLight>(&light)) {
+      const double d = nearest_glass(sphere->centre_m);
+      if (d > sphere->radius_m)
+        solid_angle = 2.0 * std::numbers::pi *
+                      (1.0 - std::sqrt(1.0 - sphere->radius_m * sphere->radius_m / (d * d)));
+    } else if (std::holds_alternative<AreaLight>(light) && f.emitting_area_m2 > 0.0) {
+      Vec3 centroid{};
+      const Mesh& m = s.rays.mesh(g);
+      for (const auto& t : m.triangles) {
+        const Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+        centroid += (a + b + c) * (0.5 * length(cross(b - a, c - a)) / 3.0);
+      }
+      const double d = nearest_glass(centroid / f.emitting_area_m2);
+      if (d > 0.0) solid_angle = f.emitting_area_m2 / (d * d);
+    }
+    f.small_lamp = solid_angle < kLampChainSolidAngle;
+    s.small_lamps = s.small_lamps || f.small_lamp;
+  }
+}
+
 }  // namespace
 
 bool indices_match(const RenderScene& s, int a, int b) {
@@ -566,6 +623,7 @@ RenderScene compile(const SceneDesc& desc) {
   add_lights(s, desc);
   add_lights_distributions(s);
   add_casters(s);
+  mark_small_lamps(s);
   return s;
 }
 

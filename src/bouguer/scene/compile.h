@@ -29,6 +29,12 @@ struct Surface {
   int medium_front = -1;   // on the side the normal points to
   int material = -1;       // opaque surfaces: index into materials
   int first_light = -1;    // emitters: the area light of primitive p is lights[first_light + p]
+  double emitting_area_m2 = 0.0;  // emitters: the area of all their triangles
+  // Emitters: whether they subtend less than kLampChainSolidAngle seen from the nearest smooth
+  // refracting mesh, where next-event estimation goes on to them through chains of mesh faces
+  // unless the render says otherwise (integrators/manifold.h: area_light_through_chain;
+  // RenderSettings::area_lamp_chains).
+  bool small_lamp = false;
   double roughness = 0.0;  // interfaces: GGX alpha (0: smooth)
   int albedo = -1;         // rough interfaces: index into RenderScene::dielectric_albedo
   // A smooth interface between two media of the same index: it neither reflects nor refracts, so
@@ -106,7 +112,14 @@ struct RenderScene {
   // kReferenceWavelengthNm (the albedo varies by well under 1 % over a glass's dispersion).
   std::vector<DielectricAlbedo> dielectric_albedo;
   std::vector<ManifoldCaster> casters;  // at most kMaxCasters, in geometry order
+  bool small_lamps = false;  // whether any emitter's Surface::small_lamp is set
 };
+// Unless the scene says otherwise (RenderSettings::area_lamp_chains), an area or spherical lamp is
+// reached through chains of mesh faces where it subtends less than this seen from the nearest
+// smooth refracting mesh (a disk about 14° across: Surface::small_lamp): a larger lamp is found often enough by
+// the walk's own refracted directions that a chain at every vertex costs more than it saves
+// (docs/performance.md: sunset-in-a-tank's panel 3.6 times the time for 8 % less error).
+inline constexpr double kLampChainSolidAngle = 0.05;  // sr
 inline constexpr std::size_t kMaxCasters = 8;
 
 // The caster whose surface is `geometry`, or null.

@@ -648,7 +648,8 @@ void read_camera(const json& j, const Where& w, SceneBuilder& b) {
 
 void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
   expect_keys(j, w,
-              {"integrator", "spectral", "spp", "max_depth", "seed", "merge_radius", "exit_guide", "manifold", "guiding"});
+              {"integrator", "spectral", "spp", "max_depth", "seed", "merge_radius", "exit_guide", "manifold",
+               "area_lamp_chains", "guiding"});
   if (j.contains("integrator")) b.integrator(text(j["integrator"], w / "integrator"), w / "integrator");
   if (j.contains("spectral")) b.spectral_mode(text(j["spectral"], w / "spectral"), w / "spectral");
   if (j.contains("spp")) b.spp(whole_number(j["spp"], w / "spp"), w / "spp");
@@ -657,6 +658,7 @@ void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
   if (j.contains("merge_radius")) b.merge_radius(positive_length_m(j["merge_radius"], w / "merge_radius"), w / "merge_radius");
   if (j.contains("exit_guide")) b.exit_guide(boolean(j["exit_guide"], w / "exit_guide"));
   if (j.contains("manifold")) b.manifold(boolean(j["manifold"], w / "manifold"));
+  if (j.contains("area_lamp_chains")) b.area_lamp_chains(boolean(j["area_lamp_chains"], w / "area_lamp_chains"));
   if (j.contains("guiding")) b.guiding(boolean(j["guiding"], w / "guiding"));
 }
 
