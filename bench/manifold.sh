@@ -7,11 +7,13 @@
 #            (every scattering event inside reaches the lamp through one crossing)
 #   caustic  tests/data/red_ball_lamp: a red glass ball under a 5 mm spherical lamp (the caustic
 #            and the coloured shadow come through two crossings)
+#   softbox  the lit tumbler under a 20 mm softbox and a 5 mm emitting sphere (bench/scenes.py): the
+#            liquid's scattering events reach them through chains of the glass's mesh faces
 # Each row: seconds of one render (seeds 1 and 2), their mean ΔE00 (the noise) over the whole
 # frame and over the region the connections are for (ball: the ball, x 30–70 % and y 20–75 % of
 # the frame from its top left; caustic: the shadow and the caustic beside the ball, x 42–64 %,
-# y 56–66 %), and noise × √seconds (lower is better; the ratio of two rows' is the square root of
-# their efficiency ratio). Reports only; figures in docs/performance.md.
+# y 56–66 %; softbox: the liquid, x 35–65 %, y 45–70 %), and noise × √seconds (lower is better;
+# the ratio of two rows' is the square root of their efficiency ratio). Reports only; figures in docs/performance.md.
 #   bench/manifold.sh build/bouguer
 # SPP (64), RESOLUTION (96x72), THREADS (2), SCENES ("ball caustic"), RUNS may be set.
 set -euo pipefail
@@ -29,8 +31,8 @@ trap 'rm -rf "$tmp"' EXIT
 python3 - "$repo" "$tmp" <<'PY'
 import json, os, sys
 sys.path.insert(0, os.path.join(sys.argv[1], "bench"))
-import scenes  # bench/scenes.py: ball, caustic and bounce
-for name in ("ball", "caustic", "bounce"):
+import scenes  # bench/scenes.py: ball, caustic, softbox and bounce
+for name in ("ball", "caustic", "softbox", "bounce"):
     for manifold in (True, False):
         s = scenes.scene(name)
         s["render"]["manifold"] = manifold
@@ -80,6 +82,7 @@ for scene in $scenes; do
     region="0.42 0.64 0.56 0.66"
     [[ $scene == ball ]] && region="0.30 0.70 0.20 0.75"
     [[ $scene == bounce ]] && region="0.0 1.0 0.0 1.0"
+    [[ $scene == softbox ]] && region="0.35 0.65 0.45 0.70"
     read -r whole under < <(noise "$tmp/1.pfm" "$tmp/2.pfm" "$region")
     label=$integrator
     [[ $integrator == path ]] && label="path, manifold $manifold"

@@ -11,6 +11,9 @@ bench/whole_milk_glass.sh and bench/hard_scenes.py write theirs from here).
            and the coloured shadow under the ball come through two crossings), max_depth 16
   tumbler  tests/data/lit_tumbler: a glass tumbler of a dilute scattering liquid lit by a point and a
            spot lamp (light reaches the liquid only through the glass)
+  softbox  the lit tumbler with its point and spot lamp replaced by lamps of size: a 20 mm square
+           softbox (two-sided) and a 5 mm emitting sphere (its light reaches the liquid through the
+           glass by the walks' refracted directions, and through chains of mesh faces)
   milk     the whole-milk tumbler of scenes/showcase/milk-and-juice.json alone on its sweep under the
            studio map, framed so that it fills most of the picture (#20's glass of whole milk)
   bounce   a floor lit only by a small white patch that a lamp below it shines on (guiding's
@@ -66,6 +69,18 @@ def tumbler():
     return scene
 
 
+def softbox():
+    scene = tumbler()
+    del scene["lights"]
+    scene["objects"] += [
+        {"name": "softbox", "shape": {"type": "quad", "size": ["20 mm", "20 mm"]},
+         "transform": [{"rotate_deg": [90, [0, 1, 0]]}, {"translate": ["-150 mm", "30 mm", "40 mm"]}],
+         "emission": {"spectrum": "D65", "scale": 20, "two_sided": True}},
+        {"name": "bulb", "shape": {"type": "sphere", "radius": "5 mm"},
+         "transform": [{"translate": ["150 mm", "60 mm", "-60 mm"]}], "emission": {"spectrum": "A", "scale": 10}}]
+    return scene
+
+
 def milk():
     scene = _load("scenes/showcase/milk-and-juice.json")
     scene["objects"] = [o for o in scene["objects"] if "skimmed" not in o["name"] and "orange" not in o["name"]]
@@ -94,7 +109,7 @@ def bounce():
         "background": {"spectrum": "E", "scale": 0}}
 
 
-SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "milk": milk, "bounce": bounce}
+SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk, "bounce": bounce}
 
 
 def scene(name):
