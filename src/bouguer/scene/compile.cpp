@@ -558,23 +558,38 @@ void mark_small_lamps(RenderScene& s) {
   std::size_t triangles = 0, emitters = 0;
   for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
     const Surface& f = s.surfaces[g];
-    if (f.kind == SurfaceKind::interface && f.roughness == 0.0 && f.normal_map < 0 && !s.rays.analytic(g))
+    if (f.kind == SurfaceKind::interface && f.roughness == 0.0 && !f.index_matched && f.normal_map < 0 &&
+        !s.rays.analytic(g))
       glass.push_back(g), triangles += s.rays.mesh(g).triangles.size();
     emitters += f.kind == SurfaceKind::emitter;
   }
   if (glass.empty()) return;
-  // The distance from p to the nearest glass: every triangle, or (past some 10⁸ tests, which a
-  // scene of many lamps and dense glass would take seconds over) the meshes' vertices.
+  // The distance from p to the nearest glass: to every triangle, or (past some 10⁸ tests, which a
+  // scene of many lamps and dense glass would take seconds over) to each mesh's bounding box, which
+  // is never farther (a lamp then counts as larger than it is, and the chains run less).
   const bool every_triangle = triangles * emitters < 100'000'000;
+  std::vector<std::pair<Vec3, Vec3>> boxes;
+  for (const std::uint32_t g : glass) {
+    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+    for (const Vec3& v : s.rays.mesh(g).positions)
+      lo = Vec3{std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)},
+      hi = Vec3{std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    boxes.emplace_back(lo, hi);
+  }
   auto nearest_glass = [&](const Vec3& p) {
     double best = kInf;
-    for (const std::uint32_t g : glass) {
-      const Mesh& m = s.rays.mesh(g);
-      if (every_triangle)
-        for (const auto& t : m.triangles)
-          best = std::min(best, triangle_distance(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]));
-      else
-        for (const Vec3& v : m.positions) best = std::min(best, length(v - p));
+    for (std::size_t k = 0; k < glass.size(); ++k) {
+      const auto& [lo, hi] = boxes[k];
+      const Vec3 outside{std::max({0.0, lo.x - p.x, p.x - hi.x}), std::max({0.0, lo.y - p.y, p.y - hi.y}),
+                         std::max({0.0, lo.z - p.z, p.z - hi.z})};
+      const double to_box = length(outside);
+      if (!every_triangle || to_box >= best) {
+        best = std::min(best, to_box);
+        continue;
+      }
+      const Mesh& m = s.rays.mesh(glass[k]);
+      for (const auto& t : m.triangles)
+        best = std::min(best, triangle_distance(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]));
     }
     return best;
   };
