@@ -289,10 +289,9 @@ CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCa
 CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
                                          std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays) {
   CasterPathDensities out;
-  const Vec3& q = light_hit.point;
-  const Surface& surface = s.surfaces[light_hit.geometry];
-  const auto index = static_cast<std::size_t>(surface.first_light) + light_hit.primitive;
   if (ys.empty()) return out;
+  const Vec3& q = light_hit.point;
+  const auto index = static_cast<std::size_t>(s.surfaces[light_hit.geometry].first_light) + light_hit.primitive;
   const double point_pdf = s.area_lights.pmf[index] * pdf_point(s.lights[index], x, q);
   if (!(point_pdf > 0.0)) return out;
   // The connection's own seed and solve for this point, and the walk's path among them (to the

@@ -361,6 +361,25 @@ LightEnd<N> delta_lamp_end(const SceneView<N>& v, const DeltaLamp& lamp, const R
           t->ratios.r_u};
 }
 
+// What an area or spherical light sends from its point y along a path's final segment: clear up
+// to it, then its own surface there, seen from the path's side: its radiance × |cos θ_y| divided by
+// the point's density area_pdf (the lamp's choice included), and the segment's transmittance.
+template <std::size_t N>
+LightEnd<N> area_lamp_end(const SceneView<N>& v, const Light& light, const Vec3& y, double area_pdf,
+                          const Reach<N>& r, const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+  const RenderScene& s = v.scene;
+  const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
+                              rng, rays);
+  if (!t) return {};
+  const auto hit = s.rays.intersect(Ray{y - r.to_light * (r.light_m * 1e-4), r.to_light, r.light_m * 2e-4});
+  ++rays;
+  if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter || &surface_light_at(s, *hit) != &light)
+    return {};
+  const double cos_light = std::abs(dot(hit->normal, r.to_light));
+  return {emitted(v, *hit, -r.to_light, w) * static_cast<float>(cos_light / area_pdf), area_pdf, cos_light, t->tr,
+          t->ratios.r_l, t->ratios.r_u};
+}
+
 template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
                                  const DeltaLamp& lamp, Towards towards, MediumTowards medium_towards,
@@ -370,14 +389,6 @@ SampledSpectrum<N> delta_through(const SceneView<N>& v, const PathVertex& at, In
   return through(v, at, inside, f, lamp.p, towards, medium_towards, w, path_r_u, rng, rays, end);
 }
 
-// The light of delta lamp `lamp` at vertex `at` through a chain of mesh faces (manifold_chain.h,
-// seeded from the straight segment): the path on which each crossing refracts by its shading
-// normal, then as `through`: f·|cos θ| towards its first crossing, the lamp's intensity and
-// profile, Fresnel at each crossing (by the shading normal, as the walk), every segment's
-// transmittance, and the ray tube (η_x/η_q)²·dω_x/dA⊥_q: where the normals are the faces' own,
-// étendue makes that the forward tube dω_q/dA⊥_x of `through`; with shading normals it is what
-// the walk's own directions would gather from a lamp of vanishing size ("Radiance across a
-// refraction": no n² in the radiance, flux conserved).
 // Follows a solved chain from the vertex (follow_crossings): the walk meets each crossing where the
 // solve put it (Embree's float hit within a hundred times its rounding), on the same surface, and
 // refracts there by its shading normal.
@@ -503,23 +514,17 @@ SampledSpectrum<N> area_light_through_chain(const SceneView<N>& v, const PathVer
   double vertex_pdf = 0.0;
   const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
   if (fv.is_zero()) return {};
-  // On to the lamp: clear up to it, then its surface there, seen from the path's side.
-  const auto t =
-      transmission(v, PathVertex{r->last.point, &r->last, r->inside}, r->to_light, r->light_m, r->medium, w, rng, rays);
-  if (!t) return {};
-  const auto hit = s.rays.intersect(Ray{y - r->to_light * (r->light_m * 1e-4), r->to_light, r->light_m * 2e-4});
-  ++rays;
-  if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter || &surface_light_at(s, *hit) != &light) return {};
-  const double cos_light = std::abs(dot(hit->normal, r->to_light));
+  const manifold_detail::LightEnd<N> e = manifold_detail::area_lamp_end(v, light, y, point_pdf, *r, w, rng, rays);
+  if (e.value.is_zero()) return {};
   const double reverse = chain_reverse_tube(s, at.point, y, *c);
-  if (!(cos_light > 0.0) || !(reverse > 0.0) || !std::isfinite(reverse)) return {};
-  const SampledSpectrum<N> r_l = r->r_l * t->ratios.r_l, r_u = r->r_u * t->ratios.r_u;
-  const double p_connection = point_pdf / (cos_light * reverse);
+  if (!(e.cos_light > 0.0) || !(reverse > 0.0) || !std::isfinite(reverse)) return {};
+  const SampledSpectrum<N> r_l = r->r_l * e.r_l, r_u = r->r_u * e.r_u;
+  const double p_connection = point_pdf / (e.cos_light * reverse);
   const double weight = power_heuristic(p_connection * mean_ratio(s, path_r_u, r_l),
                                         vertex_pdf * r->fresnel * mean_ratio(s, path_r_u, r_u));
-  return fv * emitted(v, *hit, -r->to_light, w) * r->tr * t->tr *
-         static_cast<float>(weight * r->fresnel * manifold_detail::chain_eta_ratio2(*c) * reverse * cos_light /
-                            (point_pdf * mean_ratio(s, path_r_u, r_l)));
+  return fv * e.value * r->tr * e.tr *
+         static_cast<float>(weight * r->fresnel * manifold_detail::chain_eta_ratio2(*c) * reverse /
+                            mean_ratio(s, path_r_u, r_l));
 }
 
 // A walk's path from the connecting vertex x through refractions of caster c (at crossings ys) to
@@ -618,18 +623,8 @@ SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, 
       if (const auto lamp = delta_lamp(s.lights[static_cast<std::size_t>(index)]))
         sum += delta_through(v, at, inside_along(lamp->p), f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
     if (!y) continue;
-    auto end = [&](const Reach<N>& r) -> LightEnd<N> {
-      // On to the light: clear up to it, then its surface there, seen from the path's side.
-      const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
-                                  rng, rays);
-      if (!t) return {};
-      const auto hit = s.rays.intersect(Ray{y->p - r.to_light * (r.light_m * 1e-4), r.to_light, r.light_m * 2e-4});
-      ++rays;
-      if (!hit || s.surfaces[hit->geometry].kind != SurfaceKind::emitter || &surface_light_at(s, *hit) != light)
-        return {};
-      const double cos_light = std::abs(dot(hit->normal, r.to_light)), area_pdf = area_light->second * y->pdf_area;
-      return {emitted(v, *hit, -r.to_light, w) * static_cast<float>(cos_light / area_pdf), area_pdf, cos_light, t->tr,
-              t->ratios.r_l, t->ratios.r_u};
+    auto end = [&](const Reach<N>& r) {
+      return area_lamp_end(v, *light, y->p, area_light->second * y->pdf_area, r, w, rng, rays);
     };
     sum += through(v, at, inside_along(y->p), f, y->p, towards, medium_towards, w, path_r_u, rng, rays, end);
   }

@@ -568,14 +568,8 @@ void mark_small_lamps(RenderScene& s) {
   // scene of many lamps and dense glass would take seconds over) to each mesh's bounding box, which
   // is never farther (a lamp then counts as larger than it is, and the chains run less).
   const bool every_triangle = triangles * emitters < 100'000'000;
-  std::vector<std::pair<Vec3, Vec3>> boxes;
-  for (const std::uint32_t g : glass) {
-    Vec3 lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
-    for (const Vec3& v : s.rays.mesh(g).positions)
-      lo = Vec3{std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)},
-      hi = Vec3{std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-    boxes.emplace_back(lo, hi);
-  }
+  std::vector<std::array<Vec3, 2>> boxes;
+  for (const std::uint32_t g : glass) boxes.push_back(s.rays.bounds(g));
   auto nearest_glass = [&](const Vec3& p) {
     double best = kInf;
     for (std::size_t k = 0; k < glass.size(); ++k) {
