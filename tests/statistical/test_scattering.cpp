@@ -555,6 +555,42 @@ TEST(Scattering, RatioTrackingThroughAGridDensityMatchesItsColumnDensity) {
   EXPECT_GT(dense, 24);  // the test must cross the balls, not only the empty grid
 }
 
+// In a constant density the majorant is the medium itself, so ratio tracking's estimate is a coin
+// toss (0 at the first tentative collision, which is real); ratio_track returns its expectation
+// given the hero instead: exp(−σ_s,k·ρ·t) at every wavelength on every call, whatever the random
+// numbers, with the ratios of a walk without collision, exp(−(σ_s,k − σ_s,hero)·ρ·t), so that the
+// one-sample combination over the heroes, tr / mean(r_l), is the exact transmittance too. The toss
+// fails each check (tr 0, or f times 1 where exp(−σ_hero·ρ·t) was due); a wrong rate fails them all.
+TEST(Scattering, TrackingThroughAConstantDensityIsItsExpectation) {
+  ScatteringMedium m;
+  m.sigma_s = 0;
+  m.density = ConstantField{2.0};
+  const TestTables tables{{{300.0f, 200.0f, 120.0f, 80.0f}}};
+  const TestRay ray{{0.0, 0.0, 0.0}, normalize(Vec3{1.0, 2.0, 2.0})};
+  constexpr double kLengthM = 0.01;  // optical depths 6, 4, 2.4 and 1.6
+  Rng rng(7, 3);
+  std::array<double, 4> combined{};
+  for (int hero = 0; hero < 4; ++hero) {
+    for (int j = 0; j < 64; ++j) {
+      SampledSpectrum<4> tr = SampledSpectrum<4>::constant(1.0f);
+      SpectralMis<4> mis;
+      ratio_track(m, tables, ray, kLengthM, four_wavelengths(hero), rng, tr, mis);
+      for (std::size_t k = 0; k < 4; ++k) {
+        const double exact = std::exp(-tables.sigma_s[k] * 2.0 * kLengthM);
+        const double ratio = std::exp(-(tables.sigma_s[k] - tables.sigma_s[static_cast<std::size_t>(hero)]) * 2.0 * kLengthM);
+        EXPECT_NEAR(tr[k], exact, 1e-5 * exact) << "hero " << hero << " λ " << k;
+        EXPECT_NEAR(mis.r_l[k], ratio, 1e-5 * ratio) << "hero " << hero << " λ " << k;
+        EXPECT_NEAR(mis.r_u[k], ratio, 1e-5 * ratio) << "hero " << hero << " λ " << k;
+        if (j == 0) combined[k] += tr[k] / mis.r_l.average() / 4.0;
+      }
+    }
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double exact = std::exp(-tables.sigma_s[k] * 2.0 * kLengthM);
+    EXPECT_NEAR(combined[k], exact, 1e-5 * exact) << "λ " << k;
+  }
+}
+
 // Delta tracking draws the first real collision with the analog density σ_s ρ(t) exp(−σ_s∫₀ᵗρ)
 // at every wavelength (the hero's directly, the others through their weights): the weighted
 // fraction of walks scattering before t, and passing through, against the exact column density,

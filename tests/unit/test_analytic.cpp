@@ -424,5 +424,28 @@ TEST(AnalyticSurface, SceneFormat) {
   }
 }
 
+// A cylinder's side stays circular under a similarity and under any stretch along its axis (the
+// world's radius the scale across it, the axis the image of +y from the base's centre); scaled
+// unevenly across its axis, or sheared, it is elliptic: nothing.
+TEST(Analytic, ACylindersSideIsCircularWhereTheTransformKeepsItSo) {
+  const CylinderSurface c{0.1, 0.5};
+  const Transform similar = Transform::scale({2, 2, 2}).then(Transform::rotate_deg(90, {0, 0, 1})).then(
+      Transform::translate({1, 2, 3}));
+  const auto a = circular_side(c, similar);
+  ASSERT_TRUE(a);
+  EXPECT_NEAR(a->radius_m, 0.2, 1e-15);
+  EXPECT_NEAR(length(a->axis - Vec3{-1, 0, 0}), 0.0, 1e-12);
+  EXPECT_NEAR(length(a->on_axis - Vec3{1, 2, 3}), 0.0, 1e-15);
+  const auto stretched = circular_side(c, Transform::scale({3, 7, 3}).then(Transform::rotate_deg(30, {1, 0, 0})));
+  ASSERT_TRUE(stretched);
+  EXPECT_NEAR(stretched->radius_m, 0.3, 1e-15);
+  EXPECT_NEAR(length(stretched->axis - Vec3{0, std::cos(std::numbers::pi / 6), std::sin(std::numbers::pi / 6)}), 0.0,
+              1e-12);
+  EXPECT_FALSE(circular_side(c, Transform::scale({2, 0.5, 3})));
+  Transform shear;  // +y leaned towards +x
+  shear.linear = Mat3::from_columns({1, 0, 0}, {0.2, 1, 0}, {0, 0, 1});
+  EXPECT_FALSE(circular_side(c, shear));
+}
+
 }  // namespace
 }  // namespace bouguer

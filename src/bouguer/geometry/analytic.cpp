@@ -187,4 +187,15 @@ std::array<Vec3, 2> local_bounds(const AnalyticSurface& s) {
   return std::visit(Visitor{}, s);
 }
 
+std::optional<CircularSide> circular_side(const CylinderSurface& c, const Transform& to_world) {
+  const Vec3 a = to_world.linear * Vec3{1, 0, 0}, b = to_world.linear * Vec3{0, 1, 0},
+             d = to_world.linear * Vec3{0, 0, 1};
+  const double scale = length(a), along = length(b), tolerance = 1e-9 * scale;
+  if (!(scale > 0.0) || !(along > 0.0) || std::abs(length(d) - scale) > tolerance ||
+      std::abs(dot(a, d)) > tolerance * scale || std::abs(dot(a, b)) > 1e-9 * scale * along ||
+      std::abs(dot(d, b)) > 1e-9 * scale * along)
+    return std::nullopt;
+  return CircularSide{to_world.apply(Vec3{}), b / along, c.radius_m * scale};
+}
+
 }  // namespace bouguer

@@ -52,4 +52,14 @@ Vec3 nearest_local(const AnalyticSurface& s, const Vec3& p);
 // The surface's local bounding box (lo, hi).
 std::array<Vec3, 2> local_bounds(const AnalyticSurface& s);
 
+// A cylinder's side placed in the world, where it stays circular (the transform a similarity
+// across its axis, the axis perpendicular to that, any stretch along it): a point of its axis (the
+// base's centre), the axis (unit, from the base to the top) and its radius. Nothing for an
+// elliptic one.
+struct CircularSide {
+  Vec3 on_axis, axis;
+  double radius_m = 0.0;
+};
+std::optional<CircularSide> circular_side(const CylinderSurface& c, const Transform& to_world);
+
 }  // namespace bouguer

@@ -87,6 +87,30 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
 
 namespace {
 
+// Whether the segment from a to b certainly crosses a caster's sphere (RenderScene::casters: exact
+// smooth refracting spheres): then its straight shadow ray is blocked, and nothing but the
+// connections through the caster (through_casters) reaches the lamp from a (a chain of mesh faces
+// does not seed through an analytic sphere, delta_light_through_interface leaves casters to
+// through_casters). Skipping the ray saves its trace and its ratio tracking from every scattering
+// event inside a ball of milk. Only without priorities (an object with one may make the sphere's
+// boundary a false one), and not within a millionth of the radius of the sphere, where rounding
+// decides what the ray meets.
+bool caster_between(const RenderScene& s, const Vec3& a, const Vec3& b) {
+  if (!s.nested.empty()) return false;
+  for (const ManifoldCaster& c : s.casters) {
+    const double r = c.radius_m, near = r * (1.0 - 1e-6), far = r * (1.0 + 1e-6);
+    const double da = length(a - c.centre_m), db = length(b - c.centre_m);
+    if ((da < near && db > far) || (da > far && db < near)) return true;
+    if (da <= far || db <= far || !std::isfinite(db)) continue;
+    // Both outside: blocked where the segment's nearest point to the centre is inside.
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(dot(c.centre_m - a, ab) / len2, 0.0, 1.0) : 0.0;
+    if (length(a + ab * t - c.centre_m) < near) return true;
+  }
+  return false;
+}
+
 // Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
 // vertex's f·|cos θ| (or phase value) towards wi and the density with which the vertex itself
 // would sample wi; medium_towards(wi) the medium wi leaves into.
@@ -118,7 +142,8 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   if (chosen) {
     const auto& [index, p_choice] = *chosen;
     const Light& light = s.lights[static_cast<std::size_t>(index)];
-    if (const auto li = sample_li(light, at.point, u1, u2)) {
+    const auto li = sample_li(light, at.point, u1, u2);
+    if (li && !caster_between(s, at.point, at.point + li->wi * li->distance_m)) {
       double vertex_pdf = 0.0;
       const SampledSpectrum<N> f = towards(li->wi, vertex_pdf);
       bool glass = false;
@@ -143,7 +168,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   }
   for (const int index : s.delta_lights) {
     const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, 0.0, 0.0);
-    if (!li) continue;
+    if (!li || caster_between(s, at.point, at.point + li->wi * li->distance_m)) continue;
     const SampledSpectrum<N> radiance = v.tables.at(li->spectrum, w);
     if (li->factor == 0.0 || radiance.is_zero()) continue;
     double vertex_pdf = 0.0;

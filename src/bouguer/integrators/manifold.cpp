@@ -54,24 +54,44 @@ std::optional<double> bracketed_root(F f, double lo, double hi, double f_lo, dou
   return 0.5 * (lo + hi);
 }
 
-}  // namespace
+// The roots of a solve's slope (the derivative of the optical length along an arc) over the arc's
+// angles [from, to]: its sign changes between `intervals` + 1 points, whose (cos, sin) come by
+// rotation (96 steps lose no more than 1e-14; slope_cs(cos, sin) at them), each refined by the
+// Illinois method (slope_cs at (cos φ, sin φ)); root(φ) for each, at most `most`.
+template <typename SlopeCS, typename Root>
+void scan_roots(SlopeCS slope_cs, double from, double to, int intervals, int most, Root root) {
+  auto slope = [&](double phi) { return slope_cs(std::cos(phi), std::sin(phi)); };
+  double lo = from, g_lo = slope(lo);
+  const double step = (to - from) / intervals, cos_step = std::cos(step), sin_step = std::sin(step);
+  double c = std::cos(from), sn = std::sin(from);
+  for (int i = 1, found = 0; i <= intervals && found < most; ++i) {
+    const double hi = from + (to - from) * i / intervals;
+    const double c_next = c * cos_step - sn * sin_step;
+    sn = sn * cos_step + c * sin_step, c = c_next;
+    const double g_hi = slope_cs(c, sn);
+    if (g_lo == 0.0 || (g_hi != 0.0 && (g_lo < 0.0) != (g_hi < 0.0))) {
+      if (const std::optional<double> phi = g_lo == 0.0 ? lo : bracketed_root(slope, lo, hi, g_lo, g_hi)) {
+        root(*phi);
+        ++found;
+      }
+    }
+    // (A root exactly at hi is taken in the next interval, as its lo.)
+    lo = hi, g_lo = g_hi;
+  }
+}
 
-std::optional<Vec3> refraction_point(const Vec3& x, const Vec3& p, const Vec3& on_plane, const Vec3& n, double eta_x,
-                                     double eta_p) {
-  const double hx = dot(x - on_plane, n), hp = dot(p - on_plane, n);
-  if (!(hx * hp < 0.0)) return std::nullopt;
-  const Vec3 fx = x - n * hx, fp = p - n * hp;  // the feet on the plane
-  const Vec3 along = fp - fx;
-  const double d = length(along), ax = std::abs(hx), ap = std::abs(hp);
-  if (!(d > 1e-15 * (ax + ap))) return fx;  // one above the other: straight through
-  const Vec3 u = along / d;
-  // g(t) = η_x·t/√(t² + hx²) − η_p·(d − t)/√((d − t)² + hp²): increasing, g(0) < 0 < g(d).
+// The root t of η_a·t/√(t² + a²) = η_b·(d − t)/√((d − t)² + b²) on [0, d] (a, b > 0: two points at
+// heights a and b on either side of a line, their feet d apart; t from the first foot): unique,
+// since the difference of the two sides grows monotonically; Newton safeguarded by bisection, to
+// 1e-13 of d.
+double snell_split(double d, double a, double b, double eta_a, double eta_b) {
+  if (!(d > 1e-15 * (a + b))) return 0.0;  // one above the other: straight through
   auto g = [&](double t) {
-    return eta_x * t / std::sqrt(t * t + ax * ax) - eta_p * (d - t) / std::sqrt((d - t) * (d - t) + ap * ap);
+    return eta_a * t / std::sqrt(t * t + a * a) - eta_b * (d - t) / std::sqrt((d - t) * (d - t) + b * b);
   };
   auto dg = [&](double t) {
-    const double a = t * t + ax * ax, b = (d - t) * (d - t) + ap * ap;
-    return eta_x * ax * ax / (a * std::sqrt(a)) + eta_p * ap * ap / (b * std::sqrt(b));
+    const double p = t * t + a * a, q = (d - t) * (d - t) + b * b;
+    return eta_a * a * a / (p * std::sqrt(p)) + eta_b * b * b / (q * std::sqrt(q));
   };
   double lo = 0.0, hi = d, t = 0.5 * d;
   for (int i = 0; i < 100; ++i) {
@@ -84,7 +104,20 @@ std::optional<Vec3> refraction_point(const Vec3& x, const Vec3& p, const Vec3& o
     t = next;
     if (done) break;
   }
-  return fx + u * t;
+  return t;
+}
+
+}  // namespace
+
+std::optional<Vec3> refraction_point(const Vec3& x, const Vec3& p, const Vec3& on_plane, const Vec3& n, double eta_x,
+                                     double eta_p) {
+  const double hx = dot(x - on_plane, n), hp = dot(p - on_plane, n);
+  if (!(hx * hp < 0.0)) return std::nullopt;
+  const Vec3 fx = x - n * hx, fp = p - n * hp;  // the feet on the plane
+  const Vec3 along = fp - fx;
+  const double d = length(along), ax = std::abs(hx), ap = std::abs(hp);
+  if (!(d > 1e-15 * (ax + ap))) return fx;  // one above the other: straight through
+  return fx + (along / d) * snell_split(d, ax, ap, eta_x, eta_p);
 }
 
 SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& centre, double radius_m,
@@ -109,27 +142,53 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
     const double to_y = norm2(c - a1, s - a2), from_y = norm2(b - c, s);
     return eta_inner * (a1 * s - a2 * c) / to_y + eta_outer * b * s / from_y;
   };
-  auto slope = [&](double phi) { return slope_cs(std::cos(phi), std::sin(phi)); };
   // The arc the outer point sees: cos φ > 1/b.
   const double phi_max = std::acos(1.0 / b) * (1.0 - 1e-12);
   const auto [from, to, intervals] = scan_range(phi_max, near, centre, e1, e2, 48);
-  double lo = from, g_lo = slope(lo);
-  // (cos, sin) of the scan's points by rotation: 48 steps lose no more than 1e-14.
-  const double step = (to - from) / intervals, cos_step = std::cos(step), sin_step = std::sin(step);
-  double c = std::cos(from), sn = std::sin(from);
-  for (int i = 1; i <= intervals && out.count < static_cast<int>(out.points.size()); ++i) {
-    double hi = from + (to - from) * i / intervals;
-    const double c_next = c * cos_step - sn * sin_step;
-    sn = sn * cos_step + c * sin_step, c = c_next;
-    const double g_hi = slope_cs(c, sn);
-    if (g_lo == 0.0 || (g_hi != 0.0 && (g_lo < 0.0) != (g_hi < 0.0))) {
-      const std::optional<double> phi = g_lo == 0.0 ? lo : bracketed_root(slope, lo, hi, g_lo, g_hi);
-      out.points[static_cast<std::size_t>(out.count++)] =
-          centre + (e1 * std::cos(*phi) + e2 * std::sin(*phi)) * radius_m;
-    }
-    // (A root exactly at hi is taken in the next interval, as its lo.)
-    lo = hi, g_lo = g_hi;
-  }
+  scan_roots(slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
+    out.points[static_cast<std::size_t>(out.count++)] = centre + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m;
+  });
+  return out;
+}
+
+SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& on_axis,
+                                            const Vec3& axis, double radius_m, double eta_inner, double eta_outer,
+                                            const Vec3* near) {
+  SphereRefraction out;
+  // Across the axis, in units of the radius: the outer point at (b, 0) on e1, the inner one at
+  // (a1, a2); along it, the outer point dz above the inner one; y(φ, z) = (cos φ, sin φ, z).
+  const Vec3 to_outer = outer - on_axis, to_inner = inner - on_axis;
+  const double z_outer = dot(to_outer, axis), z_inner = dot(to_inner, axis);
+  const Vec3 outer_across = to_outer - axis * z_outer, inner_across = to_inner - axis * z_inner;
+  const double b = length(outer_across) / radius_m;
+  if (!(b > 1.0) || !(length(inner_across) < radius_m)) return out;
+  const Vec3 e1 = outer_across / (b * radius_m), e2 = cross(axis, e1);
+  const double a1 = dot(inner_across, e1) / radius_m, a2 = dot(inner_across, e2) / radius_m;
+  const double dz = (z_outer - z_inner) / radius_m;
+  // At (cos φ, sin φ): the height from the inner point's where the path crosses (Snell's law
+  // along the axis over the two distances across it), and the path's two lengths.
+  struct Crossing {
+    double z, to_y, from_y;
+  };
+  auto crossing_at = [&](double c, double s) {
+    const double to_foot = norm2(c - a1, s - a2), from_foot = norm2(b - c, s);
+    const double z = std::copysign(snell_split(std::abs(dz), to_foot, from_foot, eta_inner, eta_outer), dz);
+    return Crossing{z, norm2(to_foot, z), norm2(from_foot, dz - z)};
+  };
+  // The derivative of the optical length around the axis at that height (the envelope's: its
+  // derivative along the axis is 0 there).
+  auto slope_cs = [&](double c, double s) {
+    const Crossing k = crossing_at(c, s);
+    return eta_inner * (a1 * s - a2 * c) / k.to_y + eta_outer * b * s / k.from_y;
+  };
+  // The arc the outer point sees: cos φ > 1/b.
+  const double phi_max = std::acos(1.0 / b) * (1.0 - 1e-12);
+  const auto [from, to, intervals] = scan_range(phi_max, near, on_axis, e1, e2, 96);
+  scan_roots(slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
+    const Crossing k = crossing_at(std::cos(phi), std::sin(phi));
+    out.points[static_cast<std::size_t>(out.count++)] =
+        on_axis + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m + axis * (z_inner + k.z * radius_m);
+  });
   return out;
 }
 

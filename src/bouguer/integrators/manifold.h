@@ -70,6 +70,20 @@ struct SphereRefraction {
 SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& centre, double radius_m,
                                           double eta_inner, double eta_outer, const Vec3* near = nullptr);
 
+// The points of the side of a cylinder (its axis through `on_axis` along the unit `axis`, of
+// infinite length: whether a point lies on the finite side is for the caller to trace) where a ray
+// from `inner` (nearer the axis than the radius) refracts towards `outer` (farther): the stationary
+// points of the optical length η_i·|inner − y| + η_o·|y − outer| over the side. For each angle φ
+// around the axis the length is convex along it, so its height there is the unique root of
+// Snell's law along the axis (a plane's refraction, over the two horizontal distances); over φ,
+// the sign changes of the length's derivative (the envelope's: the partial at that height) over
+// 96 intervals of the arc `outer` sees (48 missed close pairs leaving 72° from the normal),
+// refined by the Illinois method to 1e-14 of a radian. With `near`, only the solution near that
+// point.
+SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& on_axis,
+                                            const Vec3& axis, double radius_m, double eta_inner, double eta_outer,
+                                            const Vec3* near = nullptr);
+
 // The paths from `from` to `to` (both outside the sphere) through it: refracted in at entry[k],
 // straight across, refracted out at exit[k]. In the plane of the centre and both points, as above;
 // each entry point on the arc `from` sees traces one ray, and the paths are the sign changes of
@@ -91,19 +105,37 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
 namespace manifold_detail {
 
 // One smooth interface, as next-event estimation crosses it: a plane through `point` with
-// `normal` (a face of a mesh), or a sphere (centre `point`, radius); its media (front: the side
-// the normal points to, outside a sphere).
+// `normal` (a face of a mesh, a cylinder's cap), a sphere (centre `point`, radius), or a
+// cylinder's side (crossed once); its media (front: the side the normal points to, outside a
+// sphere or a cylinder).
 struct Interface {
+  enum class Shape { plane, sphere, cylinder };
   std::uint32_t geometry = 0;
-  bool sphere = false;
+  Shape shape = Shape::plane;
+  // A plane: a point of it and its normal; a sphere: its centre; a cylinder's side: a point of its
+  // axis and the axis (unit).
   Vec3 point, normal;
   double radius_m = 0.0;
   int medium_front = -1, medium_behind = -1;
   bool twice = true;  // a sphere: crossed twice too (ManifoldCaster::twice)
+  // The part of x − point across a cylinder's axis.
+  Vec3 across_axis(const Vec3& x) const { return (x - point) - normal * dot(x - point, normal); }
   bool front(const Vec3& x) const {
-    return sphere ? length(x - point) > radius_m : dot(x - point, normal) > 0.0;
+    switch (shape) {
+      case Shape::sphere: return length(x - point) > radius_m;
+      case Shape::cylinder: return length(across_axis(x)) > radius_m;
+      case Shape::plane: break;
+    }
+    return dot(x - point, normal) > 0.0;
   }
-  Vec3 normal_at(const Vec3& y) const { return sphere ? (y - point) / radius_m : normal; }
+  Vec3 normal_at(const Vec3& y) const {
+    switch (shape) {
+      case Shape::sphere: return (y - point) / radius_m;
+      case Shape::cylinder: return normalize(across_axis(y));
+      case Shape::plane: break;
+    }
+    return normal;
+  }
 };
 
 // The paths through an interface from x to the light point q: their crossings in order, one or two.
@@ -116,7 +148,16 @@ inline Paths solve(const Interface& f, const Vec3& x, const Vec3& q, double eta_
                    const Vec3* near = nullptr) {
   Paths out;
   const bool fx = f.front(x), fq = f.front(q);
-  if (!f.sphere) {
+  if (f.shape == Interface::Shape::cylinder) {  // one crossing of its side
+    if (fx == fq) return out;
+    const SphereRefraction r =
+        fx ? cylinder_refraction_points(q, x, f.point, f.normal, f.radius_m, eta_behind, eta_front, near)
+           : cylinder_refraction_points(x, q, f.point, f.normal, f.radius_m, eta_behind, eta_front, near);
+    for (int k = 0; k < r.count; ++k) out.crossing[static_cast<std::size_t>(k)][0] = r.points[static_cast<std::size_t>(k)];
+    out.count = r.count;
+    return out;
+  }
+  if (f.shape == Interface::Shape::plane) {
     if (fx == fq) return out;
     if (const auto y = refraction_point(x, q, f.point, f.normal, fx ? eta_front : eta_behind,
                                         fx ? eta_behind : eta_front))
@@ -227,7 +268,7 @@ std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, Insi
     const double d = length(points[c] - (c == 0 ? at.point : points[c - 1]));
     if (face.geometry != f.geometry || dot(face.normal, n) < 1.0 - 1e-9 ||
         dot(face.shading_normal, face.normal) < 1.0 - 1e-9 ||
-        (!f.sphere && std::abs(dot(face.point - f.point, n)) > 1e-6 * d))
+        (f.shape == Interface::Shape::plane && std::abs(dot(face.point - f.point, n)) > 1e-6 * d))
       return std::nullopt;
     return n;
   };
@@ -256,7 +297,7 @@ inline double tube(const Interface& f, const Vec3& x, const Vec3& wi, const std:
     }
     return o;
   };
-  if (f.sphere) {
+  if (f.shape == Interface::Shape::sphere) {
     const Vec3 axis = normalize(q - f.point);
     const double rho_x = length(cross(x - f.point, axis));
     if (rho_x > 1e-6 * length(x - f.point)) {
@@ -443,8 +484,8 @@ SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& 
 
 inline Interface caster_interface(const RenderScene& s, const ManifoldCaster& c) {
   const Surface& surface = s.surfaces[c.geometry];
-  return Interface{c.geometry, true, c.centre_m, Vec3{}, c.radius_m, surface.medium_front, surface.medium_behind,
-                   c.twice};
+  return Interface{c.geometry, Interface::Shape::sphere, c.centre_m, Vec3{}, c.radius_m, surface.medium_front,
+                   surface.medium_behind, c.twice};
 }
 
 // The part of a spherical lamp that sees some of the caster: outward normals n with n·axis > mu0,
@@ -584,17 +625,26 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
       s.media[static_cast<std::size_t>(seen.medium_behind)].dispersive)
     return {};
   const AnalyticShape* shape = s.rays.analytic(blocker.geometry);
-  const SphereSurface* sphere = shape ? std::get_if<SphereSurface>(&shape->surface) : nullptr;
-  const double scale = shape ? shape->to_world.similarity_scale() : 0.0;
-  // A cylinder's caps stay planes under any affine transform: solved as a mesh's face. (A disk
-  // bounds no medium, so it is never an interface.)
-  const bool flat = shape && std::holds_alternative<CylinderSurface>(shape->surface) &&
-                    blocker.primitive != static_cast<std::uint32_t>(AnalyticPart::side);
-  if (shape && !flat && (!sphere || scale == 0.0)) return {};  // a cylinder's side, ellipsoids: not yet
-  Interface f{blocker.geometry, sphere != nullptr, sphere ? shape->to_world.apply(Vec3{}) : blocker.point,
-              blocker.normal, sphere ? sphere->radius_m * scale : 0.0, seen.medium_front, seen.medium_behind};
-  // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path.)
-  if (f.sphere && f.front(at.point) && f.front(lamp->p)) return {};
+  Interface f{blocker.geometry, Interface::Shape::plane, blocker.point, blocker.normal, 0.0, seen.medium_front,
+              seen.medium_behind};
+  if (shape) {
+    // A cylinder's caps stay planes under any affine transform: solved as a mesh's face. (A disk
+    // bounds no medium, so it is never an interface.)
+    const auto* cylinder = std::get_if<CylinderSurface>(&shape->surface);
+    const bool flat = cylinder && blocker.primitive != static_cast<std::uint32_t>(AnalyticPart::side);
+    if (const auto* sphere = std::get_if<SphereSurface>(&shape->surface)) {
+      const double scale = shape->to_world.similarity_scale();
+      if (scale == 0.0) return {};  // an ellipsoid: not yet
+      f.shape = Interface::Shape::sphere, f.point = shape->to_world.apply(Vec3{}), f.radius_m = sphere->radius_m * scale;
+    } else if (cylinder && !flat) {
+      const auto side = circular_side(*cylinder, shape->to_world);
+      if (!side) return {};  // an elliptic cylinder: not yet
+      f.shape = Interface::Shape::cylinder, f.point = side->on_axis, f.normal = side->axis, f.radius_m = side->radius_m;
+    }
+  }
+  // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path. A
+  // cylinder's side crossed twice, a glass rod between the vertex and the lamp: not yet.)
+  if (f.shape != Interface::Shape::plane && f.front(at.point) && f.front(lamp->p)) return {};
   return delta_through(v, at, inside, f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
 }
 

@@ -211,6 +211,22 @@ void ratio_track(const ScatteringMedium& m, const Tables& tables, const Ray& ray
   const SampledSpectrum<N> sigma_s = tables.at(m.sigma_s, w);
   const bool single = w.secondary_terminated();
   const auto hero = static_cast<std::size_t>(single ? w.single : w.hero);
+  // A constant density is its own majorant: every tentative collision is real and ends the
+  // estimate at 0, so it is 1 with the probability exp(−σ_hero·ρ·t) of none (a coin toss, noisy
+  // where the optical depth is 1 or more) times the walk factor of none. Its expectation given the
+  // ray is taken instead: exp(−σ_k·ρ·t) at each wavelength, the ratios those of a walk with no
+  // collision (the only ones a non-zero estimate ever had, so every weight computed from them is
+  // unchanged and the contribution's expectation too; the ratios are the densities the walks that
+  // pass here have). At an optical depth of 1.5 the toss's relative variance is e^1.5 − 1 = 3.5.
+  if (const auto* constant = std::get_if<ConstantField>(&m.density)) {
+    const double rho_length_m = std::max(0.0, constant->value) * t_max;
+    const SampledSpectrum<N> f = detail::walk_factor(sigma_s, hero, single, detail::MajorantWalk{rho_length_m, 0});
+    tr *= f * static_cast<float>(std::exp(-static_cast<double>(sigma_s[hero]) * rho_length_m));
+    mis.r_u *= f;
+    mis.r_l *= f;
+    tr *= absorbers_transmittance(m.absorbers, tables, ray, 0.0, t_max, w);
+    return;
+  }
   double kept = 1.0, roulette = 1.0;  // Π (1 − ρ/ρ̄): the hero's own estimate; the roulette's 1/survival
   bool killed = false;
   const detail::MajorantWalk walk = detail::walk_majorant(m, sigma_s[hero], ray, t_max, rng, [&](double, double real) {
