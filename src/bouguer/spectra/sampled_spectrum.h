@@ -49,9 +49,21 @@ struct SampledSpectrum {
   bool operator==(const SampledSpectrum&) const = default;
 
   float average() const {
-    float sum = 0.0f;
-    for (float x : v) sum += x;
-    return sum / static_cast<float>(N);
+    if constexpr (N % 8 == 0) {
+      // Eight running sums, which the compiler keeps in vector registers (one running sum is a
+      // chain of dependent additions it may not reorder): the MIS weights' spectral means over 96
+      // bins were 5 % of a render of a scattering ball. A fixed order: the same spectrum, the same
+      // value.
+      std::array<float, 8> part{};
+      for (std::size_t i = 0; i < N; i += 8)
+        for (std::size_t k = 0; k < 8; ++k) part[k] += v[i + k];
+      return (((part[0] + part[4]) + (part[1] + part[5])) + ((part[2] + part[6]) + (part[3] + part[7]))) /
+             static_cast<float>(N);
+    } else {
+      float sum = 0.0f;
+      for (float x : v) sum += x;
+      return sum / static_cast<float>(N);
+    }
   }
   float max_value() const { return *std::max_element(v.begin(), v.end()); }
   float min_value() const { return *std::min_element(v.begin(), v.end()); }
