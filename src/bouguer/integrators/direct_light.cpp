@@ -88,13 +88,14 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
 namespace {
 
 // Whether the segment from a to b certainly crosses a caster's sphere (RenderScene::casters: exact
-// smooth refracting spheres): then its straight shadow ray is blocked, and nothing but the
-// connections through the caster (through_casters) reaches the lamp from a (a chain of mesh faces
-// does not seed through an analytic sphere, delta_light_through_interface leaves casters to
-// through_casters). Skipping the ray saves its trace and its ratio tracking from every scattering
-// event inside a ball of milk. Only without priorities (an object with one may make the sphere's
-// boundary a false one), and not within a millionth of the radius of the sphere, where rounding
-// decides what the ray meets.
+// smooth refracting spheres): then the straight shadow ray to the area lamp's point is blocked, and
+// nothing but the connections through the caster (through_casters) reaches that point from a (a
+// chain of mesh faces does not seed through an analytic sphere). Skipping the ray saves its trace
+// and its ratio tracking from every scattering event inside a ball of milk. Only without
+// priorities (an object with one may make the sphere's boundary a false one), and not within a
+// millionth of the radius of the sphere, where rounding decides what the ray meets. (Not for point
+// and spot lamps: the first surface their ray meets may be a flat face or a cylinder's side whose
+// own solve bends the path past the caster.)
 bool caster_between(const RenderScene& s, const Vec3& a, const Vec3& b) {
   if (!s.nested.empty()) return false;
   for (const ManifoldCaster& c : s.casters) {
@@ -168,7 +169,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   }
   for (const int index : s.delta_lights) {
     const auto li = sample_li(s.lights[static_cast<std::size_t>(index)], at.point, 0.0, 0.0);
-    if (!li || caster_between(s, at.point, at.point + li->wi * li->distance_m)) continue;
+    if (!li) continue;
     const SampledSpectrum<N> radiance = v.tables.at(li->spectrum, w);
     if (li->factor == 0.0 || radiance.is_zero()) continue;
     double vertex_pdf = 0.0;

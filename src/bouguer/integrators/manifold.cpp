@@ -11,18 +11,18 @@ namespace bouguer {
 
 namespace {
 
-// The arc a sphere's solve scans, in the plane's angle φ: all of [−φmax, φmax] in `intervals`,
-// or, given the point a solution was at for a neighbouring vertex, 2·10⁻⁴ of a radian around
-// its angle in two (the ray tube's neighbours move it by about 10⁻⁶).
+// The arc a sphere's or a cylinder's solve scans, in the plane's angle φ: all of [−φmax, φmax] in
+// `intervals`, or, given the point a solution was at for a neighbouring vertex, its window around
+// that point's angle in two.
 struct ScanRange {
   double from, to;
   int intervals;
 };
-ScanRange scan_range(double phi_max, const Vec3* near, const Vec3& centre, const Vec3& e1, const Vec3& e2,
+ScanRange scan_range(double phi_max, const NearSolution* near, const Vec3& centre, const Vec3& e1, const Vec3& e2,
                      int intervals) {
   if (!near) return {-phi_max, phi_max, intervals};
-  const double phi = std::atan2(dot(*near - centre, e2), dot(*near - centre, e1));
-  return {std::max(-phi_max, phi - 1e-4), std::min(phi_max, phi + 1e-4), 2};
+  const double phi = std::atan2(dot(near->point - centre, e2), dot(near->point - centre, e1));
+  return {std::max(-phi_max, phi - near->window_rad), std::min(phi_max, phi + near->window_rad), 2};
 }
 
 // The root of f in [lo, hi], where f(lo) and f(hi) have opposite signs (neither 0): the Illinois
@@ -56,19 +56,20 @@ std::optional<double> bracketed_root(F f, double lo, double hi, double f_lo, dou
 
 // The roots of a solve's slope (the derivative of the optical length along an arc) over the arc's
 // angles [from, to]: its sign changes between `intervals` + 1 points, whose (cos, sin) come by
-// rotation (96 steps lose no more than 1e-14; slope_cs(cos, sin) at them), each refined by the
-// Illinois method (slope_cs at (cos φ, sin φ)); root(φ) for each, at most `most`.
-template <typename SlopeCS, typename Root>
-void scan_roots(SlopeCS slope_cs, double from, double to, int intervals, int most, Root root) {
+// rotation (96 steps lose no more than 1e-14; scan_cs(cos, sin) at them: its sign is all that is
+// read), each refined by the Illinois method (slope_cs at (cos φ, sin φ)); root(φ) for each, at
+// most `most`.
+template <typename ScanCS, typename SlopeCS, typename Root>
+void scan_roots(ScanCS scan_cs, SlopeCS slope_cs, double from, double to, int intervals, int most, Root root) {
   auto slope = [&](double phi) { return slope_cs(std::cos(phi), std::sin(phi)); };
-  double lo = from, g_lo = slope(lo);
+  double lo = from, g_lo = scan_cs(std::cos(from), std::sin(from));
   const double step = (to - from) / intervals, cos_step = std::cos(step), sin_step = std::sin(step);
   double c = std::cos(from), sn = std::sin(from);
   for (int i = 1, found = 0; i <= intervals && found < most; ++i) {
     const double hi = from + (to - from) * i / intervals;
     const double c_next = c * cos_step - sn * sin_step;
     sn = sn * cos_step + c * sin_step, c = c_next;
-    const double g_hi = slope_cs(c, sn);
+    const double g_hi = scan_cs(c, sn);
     if (g_lo == 0.0 || (g_hi != 0.0 && (g_lo < 0.0) != (g_hi < 0.0))) {
       if (const std::optional<double> phi = g_lo == 0.0 ? lo : bracketed_root(slope, lo, hi, g_lo, g_hi)) {
         root(*phi);
@@ -83,8 +84,9 @@ void scan_roots(SlopeCS slope_cs, double from, double to, int intervals, int mos
 // The root t of η_a·t/√(t² + a²) = η_b·(d − t)/√((d − t)² + b²) on [0, d] (a, b > 0: two points at
 // heights a and b on either side of a line, their feet d apart; t from the first foot): unique,
 // since the difference of the two sides grows monotonically; Newton safeguarded by bisection, to
-// 1e-13 of d.
-double snell_split(double d, double a, double b, double eta_a, double eta_b) {
+// `tolerance`·d (1e-13 by default), from `start`·d (a neighbour's root saves most of the steps).
+double snell_split(double d, double a, double b, double eta_a, double eta_b, double start = 0.5,
+                   double tolerance = 1e-13) {
   if (!(d > 1e-15 * (a + b))) return 0.0;  // one above the other: straight through
   auto g = [&](double t) {
     return eta_a * t / std::sqrt(t * t + a * a) - eta_b * (d - t) / std::sqrt((d - t) * (d - t) + b * b);
@@ -93,14 +95,14 @@ double snell_split(double d, double a, double b, double eta_a, double eta_b) {
     const double p = t * t + a * a, q = (d - t) * (d - t) + b * b;
     return eta_a * a * a / (p * std::sqrt(p)) + eta_b * b * b / (q * std::sqrt(q));
   };
-  double lo = 0.0, hi = d, t = 0.5 * d;
+  double lo = 0.0, hi = d, t = std::clamp(start, 0.0, 1.0) * d;
   for (int i = 0; i < 100; ++i) {
     const double value = g(t);
     if (value == 0.0) break;
     (value < 0.0 ? lo : hi) = t;
     const double newton = t - value / dg(t);  // safeguarded: bisect where Newton leaves the bracket
     const double next = newton > lo && newton < hi ? newton : 0.5 * (lo + hi);
-    const bool done = std::abs(next - t) <= 1e-13 * d || hi - lo <= 1e-13 * d;
+    const bool done = std::abs(next - t) <= tolerance * d || hi - lo <= tolerance * d;
     t = next;
     if (done) break;
   }
@@ -121,7 +123,7 @@ std::optional<Vec3> refraction_point(const Vec3& x, const Vec3& p, const Vec3& o
 }
 
 SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& centre, double radius_m,
-                                          double eta_inner, double eta_outer, const Vec3* near) {
+                                          double eta_inner, double eta_outer, const NearSolution* near) {
   SphereRefraction out;
   // In the plane of the centre and both points, in units of the radius: the outer point at (b, 0)
   // on e1, the inner one at (a1, a2) with a2 ≥ 0, y(φ) = (cos φ, sin φ).
@@ -145,7 +147,7 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
   // The arc the outer point sees: cos φ > 1/b.
   const double phi_max = std::acos(1.0 / b) * (1.0 - 1e-12);
   const auto [from, to, intervals] = scan_range(phi_max, near, centre, e1, e2, 48);
-  scan_roots(slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
+  scan_roots(slope_cs, slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
     out.points[static_cast<std::size_t>(out.count++)] = centre + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m;
   });
   return out;
@@ -153,7 +155,7 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
 
 SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& on_axis,
                                             const Vec3& axis, double radius_m, double eta_inner, double eta_outer,
-                                            const Vec3* near) {
+                                            const NearSolution* near) {
   SphereRefraction out;
   // Across the axis, in units of the radius: the outer point at (b, 0) on e1, the inner one at
   // (a1, a2); along it, the outer point dz above the inner one; y(φ, z) = (cos φ, sin φ, z).
@@ -170,21 +172,29 @@ SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer
   struct Crossing {
     double z, to_y, from_y;
   };
-  auto crossing_at = [&](double c, double s) {
+  // (Each from the last one's root: the scan's and the refinement's angles come in small steps.)
+  double last = 0.5;
+  auto crossing_at = [&](double c, double s, double tolerance = 1e-13) {
     const double to_foot = norm2(c - a1, s - a2), from_foot = norm2(b - c, s);
-    const double z = std::copysign(snell_split(std::abs(dz), to_foot, from_foot, eta_inner, eta_outer), dz);
+    const double split = snell_split(std::abs(dz), to_foot, from_foot, eta_inner, eta_outer, last, tolerance);
+    if (dz != 0.0) last = split / std::abs(dz);
+    const double z = std::copysign(split, dz);
     return Crossing{z, norm2(to_foot, z), norm2(from_foot, dz - z)};
   };
   // The derivative of the optical length around the axis at that height (the envelope's: its
   // derivative along the axis is 0 there).
-  auto slope_cs = [&](double c, double s) {
-    const Crossing k = crossing_at(c, s);
+  auto slope_at = [&](double c, double s, double tolerance) {
+    const Crossing k = crossing_at(c, s, tolerance);
     return eta_inner * (a1 * s - a2 * c) / k.to_y + eta_outer * b * s / k.from_y;
   };
+  // The scan reads only the slope's sign, which a height to 1e-9 of the way keeps but within
+  // about 1e-9 of a root; the refinement and the point take it to 1e-13.
+  auto scan_cs = [&](double c, double s) { return slope_at(c, s, 1e-9); };
+  auto slope_cs = [&](double c, double s) { return slope_at(c, s, 1e-13); };
   // The arc the outer point sees: cos φ > 1/b.
   const double phi_max = std::acos(1.0 / b) * (1.0 - 1e-12);
   const auto [from, to, intervals] = scan_range(phi_max, near, on_axis, e1, e2, 96);
-  scan_roots(slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
+  scan_roots(scan_cs, slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
     const Crossing k = crossing_at(std::cos(phi), std::sin(phi));
     out.points[static_cast<std::size_t>(out.count++)] =
         on_axis + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m + axis * (z_inner + k.z * radius_m);
@@ -193,7 +203,7 @@ SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer
 }
 
 SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
-                                     double eta_inside, double eta_outside, const Vec3* near) {
+                                     double eta_inside, double eta_outside, const NearSolution* near) {
   SpherePassages out;
   // In the plane of the centre and both points, in units of the radius: `from` at (a, 0) on e1,
   // `to` at (b1, b2) with b2 ≥ 0; the entry point y1(φ) = (cos φ, sin φ) on the arc `from` sees.

@@ -55,6 +55,14 @@ inline constexpr std::uint64_t kManifoldStream = 0x6d6e6565;  // "mnee"
 std::optional<Vec3> refraction_point(const Vec3& x, const Vec3& p, const Vec3& on_plane, const Vec3& n, double eta_x,
                                      double eta_p);
 
+// A solution's neighbourhood: where it crossed for a neighbouring vertex, and how far around it a
+// solve looks (in the angle about the centre or the axis: the ray tube's neighbours move the
+// crossing by their step over the radius, up to a few times that).
+struct NearSolution {
+  Vec3 point;
+  double window_rad = 1e-4;
+};
+
 // The points of the sphere (centre, radius) where a ray from `inner` (inside it) refracts towards
 // `outer` (outside; eta_inner, eta_outer the indices on their sides), which `outer` sees: the
 // stationary points of the optical length η_i·|inner − y| + η_o·|y − outer| on the arc of the great
@@ -68,7 +76,7 @@ struct SphereRefraction {
   int count = 0;
 };
 SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& centre, double radius_m,
-                                          double eta_inner, double eta_outer, const Vec3* near = nullptr);
+                                          double eta_inner, double eta_outer, const NearSolution* near = nullptr);
 
 // The points of the side of a cylinder (its axis through `on_axis` along the unit `axis`, of
 // infinite length: whether a point lies on the finite side is for the caller to trace) where a ray
@@ -82,7 +90,7 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
 // point.
 SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& on_axis,
                                             const Vec3& axis, double radius_m, double eta_inner, double eta_outer,
-                                            const Vec3* near = nullptr);
+                                            const NearSolution* near = nullptr);
 
 // The paths from `from` to `to` (both outside the sphere) through it: refracted in at entry[k],
 // straight across, refracted out at exit[k]. In the plane of the centre and both points, as above;
@@ -100,7 +108,7 @@ struct SpherePassages {
   int count = 0;
 };
 SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
-                                     double eta_inside, double eta_outside, const Vec3* near = nullptr);
+                                     double eta_inside, double eta_outside, const NearSolution* near = nullptr);
 
 namespace manifold_detail {
 
@@ -145,7 +153,7 @@ struct Paths {
 };
 
 inline Paths solve(const Interface& f, const Vec3& x, const Vec3& q, double eta_front, double eta_behind,
-                   const Vec3* near = nullptr) {
+                   const NearSolution* near = nullptr) {
   Paths out;
   const bool fx = f.front(x), fq = f.front(q);
   if (f.shape == Interface::Shape::cylinder) {  // one crossing of its side
@@ -280,15 +288,19 @@ std::optional<Reach<N>> follow(const SceneView<N>& v, const PathVertex& at, Insi
 // symmetry: turning x about the axis through the centre and q by δ moves it ρ_x·δ and turns the
 // path's last direction o by |o × axis|·δ. In the plane (and both ways on a plane's face), by the
 // solve at a neighbour 1e-6 of the path away (the mapping is smooth there: central enough, and
-// the differences keep 10 digits), solved for near this path's first crossing.
+// the differences keep 10 digits), solved for near this path's first crossing: within 10 steps
+// over the radius of it (and at least 1e-4 rad), since a step moves the crossing by about a step
+// (more where the path leaves near grazing). A fixed 1e-4 rad lost the path, and the tube was 0,
+// once the path was 75 radii long (a lamp 3 m from a vertex in a 40 mm cylinder).
 inline double tube(const Interface& f, const Vec3& x, const Vec3& wi, const std::array<Vec3, 2>& ys, int crossings,
                    const Vec3& q, double path_m, double eta_front, double eta_behind) {
   const double step = 1e-6 * path_m;
   const Vec3& last = ys[static_cast<std::size_t>(crossings - 1)];
   const Vec3 o0 = normalize(last - q);
+  const NearSolution near{ys[0], f.radius_m > 0.0 ? std::max(1e-4, 10.0 * step / f.radius_m) : 1e-4};
   // o at the vertex moved by `by`, the path the one whose last crossing is nearest this one's.
   auto moved = [&](const Vec3& by) -> std::optional<Vec3> {
-    const Paths p = solve(f, x + by * step, q, eta_front, eta_behind, &ys[0]);
+    const Paths p = solve(f, x + by * step, q, eta_front, eta_behind, &near);
     std::optional<Vec3> o;
     double best = std::numeric_limits<double>::infinity();
     for (int i = 0; i < p.count; ++i) {
