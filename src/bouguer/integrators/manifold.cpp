@@ -58,25 +58,59 @@ std::optional<double> bracketed_root(F f, double lo, double hi, double f_lo, dou
 // angles [from, to]: its sign changes between `intervals` + 1 points, whose (cos, sin) come by
 // rotation (96 steps lose no more than 1e-14; scan_cs(cos, sin) at them: its sign is all that is
 // read), each refined by the Illinois method (slope_cs at (cos φ, sin φ)); root(φ) for each, at
-// most `most`.
+// most `most`. With `pairs`, a scan point where |slope| is smaller than at both its neighbours,
+// all three of one sign, may hide two roots close together (a caustic's fold between them): the
+// slope's extremum over the two intervals is found by golden-section search, and where its sign
+// differs, each side's root is refined.
 template <typename ScanCS, typename SlopeCS, typename Root>
-void scan_roots(ScanCS scan_cs, SlopeCS slope_cs, double from, double to, int intervals, int most, Root root) {
+void scan_roots(ScanCS scan_cs, SlopeCS slope_cs, double from, double to, int intervals, int most, Root root,
+                bool pairs = false) {
   auto slope = [&](double phi) { return slope_cs(std::cos(phi), std::sin(phi)); };
   double lo = from, g_lo = scan_cs(std::cos(from), std::sin(from));
+  double before = lo, g_before = 0.0;  // the scan point before lo (none yet: 0)
   const double step = (to - from) / intervals, cos_step = std::cos(step), sin_step = std::sin(step);
   double c = std::cos(from), sn = std::sin(from);
-  for (int i = 1, found = 0; i <= intervals && found < most; ++i) {
+  int found = 0;
+  auto refine = [&](double a, double b, double g_a, double g_b) {
+    if (found >= most) return;
+    if (const std::optional<double> phi = bracketed_root(slope, a, b, g_a, g_b)) {
+      root(*phi);
+      ++found;
+    }
+  };
+  for (int i = 1; i <= intervals && found < most; ++i) {
     const double hi = from + (to - from) * i / intervals;
     const double c_next = c * cos_step - sn * sin_step;
     sn = sn * cos_step + c * sin_step, c = c_next;
     const double g_hi = scan_cs(c, sn);
     if (g_lo == 0.0 || (g_hi != 0.0 && (g_lo < 0.0) != (g_hi < 0.0))) {
-      if (const std::optional<double> phi = g_lo == 0.0 ? lo : bracketed_root(slope, lo, hi, g_lo, g_hi)) {
-        root(*phi);
+      if (g_lo == 0.0) {
+        root(lo);
         ++found;
+      } else {
+        refine(lo, hi, g_lo, g_hi);
+      }
+    } else if (pairs && g_before != 0.0 && (g_before < 0.0) == (g_lo < 0.0) && (g_lo < 0.0) == (g_hi < 0.0) &&
+               std::abs(g_lo) < std::abs(g_before) && std::abs(g_lo) < std::abs(g_hi)) {
+      // The extremum of sign·slope over [before, hi], by golden section (stopping once it changes sign).
+      const double sign = g_lo < 0.0 ? -1.0 : 1.0, ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+      double a = before, b = hi, x1 = b - ratio * (b - a), x2 = a + ratio * (b - a);
+      double f1 = sign * slope(x1), f2 = sign * slope(x2);
+      for (int k = 0; k < 60 && f1 > 0.0 && f2 > 0.0 && b - a > 1e-14; ++k) {
+        if (f1 < f2) {
+          b = x2, x2 = x1, f2 = f1, x1 = b - ratio * (b - a), f1 = sign * slope(x1);
+        } else {
+          a = x1, x1 = x2, f1 = f2, x2 = a + ratio * (b - a), f2 = sign * slope(x2);
+        }
+      }
+      const double m = f1 <= f2 ? x1 : x2, f_m = std::min(f1, f2);
+      if (f_m < 0.0) {  // two roots, either side of the extremum
+        refine(before, m, g_before, sign * f_m);
+        refine(m, hi, sign * f_m, g_hi);
       }
     }
     // (A root exactly at hi is taken in the next interval, as its lo.)
+    before = lo, g_before = g_lo;
     lo = hi, g_lo = g_hi;
   }
 }
@@ -193,12 +227,15 @@ SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer
   auto slope_cs = [&](double c, double s) { return slope_at(c, s, 1e-13); };
   // The arc the outer point sees: cos φ > 1/b.
   const double phi_max = std::acos(1.0 / b) * (1.0 - 1e-12);
-  const auto [from, to, intervals] = scan_range(phi_max, near, on_axis, e1, e2, 96);
-  scan_roots(scan_cs, slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
-    const Crossing k = crossing_at(std::cos(phi), std::sin(phi));
-    out.points[static_cast<std::size_t>(out.count++)] =
-        on_axis + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m + axis * (z_inner + k.z * radius_m);
-  });
+  const auto [from, to, intervals] = scan_range(phi_max, near, on_axis, e1, e2, 48);
+  scan_roots(
+      scan_cs, slope_cs, from, to, intervals, static_cast<int>(out.points.size()),
+      [&](double phi) {
+        const Crossing k = crossing_at(std::cos(phi), std::sin(phi));
+        out.points[static_cast<std::size_t>(out.count++)] =
+            on_axis + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m + axis * (z_inner + k.z * radius_m);
+      },
+      true);
   return out;
 }
 

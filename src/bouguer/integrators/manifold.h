@@ -85,7 +85,8 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
 // around the axis the length is convex along it, so its height there is the unique root of
 // Snell's law along the axis (a plane's refraction, over the two horizontal distances); over φ,
 // the sign changes of the length's derivative (the envelope's: the partial at that height) over
-// 96 intervals of the arc `outer` sees (48 missed close pairs leaving 72° from the normal),
+// 48 intervals of the arc `outer` sees, and two roots either side of an extremum of it that comes
+// near 0 between them (a close pair at a caustic's fold, which sign changes alone step over),
 // refined by the Illinois method to 1e-14 of a radian. With `near`, only the solution near that
 // point.
 SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& on_axis,
