@@ -133,7 +133,6 @@ void add_area_lights(RenderScene& s, Surface& surface, std::uint32_t geometry, c
       for (std::size_t k = 0; k < 3; ++k) a.uv[k] = m.uvs[t[k]];
       a.texture_mean = std::max(texture_mean_luminance(s.textures, texture, a.uv), kMinTextureMean);
     }
-    surface.emitting_area_m2 += a.area_m2;
     s.lights.push_back(a);
   }
 }
@@ -597,15 +596,17 @@ void mark_small_lamps(RenderScene& s) {
       if (d > sphere->radius_m)
         solid_angle = 2.0 * std::numbers::pi *
                       (1.0 - std::sqrt(1.0 - sphere->radius_m * sphere->radius_m / (d * d)));
-    } else if (std::holds_alternative<AreaLight>(light) && f.emitting_area_m2 > 0.0) {
+    } else if (std::holds_alternative<AreaLight>(light)) {
+      // Its triangles' area lights (one each): the emitter's area and area-weighted centroid.
+      double area_m2 = 0.0;
       Vec3 centroid{};
-      const Mesh& m = s.rays.mesh(g);
-      for (const auto& t : m.triangles) {
-        const Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
-        centroid += (a + b + c) * (0.5 * length(cross(b - a, c - a)) / 3.0);
+      for (std::size_t p = 0; p < s.rays.mesh(g).triangles.size(); ++p) {
+        const auto& a = std::get<AreaLight>(s.lights[static_cast<std::size_t>(f.first_light) + p]);
+        area_m2 += a.area_m2;
+        centroid += (a.p0 + a.p1 + a.p2) * (a.area_m2 / 3.0);
       }
-      const double d = nearest_glass(centroid / f.emitting_area_m2);
-      if (d > 0.0) solid_angle = f.emitting_area_m2 / (d * d);
+      const double d = area_m2 > 0.0 ? nearest_glass(centroid / area_m2) : 0.0;
+      if (d > 0.0) solid_angle = area_m2 / (d * d);
     }
     f.small_lamp = solid_angle < kLampChainSolidAngle;
     s.small_lamps = s.small_lamps || f.small_lamp;

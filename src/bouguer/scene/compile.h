@@ -29,7 +29,6 @@ struct Surface {
   int medium_front = -1;   // on the side the normal points to
   int material = -1;       // opaque surfaces: index into materials
   int first_light = -1;    // emitters: the area light of primitive p is lights[first_light + p]
-  double emitting_area_m2 = 0.0;  // emitters: the area of all their triangles
   // Emitters: whether they subtend less than kLampChainSolidAngle seen from the nearest smooth
   // refracting mesh, where next-event estimation goes on to them through chains of mesh faces
   // unless the render says otherwise (integrators/manifold.h: area_light_through_chain;
