@@ -183,7 +183,7 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
   const auto [from, to, intervals] = scan_range(phi_max, near, centre, e1, e2, 48);
   scan_roots(slope_cs, slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
     out.points[static_cast<std::size_t>(out.count++)] = centre + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m;
-  });
+  }, true);
   return out;
 }
 

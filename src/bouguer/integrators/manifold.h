@@ -69,8 +69,9 @@ struct NearSolution {
 // circle through both points (Snell's law keeps the normal, which passes through the centre, in
 // the plane of incidence) that `outer` sees. Usually one; near a caustic, three. Found by the sign
 // changes of its derivative over 48 intervals of the arc, refined to 1e-14 of a radian within
-// them (the Illinois method) (two roots closer than an interval are missed: light at a caustic's fold). With
-// `near`, only the solution near that point (the ray tube's neighbours of a solution).
+// them (the Illinois method), and two roots either side of an extremum of it that comes near 0
+// between scan points (a close pair at a caustic's fold, as for the cylinder below). With `near`,
+// only the solution near that point (the ray tube's neighbours of a solution).
 struct SphereRefraction {
   std::array<Vec3, 4> points{};
   int count = 0;
