@@ -591,6 +591,53 @@ TEST(Scattering, TrackingThroughAConstantDensityIsItsExpectation) {
   }
 }
 
+// walk_deep takes a collision deep in a constant density from first_collision_m (a copy of the
+// stream) and take_first_collision, not by tracking: the same distance, throughput (with an
+// absorber, whose transmittance here is exp(−40·length)) and stream as sample_scattering's, bit for
+// bit, for one wavelength carried; walks on from each and on to the next collision.
+TEST(Scattering, ACollisionTakenWhereItWasFoundIsSampleScatteringsOwn) {
+  struct AbsorbingTables : TestTables {
+    float kept_transmittance(std::span<const OpticalDepthTerm> terms, const SampledWavelengths<4>&) const {
+      double length = 0.0;
+      for (const OpticalDepthTerm& term : terms) length += term.length;
+      return static_cast<float>(std::exp(-40.0 * length));
+    }
+  };
+  const AbsorbingTables tables{{{{300.0f, 200.0f, 120.0f, 80.0f}}}};
+  for (const bool absorbing : {false, true}) {
+    ScatteringMedium m;
+    m.sigma_s = 0;
+    m.density = ConstantField{2.5};
+    if (absorbing) m.absorbers.push_back(FieldAbsorber{1, ConstantField{0.5}});
+    Rng seeds(5, 1);
+    int taken = 0;
+    for (int j = 0; j < 400; ++j) {
+      SampledWavelengths<4> w = four_wavelengths(j % 4);
+      w.terminate_secondary((j / 4) % 4, 500.0);
+      const auto kept = static_cast<std::size_t>(w.single);
+      const TestRay ray{{0.01 * j, 0.0, 0.0}, normalize(Vec3{1.0, 2.0 + j, 2.0})};
+      const double t_max = 0.002 + 0.00002 * j;
+      Rng walk(seeds.next_u32(), 9);
+      Rng deep = walk;
+      SampledSpectrum<4> beta = SampledSpectrum<4>::constant(0.0f), beta_deep;
+      beta[kept] = 0.75f;
+      beta_deep = beta;
+      SpectralMis<4> mis;
+      const MediumEvent e = sample_scattering(m, tables, ray, t_max, w, walk, beta, mis);
+      const double t = first_collision_m(m, tables, w, kept, deep);
+      ASSERT_EQ(e.scattered, t < t_max) << j;
+      if (!e.scattered) continue;
+      ++taken;
+      take_first_collision(m, tables, ray, t, w, kept, deep, beta_deep);
+      EXPECT_EQ(e.t, t) << j;
+      EXPECT_EQ(beta[kept], beta_deep[kept]) << j;
+      EXPECT_EQ(walk.next_u32(), deep.next_u32()) << j;
+      EXPECT_EQ(mis.r_l[kept], 1.0f);
+    }
+    EXPECT_GT(taken, 100);
+  }
+}
+
 // Delta tracking draws the first real collision with the analog density σ_s ρ(t) exp(−σ_s∫₀ᵗρ)
 // at every wavelength (the hero's directly, the others through their weights): the weighted
 // fraction of walks scattering before t, and passing through, against the exact column density,

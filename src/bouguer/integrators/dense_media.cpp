@@ -85,7 +85,7 @@ void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_p
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
                                  SurfaceDistance& last) {
-  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
+  const double sigma_per_m = walk_sigma_min_per_m(v, medium, w, last);
   if (!(sigma_per_m > 0.0)) return 1.0;
   const double full_m = kNeeFullDepth / sigma_per_m;
   const double floor_m = nee_floor_m(sigma_per_m);

@@ -35,6 +35,12 @@ struct SurfaceDistance {
   double surface_m = -1.0;  // the same without the point lights
   Vec3 nearest;             // the nearest surface point, where surface_m is below the cap
   std::uint32_t nearest_geometry = 0;  // its surface (RenderScene::surfaces), there too
+  // σ_s·ρ of the medium at the walk's one wavelength (homogeneous_sigma_min_per_m), for the medium
+  // and the wavelength it was read for: a spectral table read once a walk of one wavelength, not
+  // three times at each of its collisions (walk_deep reads it too).
+  int sigma_medium = -1, sigma_single = -1;
+  double sigma_min_per_m = 0.0;
+  bool holds_sigma(int medium, int single) const { return single >= 0 && sigma_medium == medium && sigma_single == single; }
 };
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
@@ -43,6 +49,18 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 // own after a split); 0 for any other medium.
 template <std::size_t N>
 double homogeneous_sigma_min_per_m(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w);
+// The same, kept in `last` for a walk of one wavelength.
+template <std::size_t N>
+double walk_sigma_min_per_m(const SceneView<N>& v, int medium, const SampledWavelengths<N>& w, SurfaceDistance& last) {
+  if (last.holds_sigma(medium, w.single)) return last.sigma_min_per_m;
+  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
+  if (w.secondary_terminated()) {
+    last.sigma_medium = medium;
+    last.sigma_single = w.single;
+    last.sigma_min_per_m = sigma_per_m;
+  }
+  return sigma_per_m;
+}
 // A fresh point query at x, as far as the thinning of next-event estimation needs to look.
 template <std::size_t N>
 void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last);

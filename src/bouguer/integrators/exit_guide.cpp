@@ -62,7 +62,7 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
                         SurfaceDistance& last, InsideSet inside) {
   const RenderScene& s = v.scene;
   if (!exit_guide_runs(v) || !w.secondary_terminated()) return {};
-  const double sigma_per_m = homogeneous_sigma_min_per_m(v, medium, w);
+  const double sigma_per_m = walk_sigma_min_per_m(v, medium, w, last);
   if (!(sigma_per_m > 0.0)) return {};
   const double reach_m = kExitGuideDepth / sigma_per_m;
   const bool here = last.surface_m >= 0.0 && last.centre == x;

@@ -126,7 +126,8 @@ double to_area_density(double pdf_dir, const Vec3& from, const V& to, double tau
 // (the visitor's last distance from a query point to the nearest surface, dense_media.h: less how
 // far the walk has moved from there, less a float margin) exceeds where the next collision falls
 // (read from a copy of the stream), the collision comes before any surface, so it is taken without
-// a ray: the same vertex, from the same numbers, as the ray would have given. Nothing otherwise
+// a ray and without tracking the segment again (take_first_collision: the stream moved on past
+// the same draws): the same vertex, from the same numbers, as the ray would have given. Nothing otherwise
 // (more than one wavelength carried, a varying density, a medium no object encloses, no bound
 // yet, a collision beyond it). This holds where the scene's media agree: the ray takes the medium
 // from the surface it will meet (medium_arrived_through), walk_deep keeps the vertex's, and the
@@ -144,10 +145,13 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
   const double safe_m = near.radius_m - length(p - near.centre) - margin_m;
   if (!(safe_m > 0.0)) return std::nullopt;
   const auto single = static_cast<std::size_t>(w.single);
-  if (!(first_collision_m(*sm, v.tables, w, single, rng) < safe_m)) return std::nullopt;
-  const MediumEvent e = sample_scattering(*sm, v.tables, Ray{p, state.ray.direction}, safe_m, w, rng, state.beta, state.mis);
-  if (!e.scattered) fail("internal error: walk_deep's first collision ({}) disagrees with the tracking's", safe_m);
-  return p + state.ray.direction * e.t;
+  // (σ_s·ρ as the visitor last read it for this medium and wavelength, where it did: the same product)
+  const double t = near.holds_sigma(state.medium, w.single) && near.sigma_min_per_m > 0.0
+                       ? first_collision_at_rate_m(near.sigma_min_per_m, rng)
+                       : first_collision_m(*sm, v.tables, w, single, rng);
+  if (!(t < safe_m)) return std::nullopt;
+  take_first_collision(*sm, v.tables, Ray{p, state.ray.direction}, t, w, single, rng, state.beta);
+  return p + state.ray.direction * t;
 }
 
 // What a visitor of random_walk (below) provides: the walk hands it each vertex and asks it
