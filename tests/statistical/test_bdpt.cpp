@@ -7,8 +7,10 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <span>
 
+#include "bouguer/integrators/bidirectional.h"
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/render/compare.h"
 #include "bouguer/integrators/render_into.h"
@@ -323,6 +325,91 @@ TEST(VertexMergingLong, LightsALiquidInGlassAtLeastAsThePathTracerDoes) {
   EXPECT_LT(v.mean - 4.0 * se, 1.15 * p.mean);
 }
 
+// vcm keeps its light subpaths without their surface events (VertexCore) and builds each again for
+// its pixel's connections (rebuilt_light_vertex): it must be the walk's event bit for bit, or
+// vcm's images change. Light subpaths traced as an iteration of vcm traces them (begin_sample's
+// wavelengths and kept wavelength), over a dispersive ball (deferred dispersion: events built for
+// the kept wavelength) and the busy scene (rough and smooth dielectrics, a thin pane, a medium
+// behind an index-matched boundary): each surface vertex's rebuilt event gives the same BSDF
+// values and densities, bit for bit, for random pairs of directions.
+template <std::size_t N>
+void expect_kept_light_vertices_rebuilt(const std::string& json, SpectralMode mode, bool dispersive) {
+  const SceneDesc desc = parse_scene(json, "kept.json");
+  const RenderScene scene = compile(desc);
+  if (dispersive) {
+    ASSERT_TRUE(scene.dispersive);
+  }
+  const SpectralTables<N> tables(scene.spectra, mode);
+  const Camera camera(scene.camera);
+  const SceneView<N> view{scene, tables, camera, desc.render.max_depth, false};
+  int surfaces = 0, dispersed = 0;
+  Rng directions(3, 1);
+  auto direction = [&] {
+    const double z = 2.0 * directions.next_double() - 1.0, phi = 2.0 * std::numbers::pi * directions.next_double();
+    const double r = std::sqrt(1.0 - z * z);
+    return Vec3{r * std::cos(phi), r * std::sin(phi), z};
+  };
+  for (int k = 0; k < 1000; ++k) {
+    Rng irng(static_cast<std::uint64_t>(k), 7);
+    SampledWavelengths<N> w = tables.wavelengths(0.0);
+    tables.restart(w, mode == SpectralMode::hero ? irng.next_double() / static_cast<double>(N) : 0.0);
+    draw_hero(scene, w, irng.next_double());
+    SampledWavelengths<N> kept = w;
+    std::vector<double> sigma_mean;
+    bidir::begin_sample(view, w, irng.next_double(), irng, sigma_mean, kept);
+    const WalkMedia media{sigma_mean};
+    Rng rng(static_cast<std::uint64_t>(k), 11);
+    std::uint64_t rays = 0;
+    bidir::Bdpt<N> b(view, media, w, scene.dispersive ? &kept : nullptr, rng, rays);
+    std::vector<Vertex<N>> traced;
+    b.append_light_subpath(traced, rng);
+    for (const Vertex<N>& x : traced) {
+      if (x.kind != VertexKind::surface) continue;
+      ++surfaces;
+      dispersed += x.dispersed;
+      const Vertex<N> y = rebuilt_light_vertex(view, static_cast<const VertexCore<N>&>(x), w, kept);
+      EXPECT_EQ(is_specular(y.event.bsdf), is_specular(x.event.bsdf));
+      EXPECT_EQ(y.event.inside, x.event.inside);
+      // (A specular event's BSDF is zero between random directions: its samples are compared.)
+      for (int j = 0; j < 4; ++j) {
+        const double uc = directions.next_double(), u1 = directions.next_double(), u2 = directions.next_double();
+        const auto sy = y.event.sample(x.wo, uc, u1, u2, TransportMode::importance);
+        const auto sx = x.event.sample(x.wo, uc, u1, u2, TransportMode::importance);
+        ASSERT_EQ(sy.has_value(), sx.has_value()) << "path " << k;
+        if (!sx) continue;
+        EXPECT_EQ(sy->wi, sx->wi) << "path " << k;
+        EXPECT_EQ(sy->pdf, sx->pdf) << "path " << k;
+        for (std::size_t i = 0; i < N; ++i) EXPECT_EQ(sy->weight[i], sx->weight[i]) << "path " << k << " bin " << i;
+      }
+      for (int j = 0; j < 4; ++j) {
+        const Vec3 a = direction(), c = direction();
+        EXPECT_EQ(y.event.pdf(a, c), x.event.pdf(a, c)) << "path " << k;
+        for (const TransportMode m : {TransportMode::importance, TransportMode::radiance}) {
+          const SampledSpectrum<N> fy = y.event.eval(a, c, m), fx = x.event.eval(a, c, m);
+          for (std::size_t i = 0; i < N; ++i) EXPECT_EQ(fy[i], fx[i]) << "path " << k << " bin " << i;
+        }
+      }
+    }
+  }
+  std::printf("kept light vertices: %d surface vertices rebuilt (%d after a dispersive interface)\n", surfaces,
+              dispersed);
+  EXPECT_GT(surfaces, 300);
+  if (dispersive) {
+    EXPECT_GT(dispersed, 50);
+  }
+}
+
+TEST(VertexMerging, ALightVertexKeptWithoutItsEventGetsItBack) {
+  std::string ball = test::caustic_scene("vcm", 1, 1);
+  const std::string red = R"("red": {"absorption": {"library": "red-glass", "concentration": 0.3}})";
+  ASSERT_NE(ball.find(red), std::string::npos);
+  ball.replace(ball.find(red), red.size(), R"("red": {"ior": {"library": "N-SF11"}})");
+  expect_kept_light_vertices_rebuilt<kFullBins>(ball, SpectralMode::full, true);
+  expect_kept_light_vertices_rebuilt<kHeroCount>(ball, SpectralMode::hero, true);
+  expect_kept_light_vertices_rebuilt<kFullBins>(test::busy_scene("vcm", "full", 1), SpectralMode::full, false);
+  expect_kept_light_vertices_rebuilt<kHeroCount>(test::busy_scene("vcm", "hero", 1), SpectralMode::hero, false);
+}
+
 // For every full path that a connection of one camera sample makes, the weights of all the
 // strategies that could have made it sum to 1, and the weight the renderer gave it equals the
 // one recomputed from the geometry (the walk's density records are right). A scene with every
@@ -416,11 +503,12 @@ TEST(VertexMerging, KeepsTwoVerticesAPixelUnderASpotAndSaysSo) {
     FilmBuffer film = make_film(scene, false);
     RenderStats stats;
     render_into(scene, desc.render, film, PixelRegion::whole(scene.camera), {0, 3}, RenderControl{}, stats);
-    const std::uint64_t vertex = std::string(spectral) == "full" ? sizeof(Vertex<kFullBins>) : sizeof(Vertex<kHeroCount>);
+    const std::uint64_t vertex =
+        std::string(spectral) == "full" ? sizeof(VertexCore<kFullBins>) : sizeof(VertexCore<kHeroCount>);
     EXPECT_EQ(stats.iterations, 3) << spectral;
     EXPECT_EQ(stats.light_paths, 3u * 120u) << spectral;
     EXPECT_EQ(stats.photons, 3u * 120u) << spectral << ": one floor photon a subpath";
-    EXPECT_EQ(stats.light_subpath_bytes, 120u * (2u * vertex + sizeof(std::span<const Vertex<kFullBins>>))) << spectral;
+    EXPECT_EQ(stats.light_subpath_bytes, 120u * (2u * vertex + sizeof(std::span<const VertexCore<kFullBins>>))) << spectral;
   }
 }
 

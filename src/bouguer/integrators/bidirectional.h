@@ -146,16 +146,16 @@ class Bdpt {
                     const Vertex<N>* sampled, int s, int t, double tau) const;
   // A merge of camera[t − 1] with light vertex q (≥ 1st of its subpath, `prev` before it, `sums`
   // its subpath's folded sum at q: subpath_sums).
-  double merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vertex<N>& q, const Vertex<N>& prev,
+  double merge_weight(const std::vector<Vertex<N>>& camera, int t, const VertexCore<N>& q, const VertexCore<N>& prev,
                       double sums) const;
 
   void set_merging(const Merging& m) { merging_ = m; }
   bool merges() const { return merging_.eta_surface > 0.0; }
   // Whether a subpath vertex can be merged at: a medium vertex, or a surface that is not specular.
-  static bool mergeable(const Vertex<N>& x) {
+  static bool mergeable(const VertexCore<N>& x) {
     return x.kind == VertexKind::medium || (x.kind == VertexKind::surface && !x.delta);
   }
-  double eta(const Vertex<N>& x) const {
+  double eta(const VertexCore<N>& x) const {
     return x.kind == VertexKind::medium ? merging_.eta_medium : merging_.eta_surface;
   }
 
@@ -426,7 +426,7 @@ void Bdpt<N>::subpath_sums(std::span<const Vertex<N>> path, bool light, std::vec
 // light side is folded into `sums` at the photon's own place, as SmallVCM's photons keep dVCM
 // and dVM: the merge point stands in for q there.
 template <std::size_t N>
-double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const Vertex<N>& q, const Vertex<N>& prev,
+double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const VertexCore<N>& q, const VertexCore<N>& prev,
                              double sums) const {
   const Vertex<N>& pt = camera[static_cast<std::size_t>(t - 1)];
   const Vec3& wo = q.wo;

@@ -53,7 +53,7 @@ constexpr double kAlpha = 0.75;
 template <std::size_t N>
 struct Photon {
   Vec3 point;
-  const Vertex<N>* vertex = nullptr;
+  const VertexCore<N>* vertex = nullptr;
   int medium = -1;    // a medium photon's medium, -1 on a surface
   double sums = 0.0;  // its subpath's folded MIS sum at the photon (Bdpt::subpath_sums)
   int index = 0;  // its place in the light subpath (≥ 1)
@@ -62,17 +62,20 @@ struct Photon {
 };
 
 // The light subpaths of an iteration, traced once: the photons point into them, and the camera
-// pass connects each pixel's camera subpath to its own. Each tile's vertices are one array, found
-// by the tile's first pixel, which the tile reuses over the iterations (a vertex is 2 kB in full
-// mode: fresh pages each iteration cost more than tracing the subpath again); each pixel's subpath
-// is a span of its tile's.
+// pass connects each pixel's camera subpath to its own. A vertex is kept without its surface
+// event (VertexCore: 1072 bytes in full mode against the whole vertex's 2000, 336 against 528 in
+// hero; the merges read no event), and the camera pass builds the events of its pixel's subpath
+// again (rebuilt_light_vertex, walk.h), from the same hit, nested set, direction, medium and
+// wavelengths. Each tile's vertices are one array, found by the tile's first pixel, which the
+// tile reuses over the iterations (fresh pages each iteration cost more than tracing the subpath
+// again); each pixel's subpath is a span of its tile's.
 template <std::size_t N>
 struct LightSubpaths {
-  std::unordered_map<std::uint64_t, std::vector<Vertex<N>>> tiles;
-  std::vector<std::span<const Vertex<N>>> of_pixel;  // every pixel of the image
+  std::unordered_map<std::uint64_t, std::vector<VertexCore<N>>> tiles;
+  std::vector<std::span<const VertexCore<N>>> of_pixel;  // every pixel of the image
   std::size_t vertices = 0;
   // The memory they fill.
-  std::uint64_t bytes() const { return vertices * sizeof(Vertex<N>) + of_pixel.size() * sizeof(of_pixel[0]); }
+  std::uint64_t bytes() const { return vertices * sizeof(VertexCore<N>) + of_pixel.size() * sizeof(of_pixel[0]); }
 };
 
 // The grid cell of a point, packed: 21 bits per axis (neighbours never alias).
@@ -195,15 +198,16 @@ class Iteration {
     std::vector<std::vector<Photon<N>>> tiles_photons;
     std::mutex tiles_mutex;
     std::atomic<std::uint64_t> store_bytes{0};  // the arrays' capacity (for the message)
-    for (const auto& [first_pixel, array] : light.tiles) store_bytes += array.capacity() * sizeof(Vertex<N>);
+    for (const auto& [first_pixel, array] : light.tiles) store_bytes += array.capacity() * sizeof(VertexCore<N>);
     for_each_tile(PixelRegion{0, 0, width_, height_}, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
-      std::vector<Vertex<N>>* array = nullptr;
+      std::vector<VertexCore<N>>* array = nullptr;
       {
         const std::lock_guard<std::mutex> lock(tiles_mutex);
         array = &light.tiles[pixel_index(tile.x0, tile.y0, width_)];
       }
-      std::vector<Vertex<N>>& vertices = *array;  // the tile's light subpaths, one after another
+      std::vector<VertexCore<N>>& vertices = *array;  // the tile's light subpaths, one after another
       vertices.clear();
+      std::vector<Vertex<N>> traced;  // a subpath as the walk records it, events and all
       std::vector<Photon<N>> mine;
       struct Subpath {
         std::uint64_t pixel;
@@ -222,15 +226,17 @@ class Iteration {
           if (vertices.capacity() - vertices.size() < most) {
             const std::size_t grown = std::max(2 * vertices.capacity(), vertices.size() + most);
             // The new array is whole before the old one goes.
-            require_memory(grown * sizeof(Vertex<N>),
+            require_memory(grown * sizeof(VertexCore<N>),
                            fmt::format("{}: the store of light subpaths of iteration {} (past {} of them)",
                                        scene_.file.string(), it_ + 1, format_bytes(store_bytes.load())));
-            store_bytes += (grown - vertices.capacity()) * sizeof(Vertex<N>);
+            store_bytes += (grown - vertices.capacity()) * sizeof(VertexCore<N>);
             vertices.reserve(grown);
           }
           const std::size_t first = vertices.size();
-          const std::size_t n = b.append_light_subpath(vertices, lrng);
-          const std::span<const Vertex<N>> lp(vertices.data() + first, n);
+          traced.clear();
+          const std::size_t n = b.append_light_subpath(traced, lrng);
+          const std::span<const Vertex<N>> lp(traced.data(), n);
+          vertices.insert(vertices.end(), lp.begin(), lp.end());  // (their cores)
           b.subpath_sums(lp, true, sums);
           for (std::size_t j = 1; j < n; ++j)
             if (Bdpt<N>::mergeable(lp[j]) && static_cast<int>(j) <= settings_.max_depth)
@@ -239,7 +245,7 @@ class Iteration {
         }
       // `vertices` is whole: its addresses are final. A photon's vertex is its place in its path.
       for (const Subpath& p : subpaths)
-        light.of_pixel[p.pixel] = std::span<const Vertex<N>>(vertices.data() + p.first, p.count);
+        light.of_pixel[p.pixel] = std::span<const VertexCore<N>>(vertices.data() + p.first, p.count);
       for (Photon<N>& q : mine) q.vertex = &light.of_pixel[q.path][static_cast<std::size_t>(q.index)];
       const std::lock_guard<std::mutex> lock(tiles_mutex);
       light.vertices += vertices.size();
@@ -273,7 +279,7 @@ class Iteration {
     std::atomic<std::uint64_t> merges{0};
     for_each_tile(region, control, stats, [&](const PixelRegion& tile, std::uint64_t& rays) {
       std::uint64_t merged = 0;
-      std::vector<Vertex<N>> camera_path;
+      std::vector<Vertex<N>> camera_path, light_path;
       SampledWavelengths<N> wc = w_;
       for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; ++x) {
@@ -289,8 +295,10 @@ class Iteration {
           Bdpt<N> b = bdpt(wc, rng, rays);
           const auto [u, v] = subpixel(it_, settings_.spp, settings_.seed, pixel, rng);
           b.camera_subpath(view_.camera.generate_ray(x + u, y + v), camera_path, &keep_);
-          SampledSpectrum<N> l =
-              b.connect_all(store_.light.of_pixel[pixel], camera_path, film, keep_) + b.camera_tail();
+          light_path.clear();
+          for (const VertexCore<N>& core : store_.light.of_pixel[pixel])
+            light_path.push_back(rebuilt_light_vertex(view_, core, w_, kept_));
+          SampledSpectrum<N> l = b.connect_all(light_path, camera_path, film, keep_) + b.camera_tail();
           for (int t = 2; t <= static_cast<int>(camera_path.size()); ++t) merge(b, camera_path, t, wc, l, merged);
           add_camera_sample(film, view_.tables, wc, x, y, it_, l);
         }
@@ -315,7 +323,7 @@ class Iteration {
     auto one = [&](const Photon<N>& photon) {
       if (photon.index + t - 2 > settings_.max_depth) return;
       if (in_medium && photon.medium != pt.medium) return;
-      const Vertex<N>& q = *photon.vertex;
+      const VertexCore<N>& q = *photon.vertex;
       SampledSpectrum<N> f;
       if (in_medium) {
         const float phase = static_cast<float>(phase_value(scattering_medium(scene_, pt.medium)->phase, -pt.wo, q.wo));

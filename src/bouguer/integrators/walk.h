@@ -28,14 +28,17 @@ namespace bouguer {
 
 enum class VertexKind : std::uint8_t { camera, light, surface, medium };
 
+// A vertex of a subpath but its surface event (Vertex, below): all a merge reads of a photon
+// (vcm.cpp keeps its light subpaths so, and builds their events again for each pixel's
+// connections: rebuild_vertex).
 template <std::size_t N>
-struct Vertex {
+struct VertexCore {
   VertexKind kind = VertexKind::surface;
   Vec3 point;
   Vec3 normal;  // unit geometric normal: surfaces and area lights; zero elsewhere
   Hit hit;      // surfaces and area lights: where rays leave from
-  SurfaceEvent<N> event{Frame(Vec3{0.0, 0.0, 1.0}), DiffuseReflection<N>{}};
   int medium = -1;            // medium vertices: the medium they sit in
+  int arrived_in = -1;        // surfaces: the medium the walk arrived through (their event's)
   InsideSet inside = 0;       // the nested objects the subpath was inside there (surfaces: as it arrived)
   double sigma_rho = 0.0;     // medium vertices: σ̄_s·ρ(x), the density of stopping here
   Vec3 wo;                    // unit, towards the previous vertex of the subpath (zero at its start)
@@ -52,6 +55,10 @@ struct Vertex {
 
   bool on_surface() const { return normal != Vec3{}; }
   bool connectible() const { return !delta; }
+};
+template <std::size_t N>
+struct Vertex : VertexCore<N> {
+  SurfaceEvent<N> event{Frame(Vec3{0.0, 0.0, 1.0}), DiffuseReflection<N>{}};
 };
 
 // What a walk needs besides the scene: the mean σ_s of every medium (0 for those that do not
@@ -471,6 +478,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     Vertex<N> vx = make(VertexKind::surface, hit.point);
     vx.normal = hit.normal;
     vx.hit = hit;
+    vx.arrived_in = state.medium;
     vx.event = surface_event(v, hit, seen, wo, state.medium, state.dispersed ? *state.kept : w, state.cone_width_m);
     vx.event.inside = state.inside;
     vx.delta = is_specular(vx.event.bsdf);
@@ -493,6 +501,25 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
     state.pdf_dir = vx.delta ? 0.0 : *bsdf_pdf;
     moved_on(hit.point);
   }
+}
+
+// A light subpath's vertex kept without its event (vcm.cpp) with its surface event built again as
+// the walk built it (random_walk, above): from the same hit, nested set (the surface as seen),
+// direction and medium arrived through, for the wavelengths the walk carried, `w` (a light
+// subpath's are never changed: its dispersion is deferred), or `kept` from a dispersive
+// interface on; light subpaths carry no ray cone. The same event bit for bit
+// (test_bdpt.cpp: ALightVertexKeptWithoutItsEventGetsItBack).
+template <std::size_t N>
+Vertex<N> rebuilt_light_vertex(const SceneView<N>& v, const VertexCore<N>& y, const SampledWavelengths<N>& w,
+                               const SampledWavelengths<N>& kept) {
+  Vertex<N> x;
+  static_cast<VertexCore<N>&>(x) = y;
+  if (x.kind == VertexKind::surface) {
+    x.event = surface_event(v, x.hit, surface_seen(v.scene, x.hit, x.inside), x.wo, x.arrived_in,
+                            x.dispersed ? kept : w, 0.0);
+    x.event.inside = x.inside;
+  }
+  return x;
 }
 
 // The medium a light emits into: the one in front of an emitter surface, the world's otherwise (a
