@@ -16,8 +16,10 @@ fi
 scratch="$build/gltf-validation"
 rm -rf "$scratch"
 mkdir -p "$scratch"
-# The assets the tests write, into a folder of their own (malformed ones on purpose are left out).
-BOUGUER_TEST_SCRATCH="$scratch" "$build/tests/bouguer_tests" --gtest_filter='Gltf*:Texture*:*Textured*:Nested*' \
+# The assets the tests write, into a folder of their own (malformed ones on purpose are left out,
+# and the tests of bad input, which write no valid asset: the same 36 assets in a third of the time).
+BOUGUER_TEST_SCRATCH="$scratch" "$build/tests/bouguer_tests" \
+  --gtest_filter='Gltf*:Texture*:*Textured*:Nested*:-*Bad*:*Malformed*:*Hostile*' \
   > "$scratch/tests.log" 2>&1 || { echo "the tests that write the assets failed:"; tail -20 "$scratch/tests.log"; exit 1; }
 mapfile -t files < <(find "$scratch" "$repo/scenes" \( -name '*.glb' -o -name '*.gltf' \) ! -path '*bad*' ! -path '*malformed*' | sort)
 [ "${#files[@]}" -gt 0 ] || { echo "no glTF assets found"; exit 1; }

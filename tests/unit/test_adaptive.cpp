@@ -53,7 +53,10 @@ TEST(AdaptiveSampling, PixelsStopWithinTheTargetAndSamplesGoWhereTheNoiseIs) {
   SceneDesc desc = load_scene(scene);
   desc.camera.width_px = 32;
   desc.camera.height_px = 24;
-  desc.render.spp = 4096;
+  // (2048 spp: the reference's own noise only adds to the error measured against it, so a noisier
+  // one makes the test harder; at 4096 the stopped pixels read 0.630, and the reference was most
+  // of the test's time.)
+  desc.render.spp = 2048;
   desc.render.seed = 77;
   const Film reference = test::render_desc(desc);
   const ImageDifference d = compare_images(image, reference);

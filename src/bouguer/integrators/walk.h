@@ -30,7 +30,7 @@ enum class VertexKind : std::uint8_t { camera, light, surface, medium };
 
 // A vertex of a subpath but its surface event (Vertex, below): all a merge reads of a photon
 // (vcm.cpp keeps its light subpaths so, and builds their events again for each pixel's
-// connections: rebuild_vertex).
+// connections: rebuilt_light_vertex).
 template <std::size_t N>
 struct VertexCore {
   VertexKind kind = VertexKind::surface;
@@ -157,6 +157,15 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
                        ? first_collision_at_rate_m(near.sigma_min_per_m, rng)
                        : first_collision_m(*sm, v.tables, w, single, rng);
   if (!(t < safe_m)) return std::nullopt;
+#ifndef NDEBUG
+  {  // (Debug builds: the collision so taken is the tracking's, as test_scattering.cpp checks.)
+    Rng r = rng;
+    SampledSpectrum<N> b = state.beta;
+    SpectralMis<N> m = state.mis;
+    const MediumEvent e = sample_scattering(*sm, v.tables, Ray{p, state.ray.direction}, safe_m, w, r, b, m);
+    if (!e.scattered || e.t != t) fail("internal error: walk_deep's collision ({} m) is not the tracking's", t);
+  }
+#endif
   take_first_collision(*sm, v.tables, Ray{p, state.ray.direction}, t, w, single, rng, state.beta);
   return p + state.ray.direction * t;
 }
