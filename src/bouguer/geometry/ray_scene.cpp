@@ -69,7 +69,13 @@ bool distance_callback(RTCPointQueryFunctionArguments* args) {
   } else {
     const Mesh& m = (*q->meshes)[args->geomID];
     const auto& tri = m.triangles[args->primID];
-    d = triangle_distance(q->p, m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]);
+    const Vec3 &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
+    // The distance to the triangle's plane bounds the distance to the triangle from below: a
+    // triangle whose plane is farther than the nearest so far (by more than rounding) is not it.
+    const Vec3 n = cross(b - a, c - a);
+    const double n2 = dot(n, n), h = dot(q->p - a, n);
+    if (n2 > 0.0 && h * h > q->best * q->best * n2 * (1.0 + 1e-9)) return false;
+    d = triangle_distance(q->p, a, b, c);
   }
   if (!(d < q->best)) return false;
   q->best = d;
