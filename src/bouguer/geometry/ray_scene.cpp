@@ -71,10 +71,12 @@ bool distance_callback(RTCPointQueryFunctionArguments* args) {
     const auto& tri = m.triangles[args->primID];
     const Vec3 &a = m.positions[tri[0]], &b = m.positions[tri[1]], &c = m.positions[tri[2]];
     // The distance to the triangle's plane bounds the distance to the triangle from below: a
-    // triangle whose plane is farther than the nearest so far (by more than rounding) is not it.
-    const Vec3 n = cross(b - a, c - a);
-    const double n2 = dot(n, n), h = dot(q->p - a, n);
-    if (n2 > 0.0 && h * h > q->best * q->best * n2 * (1.0 + 1e-9)) return false;
+    // triangle whose plane is farther than the nearest so far, by more than the pad that covers
+    // Embree's rounding, is not it. Not for slivers, whose plane rounding tilts.
+    const Vec3 ab = b - a, ac = c - a, n = cross(ab, ac);
+    const double n2 = dot(n, n), h = dot(q->p - a, n), longest2 = std::max(dot(ab, ab), dot(ac, ac));
+    const double beyond = q->best + q->pad;
+    if (n2 > 1e-12 * longest2 * longest2 && h * h > beyond * beyond * n2) return false;
     d = triangle_distance(q->p, a, b, c);
   }
   if (!(d < q->best)) return false;

@@ -153,7 +153,7 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
   if (!(safe_m > 0.0)) return std::nullopt;
   const auto single = static_cast<std::size_t>(w.single);
   // (σ_s·ρ as the visitor last read it for this medium and wavelength, where it did: the same product)
-  const double t = near.holds_sigma(state.medium, w.single) && near.sigma_min_per_m > 0.0
+  const double t = near.holds_sigma(state.medium, w.single)
                        ? first_collision_at_rate_m(near.sigma_min_per_m, rng)
                        : first_collision_m(*sm, v.tables, w, single, rng);
   if (!(t < safe_m)) return std::nullopt;

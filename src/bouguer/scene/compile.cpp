@@ -600,7 +600,8 @@ void mark_small_lamps(RenderScene& s) {
       // Its triangles' area lights (one each): the emitter's area and area-weighted centroid.
       double area_m2 = 0.0;
       Vec3 centroid{};
-      for (std::size_t p = 0; p < s.rays.mesh(g).triangles.size(); ++p) {
+      const std::size_t count = s.rays.mesh(g).triangles.size();
+      for (std::size_t p = 0; p < count; ++p) {
         const auto& a = std::get<AreaLight>(s.lights[static_cast<std::size_t>(f.first_light) + p]);
         area_m2 += a.area_m2;
         centroid += (a.p0 + a.p1 + a.p2) * (a.area_m2 / 3.0);
