@@ -18,6 +18,10 @@ bench/whole_milk_glass.sh and bench/hard_scenes.py write theirs from here).
            studio map, framed so that it fills most of the picture (#20's glass of whole milk)
   bounce   a floor lit only by a small white patch that a lamp below it shines on (guiding's
            textbook case)
+  rod      a lying rod of absorbing glass (an exact cylinder, 20 mm radius, 300 mm long, n = 1.5)
+           30 mm above a diffuse floor, a point lamp to one side: the rod's shadow and the caustic
+           line in it come through the side, in and out (the ManifoldNextEvent test's scene at
+           128×128 pixels, 16 spp)
 
 Paths inside the scenes (the studio map) are made absolute, so OUTDIR may be anywhere.
 """
@@ -109,7 +113,26 @@ def bounce():
         "background": {"spectrum": "E", "scale": 0}}
 
 
-SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk, "bounce": bounce}
+def rod():
+    return {
+        "camera": {"type": "orthographic", "position": [0, 0.3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
+                   "width": 0.12, "resolution": [128, 128]},
+        "render": {"integrator": "path", "spectral": "full", "spp": 16, "max_depth": 16, "seed": 1},
+        "world_medium": "vacuum",
+        "media": {"glass": {"ior": 1.5, "absorption": {"unit": "attenuation_per_m", "wavelength_nm": [380, 780],
+                                                         "value": [20, 30]}}},
+        "objects": [
+            {"name": "floor", "shape": {"type": "quad", "size": [1, 1]}, "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+             "material": {"type": "diffuse", "reflectance": 0.8}},
+            {"name": "rod", "shape": {"type": "cylinder", "radius": 0.02, "height": 0.3},
+             "transform": [{"translate": [0, -0.15, 0]}, {"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.03, 0]}],
+             "inside": "glass"}],
+        "lights": [{"type": "point", "position": [0.1, 0.1, 0.01], "spectrum": "D65", "scale": 0.02}],
+        "background": {"spectrum": "E", "scale": 0}}
+
+
+SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk, "bounce": bounce,
+          "rod": rod}
 
 
 def scene(name):

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 #include "bouguer/core/frame.h"
@@ -239,81 +240,86 @@ SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer
   return out;
 }
 
-SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
-                                     double eta_inside, double eta_outside, const NearSolution* near) {
-  SpherePassages out;
-  // In the plane of the centre and both points, in units of the radius: `from` at (a, 0) on e1,
-  // `to` at (b1, b2) with b2 ≥ 0; the entry point y1(φ) = (cos φ, sin φ) on the arc `from` sees.
-  const Vec3 to_from = from - centre, to_to = to - centre;
-  const double a = length(to_from) / radius_m;
-  if (!(a > 1.0) || !(length(to_to) > radius_m)) return out;
-  const Vec3 e1 = to_from / (a * radius_m);
-  const Vec3 across = to_to - e1 * dot(to_to, e1);
-  const double across_m = length(across);
-  const Vec3 e2 = across_m > 1e-12 * radius_m ? across / across_m : Frame(e1).s;
-  const double b1 = dot(to_to, e1) / radius_m, b2 = dot(to_to, e2) / radius_m;
-  const double eta = eta_outside / eta_inside;  // entering; leaving: its inverse
-  // No path where the turn from `from`'s view of the centre to the centre's view of `to` exceeds
-  // the most a passage deviates a ray, 2·acos(η_min/η_max) (entering at grazing incidence, or at
-  // the critical angle into a lower index), plus the angles the sphere subtends at both.
-  {
-    const double turn = std::acos(std::clamp(dot(-e1, normalize(to_to)), -1.0, 1.0));
-    const double most = 2.0 * std::acos(std::min(eta, 1.0 / eta)) + std::asin(1.0 / a) +
-                        std::asin(std::min(1.0, 1.0 / (length(to_to) / radius_m)));
-    if (turn > most) return out;
+namespace {
+
+// A passage through a circle, in its plane and in units of its radius: the entry angle φ of the
+// point (cos φ, sin φ), and the exit point.
+struct CirclePassage {
+  double phi, exit_x, exit_y;
+};
+
+// The ray from (a, 0) through y1 = (y1x, y1y) on the unit circle, refracted in (eta: the index
+// outside over the index inside), across the circle, refracted out: where (b1, b2) lies from it
+// (the cross product of its direction with y2 → (b1, b2); 0 on it), if it gets out and that point
+// is ahead.
+struct CircleTrace {
+  bool valid = false, ahead = false, reflected = false;
+  double side = 0.0, y2x = 0.0, y2y = 0.0;
+};
+// (With `extended`, a ray that gets out is valid whichever way (b1, b2) lies along it, `ahead`
+// saying which; and one totally reflected at the exit leaves along the tangent there, `reflected`
+// saying so: the side is then continuous where a ray stops getting out.)
+inline CircleTrace trace_circle(double a, double b1, double b2, double eta, double y1x, double y1y,
+                                bool extended = false) {
+  CircleTrace p;
+  double dx = y1x - a, dy = y1y;
+  const double dl = norm2(dx, dy);
+  dx /= dl, dy /= dl;
+  // In: normal (y1x, y1y) outward, the ray against it.
+  const double cos_i = -(dx * y1x + dy * y1y), sin_t2 = eta * eta * (1.0 - cos_i * cos_i);
+  if (!(cos_i > 0.0) || sin_t2 >= 1.0) return p;
+  const double k = eta * cos_i - std::sqrt(1.0 - sin_t2);
+  const double tx = eta * dx + k * y1x, ty = eta * dy + k * y1y;
+  // Across: the chord along t from y1 (unit circle: length −2·y1·t).
+  const double chord = -2.0 * (y1x * tx + y1y * ty);
+  if (!(chord > 0.0)) return p;
+  p.y2x = y1x + chord * tx, p.y2y = y1y + chord * ty;
+  // Out: normal y2 outward, the ray along it.
+  const double cos_o = tx * p.y2x + ty * p.y2y, inv = 1.0 / eta, sin_u2 = inv * inv * (1.0 - cos_o * cos_o);
+  if (!(cos_o > 0.0)) return p;
+  p.reflected = sin_u2 >= 1.0;
+  if (p.reflected && !extended) return p;
+  const double m = std::sqrt(std::max(0.0, 1.0 - sin_u2)) - inv * cos_o;
+  double ox = inv * tx + m * p.y2x, oy = inv * ty + m * p.y2y;
+  if (p.reflected) {  // the tangent, of unit length
+    const double l = norm2(ox, oy);
+    ox /= l, oy /= l;
   }
-  struct Passage {
-    bool valid = false;
-    double side = 0.0, y2x = 0.0, y2y = 0.0;
-  };
-  // The ray from `from` through y1(φ), refracted in, across the circle, refracted out: where `to`
-  // lies from it (the cross product of its direction with y2 → to; 0 on it), if it gets out and
-  // `to` is ahead.
-  auto passage_cs = [&](double y1x, double y1y) {
-    Passage p;
-    double dx = y1x - a, dy = y1y;
-    const double dl = norm2(dx, dy);
-    dx /= dl, dy /= dl;
-    // In: normal (y1x, y1y) outward, the ray against it.
-    const double cos_i = -(dx * y1x + dy * y1y), sin_t2 = eta * eta * (1.0 - cos_i * cos_i);
-    if (!(cos_i > 0.0) || sin_t2 >= 1.0) return p;
-    const double k = eta * cos_i - std::sqrt(1.0 - sin_t2);
-    const double tx = eta * dx + k * y1x, ty = eta * dy + k * y1y;
-    // Across: the chord along t from y1 (unit circle: length −2·y1·t).
-    const double chord = -2.0 * (y1x * tx + y1y * ty);
-    if (!(chord > 0.0)) return p;
-    p.y2x = y1x + chord * tx, p.y2y = y1y + chord * ty;
-    // Out: normal y2 outward, the ray along it.
-    const double cos_o = tx * p.y2x + ty * p.y2y, inv = 1.0 / eta, sin_u2 = inv * inv * (1.0 - cos_o * cos_o);
-    if (!(cos_o > 0.0) || sin_u2 >= 1.0) return p;
-    const double m = std::sqrt(1.0 - sin_u2) - inv * cos_o;
-    const double ox = inv * tx + m * p.y2x, oy = inv * ty + m * p.y2y;
-    const double rx = b1 - p.y2x, ry = b2 - p.y2y;
-    if (!(ox * rx + oy * ry > 0.0)) return p;
-    p.valid = true;
-    p.side = ox * ry - oy * rx;  // (its sign and roots are all the scan needs)
-    return p;
-  };
+  const double rx = b1 - p.y2x, ry = b2 - p.y2y;
+  p.ahead = ox * rx + oy * ry > 0.0;
+  if (!p.ahead && !extended) return p;
+  p.valid = true;
+  p.side = ox * ry - oy * rx;  // (its sign and roots are all the scan needs)
+  return p;
+}
+
+// The passages through the unit circle from (a, 0) (a > 1) to (b1, b2) (outside it), eta the
+// index outside over the index inside: each entry point (cos φ, sin φ), φ over [first, last] (an
+// arc `from` sees) in `intervals`, traces one ray (trace_circle), and the paths are the sign
+// changes of the side of it (b1, b2) lies on, refined by the Illinois method to 1e-14 of a radian.
+// An interval whose ends differ in whether their rays pass (at an edge of total internal
+// reflection, or of the far point being ahead) is split in four, three times over, so a narrow
+// window of paths near it is not stepped over. `out(passage)` for each, at most `most`.
+template <typename Out>
+void circle_passages(double a, double b1, double b2, double eta, double first, double last, int intervals, int most,
+                     Out out) {
+  using Passage = CircleTrace;
+  auto passage_cs = [&](double y1x, double y1y) { return trace_circle(a, b1, b2, eta, y1x, y1y); };
   auto passage = [&](double phi) { return passage_cs(std::cos(phi), std::sin(phi)); };
-  const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12);
-  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 16);
   auto side = [&](double phi) {
     const Passage p = passage(phi);
     return p.valid ? p.side : std::numeric_limits<double>::quiet_NaN();
   };
-  // An interval whose ends both pass and lie on opposite sides holds a path; one whose ends
-  // differ in whether they pass (an edge of total internal reflection, or of `to` being ahead)
-  // may hold a narrow window that does: split it in four, three times over.
+  int count = 0;
   auto interval = [&](auto& self, double lo, double hi, const Passage& p_lo, const Passage& p_hi, int depth) -> void {
-    if (out.count >= static_cast<int>(out.entry.size())) return;
+    if (count >= most) return;
     if (p_lo.valid && p_hi.valid) {
       if (p_hi.side == 0.0 || (p_lo.side != 0.0 && (p_lo.side < 0.0) == (p_hi.side < 0.0))) return;
       const std::optional<double> phi = p_lo.side == 0.0 ? lo : bracketed_root(side, lo, hi, p_lo.side, p_hi.side);
       const Passage pr = phi ? passage(*phi) : Passage{};
       if (pr.valid) {
-        const auto k = static_cast<std::size_t>(out.count++);
-        out.entry[k] = centre + (e1 * std::cos(*phi) + e2 * std::sin(*phi)) * radius_m;
-        out.exit[k] = centre + (e1 * pr.y2x + e2 * pr.y2y) * radius_m;
+        ++count;
+        out(CirclePassage{*phi, pr.y2x, pr.y2y});
       }
       return;
     }
@@ -338,6 +344,438 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
     interval(interval, lo, hi, p_lo, p_hi, 0);
     lo = hi, p_lo = p_hi;
   }
+}
+
+}  // namespace
+
+SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
+                                     double eta_inside, double eta_outside, const NearSolution* near) {
+  SpherePassages out;
+  // In the plane of the centre and both points, in units of the radius: `from` at (a, 0) on e1,
+  // `to` at (b1, b2) with b2 ≥ 0; the entry point y1(φ) = (cos φ, sin φ) on the arc `from` sees.
+  const Vec3 to_from = from - centre, to_to = to - centre;
+  const double a = length(to_from) / radius_m;
+  if (!(a > 1.0) || !(length(to_to) > radius_m)) return out;
+  const Vec3 e1 = to_from / (a * radius_m);
+  const Vec3 across = to_to - e1 * dot(to_to, e1);
+  const double across_m = length(across);
+  const Vec3 e2 = across_m > 1e-12 * radius_m ? across / across_m : Frame(e1).s;
+  const double b1 = dot(to_to, e1) / radius_m, b2 = dot(to_to, e2) / radius_m;
+  const double eta = eta_outside / eta_inside;  // entering; leaving: its inverse
+  // No path where the turn from `from`'s view of the centre to the centre's view of `to` exceeds
+  // the most a passage deviates a ray, 2·acos(η_min/η_max) (entering at grazing incidence, or at
+  // the critical angle into a lower index), plus the angles the sphere subtends at both.
+  {
+    const double turn = std::acos(std::clamp(dot(-e1, normalize(to_to)), -1.0, 1.0));
+    const double most = 2.0 * std::acos(std::min(eta, 1.0 / eta)) + std::asin(1.0 / a) +
+                        std::asin(std::min(1.0, 1.0 / (length(to_to) / radius_m)));
+    if (turn > most) return out;
+  }
+  const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12);
+  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 16);
+  circle_passages(a, b1, b2, eta, first, last, intervals, static_cast<int>(out.entry.size()),
+                  [&](const CirclePassage& p) {
+                    const auto k = static_cast<std::size_t>(out.count++);
+                    out.entry[k] = centre + (e1 * std::cos(p.phi) + e2 * std::sin(p.phi)) * radius_m;
+                    out.exit[k] = centre + (e1 * p.exit_x + e2 * p.exit_y) * radius_m;
+                  });
+  return out;
+}
+
+namespace {
+
+// A cylinder's passage solve at (φ, β) (cylinder_passage_points): whether the ray gets out
+// (`valid`) and towards `to` (`passes`: not behind it, not totally reflected), the side of it `to`
+// lies on across the axis, its miss along the axis, its exit point and the heights of its
+// crossings.
+struct PassagePoint {
+  bool valid = false, passes = false;
+  double side = 0.0, miss = 0.0, exit_x = 0.0, exit_y = 0.0, z1 = 0.0, z2 = 0.0;
+};
+struct PassageCorner {
+  double phi = 0.0, beta = 0.0;
+  PassagePoint p;
+};
+// Crossings of side's zero set with a cell's edges, each with its edge (0 bottom, 1 right, 2 top,
+// 3 left, as the corners go round) and whether it is exact or where the straight line between the
+// edge's ends puts it, its miss likewise.
+template <std::size_t K>
+struct CrossingsOf {
+  std::array<PassageCorner, K> at{};
+  std::array<int, K> edge{};
+  std::array<bool, K> exact{};
+  int count = 0;
+  void add(const std::optional<PassageCorner>& c, int on_edge, bool is_exact) {
+    if (!c || count >= static_cast<int>(at.size())) return;
+    edge[static_cast<std::size_t>(count)] = on_edge;
+    exact[static_cast<std::size_t>(count)] = is_exact;
+    at[static_cast<std::size_t>(count++)] = *c;
+  }
+};
+
+}  // namespace
+
+SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const Vec3& on_axis, const Vec3& axis,
+                                       double radius_m, double eta_inside, double eta_outside,
+                                       const NearSolution* near) {
+  SpherePassages out;
+  // Across the axis, in units of the radius: `from` at (a, 0) on e1, `to` at (b1, b2); along
+  // it, `to` dz above `from`.
+  const Vec3 to_from = from - on_axis, to_to = to - on_axis;
+  const double z_from = dot(to_from, axis), z_to = dot(to_to, axis);
+  const Vec3 from_across = to_from - axis * z_from, to_across = to_to - axis * z_to;
+  const double a = length(from_across) / radius_m;
+  if (!(a > 1.0) || !(length(to_across) > radius_m)) return out;
+  const Vec3 e1 = from_across / (a * radius_m), e2 = cross(axis, e1);
+  const double b1 = dot(to_across, e1) / radius_m, b2 = dot(to_across, e2) / radius_m;
+  const double dz = (z_to - z_from) / radius_m;
+  const double eta_min = std::min(eta_inside, eta_outside), eta_max = std::max(eta_inside, eta_outside);
+  const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12), beta_max = 0.5 * std::numbers::pi * (1.0 - 1e-9);
+  // A path entering at angle φ around the axis with the invariant α = η_min·sin β (η times the
+  // direction's part along the axis, the same on every segment, since each crossing's normal lies
+  // across the axis): across the axis it refracts as through a circle with Bravais' effective
+  // indices √(η² − α²), and each segment rises α/√(η² − α²) per unit of its length across. At
+  // (φ, β): the side of the ray across the axis `to` lies on, and the miss along the axis (the
+  // rise of the three segments, the last to `to`'s foot, less dz). The paths are where both are 0.
+  // (The grid's points reuse their column's cos φ, sin φ and their row's sin β.)
+  using Point = PassagePoint;
+  using Corner = PassageCorner;
+  auto at_cs = [&](double phi, double c, double s, double beta, double sin_beta) {
+    Point p;
+    if (!(std::abs(beta) <= beta_max) || !(std::abs(phi) <= phi_max)) return p;
+    const double alpha = eta_min * sin_beta;
+    const double eo = std::sqrt(std::max(0.0, eta_outside * eta_outside - alpha * alpha));
+    const double ei = std::sqrt(std::max(0.0, eta_inside * eta_inside - alpha * alpha));
+    if (!(eo > 0.0) || !(ei > 0.0)) return p;
+    const CircleTrace t = trace_circle(a, b1, b2, eo / ei, c, s, true);
+    if (!t.valid) return p;
+    const double h0 = norm2(c - a, s), h1 = norm2(t.y2x - c, t.y2y - s), h2 = norm2(b1 - t.y2x, b2 - t.y2y);
+    const double z1 = alpha * h0 / eo, z2 = z1 + alpha * h1 / ei;
+    return Point{true, t.ahead && !t.reflected, t.side, z2 + alpha * h2 / eo - dz, t.y2x, t.y2y, z1, z2};
+  };
+  auto at = [&](double phi, double beta) { return at_cs(phi, std::cos(phi), std::sin(phi), beta, std::sin(beta)); };
+  auto negative = [](double x) { return x < 0.0; };
+  const double miss_tolerance = 1e-9 * (1.0 + std::abs(dz));
+  // Where side = 0 meets miss = 0, cell by cell of a grid over (φ, β) (marching squares): side's
+  // zero set is the circle's passages as β changes its indices, a set of curves that fold back in
+  // β and in φ (passages appear and end in pairs at a caustic's fold), so neither can be followed
+  // as a function of the other.
+  // - Each cell edge whose ends' sides differ in sign holds a crossing of the curve, first guessed
+  //   where side is 0 on the straight line between them (no evaluation), exact where that guess's
+  //   miss is nearer 0 than the ends' misses differ (its sign may be wrong) or a refinement starts
+  //   from it. Along a row, two crossings close together are found where |side| at a grid point is
+  //   below its neighbours', all of one sign, and its extremum between them changes sign (as
+  //   scan_roots).
+  // - Where two crossings of a cell miss on opposite sides, the curve between them holds a path:
+  //   Newton's method on (side, miss) from the one nearer 0, and where that ends outside the cell,
+  //   the curve followed between the two (t along the segment between them, the curve found
+  //   across it, the Illinois method on t).
+  // - Where all miss on one side but the miss could reach 0 in the cell (the corners' misses
+  //   straddle 0, or a crossing's is within their spread of it), two paths may lie close together
+  //   on one stretch of the curve (near a caustic's fold): Newton's method from each crossing where
+  //   the miss heads towards 0 along the curve into the cell.
+  // - Side is continued past where a ray stops getting out (totally reflected at the exit: it
+  //   leaves along the tangent) and past `to` lying behind it, so that the curves run on and a
+  //   path found there is dropped. A cell whose corners still differ in whether their rays pass
+  //   (entering a lower index at more than the critical angle; α beyond the lower index) is split
+  //   in four, four times over.
+  std::array<Corner, 4> found{};
+  int count = 0;
+  auto keep = [&](const Corner& r) {
+    if (!r.p.passes) return;  // the line through `to` of a ray leaving away from it, or totally reflected
+    for (int k = 0; k < count; ++k)
+      if (std::abs(found[static_cast<std::size_t>(k)].phi - r.phi) < 1e-9 &&
+          std::abs(found[static_cast<std::size_t>(k)].beta - r.beta) < 1e-9)
+        return;
+    if (count < static_cast<int>(found.size())) found[static_cast<std::size_t>(count++)] = r;
+  };
+  // side's root on the straight line from c0 to c1 (their sides of opposite signs).
+  auto root_between = [&](const Corner& c0, const Corner& c1, double side0, double side1) -> std::optional<Corner> {
+    auto side = [&](double t) {
+      const Point p = at(c0.phi + (c1.phi - c0.phi) * t, c0.beta + (c1.beta - c0.beta) * t);
+      return p.valid ? p.side : std::numeric_limits<double>::quiet_NaN();
+    };
+    const std::optional<double> t = side0 == 0.0 ? 0.0 : bracketed_root(side, 0.0, 1.0, side0, side1);
+    if (!t) return std::nullopt;
+    const double phi = c0.phi + (c1.phi - c0.phi) * *t, beta = c0.beta + (c1.beta - c0.beta) * *t;
+    const Point p = at(phi, beta);
+    if (!p.valid) return std::nullopt;
+    return Corner{phi, beta, p};
+  };
+  auto crossing_on = [&](const Corner& c0, const Corner& c1) -> std::optional<Corner> {
+    if (negative(c0.p.side) == negative(c1.p.side)) return std::nullopt;
+    return root_between(c0, c1, c0.p.side, c1.p.side);
+  };
+  // The path on the curve between crossings n and q (missing on opposite sides) of a cell of size
+  // (dphi, dbeta): t along the segment from n to q, the curve found across it (in the cell's own
+  // units, within a growing distance either side), the miss there.
+  auto refine = [&](const Corner& n, const Corner& q, double dphi, double dbeta) {
+    const double u = (q.phi - n.phi) / dphi, v = (q.beta - n.beta) / dbeta, len = norm2(u, v);
+    if (!(len > 0.0)) return;
+    const double nu = -v / len, nv = u / len;  // across the segment, in cell units
+    std::optional<Corner> last;
+    auto miss = [&](double t) {
+      const double phi = n.phi + (q.phi - n.phi) * t, beta = n.beta + (q.beta - n.beta) * t;
+      auto side = [&](double s) {
+        const Point p = at(phi + nu * dphi * s, beta + nv * dbeta * s);
+        return p.valid ? p.side : std::numeric_limits<double>::quiet_NaN();
+      };
+      last.reset();
+      const double s0 = side(0.0);
+      if (std::isnan(s0)) return s0;
+      for (double reach = 0.125; reach <= 1.5; reach *= 2.0) {
+        const double lo = side(-reach), hi = side(reach);
+        if (std::isnan(lo) || std::isnan(hi)) break;
+        // The curve nearer the segment: the half from 0 whose end differs in sign.
+        const bool below = negative(lo) != negative(s0), above = negative(hi) != negative(s0);
+        if (!below && !above) continue;
+        const std::optional<double> s = s0 == 0.0 ? 0.0
+                                         : below && (!above || std::abs(lo) < std::abs(hi))
+                                             ? bracketed_root(side, -reach, 0.0, lo, s0)
+                                             : bracketed_root(side, 0.0, reach, s0, hi);
+        if (!s) break;
+        const double phi_s = phi + nu * dphi * *s, beta_s = beta + nv * dbeta * *s;
+        const Point p = at(phi_s, beta_s);
+        if (!p.valid) break;
+        last = Corner{phi_s, beta_s, p};
+        return p.miss;
+      }
+      return std::numeric_limits<double>::quiet_NaN();
+    };
+    const std::optional<double> t = bracketed_root(miss, 0.0, 1.0, n.p.miss, q.p.miss);
+    if (!t || std::isnan(miss(*t)) || !last) return;
+    if (std::abs(last->p.miss) <= miss_tolerance) keep(*last);  // (not a jump across to another stretch)
+  };
+  // Newton's method on (side, miss) from a crossing (the Jacobian by differences of 1e-7 rad),
+  // each step within half the cell's size; the root it reaches, kept, or nothing.
+  auto newton = [&](const Corner& start, double dphi, double dbeta) -> std::optional<Corner> {
+    double phi = start.phi, beta = start.beta;
+    Point p = at(phi, beta);  // (a guessed crossing's own values are interpolated)
+    if (!p.valid) return std::nullopt;
+    for (int k = 0; k < 40; ++k) {
+      constexpr double h = 1e-7;
+      const Point pp = at(phi + h, beta), pb = at(phi, beta + h);
+      if (!pp.valid || !pb.valid) return std::nullopt;
+      const double g_p = (pp.side - p.side) / h, g_b = (pb.side - p.side) / h;
+      const double m_p = (pp.miss - p.miss) / h, m_b = (pb.miss - p.miss) / h;
+      const double det = g_p * m_b - g_b * m_p;
+      if (!(std::abs(det) > 0.0)) return std::nullopt;
+      double step_phi = -(m_b * p.side - g_b * p.miss) / det, step_beta = -(g_p * p.miss - m_p * p.side) / det;
+      const double scale =
+          std::max({1.0, std::abs(step_phi) / (0.5 * std::abs(dphi)), std::abs(step_beta) / (0.5 * std::abs(dbeta))});
+      phi += step_phi / scale, beta += step_beta / scale;
+      p = at(phi, beta);
+      if (!p.valid) return std::nullopt;
+      if (std::abs(step_phi) < 1e-15 && std::abs(step_beta) < 1e-15) break;
+    }
+    if (!(std::abs(p.miss) <= miss_tolerance) || !(std::abs(p.side) <= 1e-12)) return std::nullopt;
+    keep(Corner{phi, beta, p});
+    return Corner{phi, beta, p};
+  };
+  // A cell's crossings: at most two on each edge.
+  using Crossings = CrossingsOf<8>;
+  // A crossing where side, linear between the ends of an edge, is 0 (no evaluation: most cells
+  // need no more than its miss's sign).
+  auto guess_on = [&](const Corner& c0, const Corner& c1) -> std::optional<Corner> {
+    if (negative(c0.p.side) == negative(c1.p.side)) return std::nullopt;
+    const double t = c0.p.side / (c0.p.side - c1.p.side);
+    Corner k{c0.phi + (c1.phi - c0.phi) * t, c0.beta + (c1.beta - c0.beta) * t, c0.p};
+    k.p.side = 0.0, k.p.miss = c0.p.miss + (c1.p.miss - c0.p.miss) * t;
+    return k;
+  };
+  // c: the corners (φ0, β0), (φ1, β0), (φ1, β1), (φ0, β1), in order around the cell.
+  auto solve_cell = [&](const std::array<Corner, 4>& c, Crossings x) {
+    if (x.count < 2) return;
+    // A guessed crossing whose miss is nearer 0 than its edge's ends differ by may have the wrong
+    // sign: exact, as is every crossing a refinement starts from.
+    auto make_exact = [&](int i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (x.exact[k]) return true;
+      const auto e = static_cast<std::size_t>(x.edge[k]);
+      const auto r = crossing_on(c[e], c[(e + 1) % 4]);
+      if (!r) return false;
+      x.at[k] = *r, x.exact[k] = true;
+      return true;
+    };
+    for (int i = 0; i < x.count; ++i) {
+      const auto e = static_cast<std::size_t>(x.edge[static_cast<std::size_t>(i)]);
+      if (std::abs(x.at[static_cast<std::size_t>(i)].p.miss) <= std::abs(c[e].p.miss - c[(e + 1) % 4].p.miss) &&
+          !make_exact(i))
+        return;
+    }
+    const double dphi = c[1].phi - c[0].phi, dbeta = c[3].beta - c[0].beta;
+    const double spread = std::max({c[0].p.miss, c[1].p.miss, c[2].p.miss, c[3].p.miss}) -
+                          std::min({c[0].p.miss, c[1].p.miss, c[2].p.miss, c[3].p.miss});
+    // (Newton's root is taken where it lies in the cell; the refinement along the curve where it
+    // does not.)
+    auto inside = [&](const Corner& r) {
+      return (r.phi - c[0].phi) * (r.phi - c[1].phi) <= 0.0 && (r.beta - c[0].beta) * (r.beta - c[3].beta) <= 0.0;
+    };
+    double nearest = std::numeric_limits<double>::infinity();
+    bool both_sides = false;
+    for (int i = 0; i < x.count; ++i) {
+      const Corner& n = x.at[static_cast<std::size_t>(i)];
+      nearest = std::min(nearest, std::abs(n.p.miss));
+      for (int j = i + 1; j < x.count; ++j) {
+        const Corner& q = x.at[static_cast<std::size_t>(j)];
+        if (negative(n.p.miss) == negative(q.p.miss)) continue;
+        both_sides = true;
+        const Corner& start = std::abs(n.p.miss) < std::abs(q.p.miss) ? n : q;
+        if (const auto r = newton(start, dphi, dbeta); r && inside(*r)) continue;
+        if (!make_exact(i) || !make_exact(j)) continue;
+        negative(n.p.miss) ? refine(n, q, dphi, dbeta) : refine(q, n, dphi, dbeta);
+      }
+    }
+    const double lowest = std::min({c[0].p.miss, c[1].p.miss, c[2].p.miss, c[3].p.miss});
+    if (both_sides || !((lowest <= 0.0 && lowest + spread >= 0.0) || nearest <= spread)) return;
+    // Two paths close together on one stretch of the curve: the miss heads towards 0 from both
+    // of its ends (along the curve's tangent, into the cell: the gradients by differences).
+    int heading = 0;
+    std::array<bool, 8> towards{};
+    for (int i = 0; i < x.count; ++i) {
+      if (!make_exact(i)) continue;
+      const Corner& k = x.at[static_cast<std::size_t>(i)];
+      constexpr double h = 1e-7;
+      const Point pp = at(k.phi + h, k.beta), pb = at(k.phi, k.beta + h);
+      if (!pp.valid || !pb.valid) continue;
+      double t_phi = -(pb.side - k.p.side), t_beta = pp.side - k.p.side;  // along the curve
+      const int e = x.edge[static_cast<std::size_t>(i)];
+      const double in = e == 0 ? t_beta : e == 1 ? -t_phi : e == 2 ? -t_beta : t_phi;
+      if (in < 0.0) t_phi = -t_phi, t_beta = -t_beta;
+      const double change = (pp.miss - k.p.miss) * t_phi + (pb.miss - k.p.miss) * t_beta;
+      towards[static_cast<std::size_t>(i)] = negative(k.p.miss) ? change > 0.0 : change < 0.0;
+      heading += towards[static_cast<std::size_t>(i)];
+    }
+    if (heading < 1) return;
+    for (int i = 0; i < x.count; ++i)
+      if (towards[static_cast<std::size_t>(i)]) newton(x.at[static_cast<std::size_t>(i)], dphi, dbeta);
+  };
+  auto split_cell = [&](auto& self, const std::array<Corner, 4>& c, int depth) -> void {
+    const int valid = c[0].p.valid + c[1].p.valid + c[2].p.valid + c[3].p.valid;
+    if (valid == 4) {
+      Crossings x;
+      for (std::size_t e = 0; e < 4; ++e) x.add(guess_on(c[e], c[(e + 1) % 4]), static_cast<int>(e), false);
+      solve_cell(c, x);
+      return;
+    }
+    if (valid == 0 || depth == 4) return;
+    const double pm = 0.5 * (c[0].phi + c[1].phi), bm = 0.5 * (c[0].beta + c[3].beta);
+    const Corner mid{pm, bm, at(pm, bm)};
+    const Corner bottom{pm, c[0].beta, at(pm, c[0].beta)}, top{pm, c[3].beta, at(pm, c[3].beta)};
+    const Corner left{c[0].phi, bm, at(c[0].phi, bm)}, right{c[1].phi, bm, at(c[1].phi, bm)};
+    self(self, {c[0], bottom, mid, left}, depth + 1);
+    self(self, {bottom, c[1], right, mid}, depth + 1);
+    self(self, {mid, right, c[2], top}, depth + 1);
+    self(self, {left, mid, top, c[3]}, depth + 1);
+  };
+  // The grid: all of φ's arc that `from` sees in 16 columns; β in 12 rows over the window where
+  // the paths' β lie (the length across of any path is at least the straight distance across,
+  // h_lo, and at most the tangents from both ends and a diameter, h_hi; each segment rises at least
+  // α/√(η_max² − α²) and at most α/√(η_min² − α²) per unit across). With `near`, a window around the
+  // φ and β of the path through that entry point, 2 by 2 (a neighbour's step moves β by about the
+  // step over the way to the entry point, and φ by about the step over the radius).
+  constexpr int kColumns = 16;
+  double phi_from = -phi_max, phi_to = phi_max, beta_from = 0.0, beta_to = 0.0;
+  int columns = kColumns, rows = 12;
+  {
+    const double h_lo = norm2(b1 - a, b2), h_hi = std::sqrt(a * a - 1.0) + 2.0 + std::sqrt(b1 * b1 + b2 * b2 - 1.0);
+    const double k_hi = std::abs(dz) / h_lo, k_lo = std::abs(dz) / h_hi;
+    const double hi = std::asin(std::min(1.0, eta_max * k_hi / std::sqrt(1.0 + k_hi * k_hi) / eta_min));
+    const double lo = std::asin(std::min(1.0, eta_min * k_lo / std::sqrt(1.0 + k_lo * k_lo) / eta_min));
+    const double margin = 1e-6 + 1e-3 * (hi - lo);
+    beta_from = std::max(-beta_max, (dz < 0.0 ? -hi : lo) - margin);
+    beta_to = std::min(beta_max, (dz < 0.0 ? -lo : hi) + margin);
+  }
+  if (near) {
+    const Vec3 d = near->point - from;
+    const double way = length(d);
+    const double beta = std::asin(std::clamp(eta_outside * dot(d, axis) / (way * eta_min), -1.0, 1.0));
+    const double window = near->window_rad * (1.0 + radius_m / way) / std::max(std::cos(beta), 1e-2);
+    beta_from = std::max(beta_from, beta - window), beta_to = std::min(beta_to, beta + window);
+    const double phi = std::atan2(dot(near->point - on_axis, e2), dot(near->point - on_axis, e1));
+    phi_from = std::max(-phi_max, phi - near->window_rad), phi_to = std::min(phi_max, phi + near->window_rad);
+    columns = 2, rows = 2;
+  }
+  if (!(phi_from < phi_to) || !(beta_from < beta_to)) return out;
+  // Row by row in β: the grid points and the crossings on the edges between them, of the row
+  // below and of this one.
+  struct Row {
+    std::array<Corner, kColumns + 1> point{};
+    std::array<CrossingsOf<2>, kColumns> edge{};
+  };
+  std::array<double, kColumns + 1> column_cos{}, column_sin{};
+  for (int i = 0; i <= columns; ++i) {
+    const double phi = phi_from + (phi_to - phi_from) * i / columns;
+    column_cos[static_cast<std::size_t>(i)] = std::cos(phi), column_sin[static_cast<std::size_t>(i)] = std::sin(phi);
+  }
+  auto grid_row = [&](double beta) {
+    Row r;
+    const double sin_beta = std::sin(beta);
+    for (std::size_t i = 0; i <= static_cast<std::size_t>(columns); ++i) {
+      const double phi = phi_from + (phi_to - phi_from) * static_cast<double>(i) / columns;
+      r.point[i] = Corner{phi, beta, at_cs(phi, column_cos[i], column_sin[i], beta, sin_beta)};
+    }
+    for (std::size_t i = 0; i < static_cast<std::size_t>(columns); ++i)
+      if (r.point[i].p.valid && r.point[i + 1].p.valid) r.edge[i].add(guess_on(r.point[i], r.point[i + 1]), 0, false);
+    // Two crossings close together about a grid point whose |side| is below its neighbours'.
+    for (std::size_t i = 1; i < static_cast<std::size_t>(columns); ++i) {
+      const Corner &l = r.point[i - 1], &m = r.point[i], &h = r.point[i + 1];
+      if (!l.p.valid || !m.p.valid || !h.p.valid || negative(l.p.side) != negative(m.p.side) ||
+          negative(m.p.side) != negative(h.p.side) || !(std::abs(m.p.side) < std::abs(l.p.side)) ||
+          !(std::abs(m.p.side) < std::abs(h.p.side)))
+        continue;
+      const double sign = negative(m.p.side) ? -1.0 : 1.0, ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+      auto f = [&](double phi) {
+        const Point p = at(phi, beta);
+        return p.valid ? sign * p.side : std::numeric_limits<double>::quiet_NaN();
+      };
+      double lo = l.phi, hi = h.phi, x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
+      double f1 = f(x1), f2 = f(x2);
+      for (int k = 0; k < 60 && f1 > 0.0 && f2 > 0.0 && hi - lo > 1e-14; ++k) {
+        if (f1 < f2) {
+          hi = x2, x2 = x1, f2 = f1, x1 = hi - ratio * (hi - lo), f1 = f(x1);
+        } else {
+          lo = x1, x1 = x2, f1 = f2, x2 = lo + ratio * (hi - lo), f2 = f(x2);
+        }
+      }
+      if (!(std::min(f1, f2) < 0.0)) continue;
+      const double phi_m = f1 <= f2 ? x1 : x2;
+      const Corner turn{phi_m, beta, at(phi_m, beta)};
+      for (const auto& c : {root_between(l, turn, l.p.side, turn.p.side), root_between(turn, h, turn.p.side, h.p.side)})
+        if (c) r.edge[c->phi < m.phi ? i - 1 : i].add(c, 0, true);
+    }
+    return r;
+  };
+  Row below = grid_row(beta_from);
+  for (int j = 1; j <= rows; ++j) {
+    const Row row = grid_row(beta_from + (beta_to - beta_from) * j / rows);
+    std::optional<Corner> left = guess_on(below.point[0], row.point[0]);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(columns); ++i) {
+      const std::array<Corner, 4> c{below.point[i], below.point[i + 1], row.point[i + 1], row.point[i]};
+      std::optional<Corner> right = guess_on(below.point[i + 1], row.point[i + 1]);
+      if (c[0].p.valid && c[1].p.valid && c[2].p.valid && c[3].p.valid) {
+        Crossings x;
+        for (int k = 0; k < below.edge[i].count; ++k)
+          x.add(below.edge[i].at[static_cast<std::size_t>(k)], 0, below.edge[i].exact[static_cast<std::size_t>(k)]);
+        for (int k = 0; k < row.edge[i].count; ++k)
+          x.add(row.edge[i].at[static_cast<std::size_t>(k)], 2, row.edge[i].exact[static_cast<std::size_t>(k)]);
+        x.add(left, 3, false), x.add(right, 1, false);
+        solve_cell(c, x);
+      } else {
+        split_cell(split_cell, c, 0);
+      }
+      left = right;
+    }
+    below = row;
+  }
+  for (int k = 0; k < count; ++k) {
+    const Corner& f = found[static_cast<std::size_t>(k)];
+    out.entry[static_cast<std::size_t>(k)] = on_axis + (e1 * std::cos(f.phi) + e2 * std::sin(f.phi)) * radius_m +
+                                             axis * (z_from + f.p.z1 * radius_m);
+    out.exit[static_cast<std::size_t>(k)] = on_axis + (e1 * f.p.exit_x + e2 * f.p.exit_y) * radius_m +
+                                            axis * (z_from + f.p.z2 * radius_m);
+  }
+  out.count = count;
   return out;
 }
 

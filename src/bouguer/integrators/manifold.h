@@ -2,7 +2,7 @@
 // Next-event estimation through smooth glass (#37's manifold next-event estimation: Hanika,
 // Droske, Fascione 2015, with each interface's refraction solved exactly rather than by Newton
 // steps on a mesh): one crossing of a plane (a face of a mesh or a cylinder's cap), or one or two
-// crossings of an exact sphere. A lamp behind a refracting surface (under water, behind a pane,
+// crossings of an exact sphere or a cylinder's side. A lamp behind a refracting surface (under water, behind a pane,
 // inside a glass globe; a fog inside a glass ball lit from outside; the caustic under a glass ball)
 // sends light to a vertex on the other side only along the paths where Snell's law holds at every
 // crossing. No BSDF or phase direction meets a point light, so the path tracer reached those paths
@@ -112,11 +112,27 @@ struct SpherePassages {
 SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
                                      double eta_inside, double eta_outside, const NearSolution* near = nullptr);
 
+// The paths from `from` to `to` (both outside the cylinder's side: farther from its axis than
+// the radius; the axis of infinite length, as above) through it: refracted in at entry[k], straight
+// across, refracted out at exit[k]. Each crossing's normal lies across the axis, so η times the
+// direction's part along the axis is one invariant α for the whole path, and across the axis the
+// path refracts as through a circle with Bravais' effective indices √(η² − α²), each segment rising
+// α/√(η² − α²) per unit of its length across. Over the entry angle φ and α, the paths are where
+// the ray traced across the axis passes `to`'s foot and its rise meets `to`'s height: found by
+// marching squares on a grid of 16 angles by 12 values of α over the window its paths can have
+// (close pairs along the grid's rows as scan_roots finds them; in a cell, Newton's method on both
+// conditions, or the curve of the first followed between two crossings), to 1e-14. Paths within
+// about 3° of grazing, and two paths closer than a cell where neither search sees them, may be
+// missed. `near`: as above, an entry point (a 2×2 grid around its angle and α).
+SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const Vec3& on_axis, const Vec3& axis,
+                                       double radius_m, double eta_inside, double eta_outside,
+                                       const NearSolution* near = nullptr);
+
 namespace manifold_detail {
 
 // One smooth interface, as next-event estimation crosses it: a plane through `point` with
 // `normal` (a face of a mesh, a cylinder's cap), a sphere (centre `point`, radius), or a
-// cylinder's side (crossed once); its media (front: the side the normal points to, outside a
+// cylinder's side (crossed once, or twice: through a rod); its media (front: the side the normal points to, outside a
 // sphere or a cylinder).
 struct Interface {
   enum class Shape { plane, sphere, cylinder };
@@ -127,7 +143,7 @@ struct Interface {
   Vec3 point, normal;
   double radius_m = 0.0;
   int medium_front = -1, medium_behind = -1;
-  bool twice = true;  // a sphere: crossed twice too (ManifoldCaster::twice)
+  bool twice = true;  // crossed twice too (a sphere: ManifoldCaster::twice)
   // The part of x − point across a cylinder's axis.
   Vec3 across_axis(const Vec3& x) const { return (x - point) - normal * dot(x - point, normal); }
   bool front(const Vec3& x) const {
@@ -157,38 +173,41 @@ struct Paths {
 inline Paths solve(const Interface& f, const Vec3& x, const Vec3& q, double eta_front, double eta_behind,
                    const NearSolution* near = nullptr) {
   Paths out;
-  const bool fx = f.front(x), fq = f.front(q);
-  if (f.shape == Interface::Shape::cylinder) {  // one crossing of its side
-    if (fx == fq) return out;
-    const SphereRefraction r =
-        fx ? cylinder_refraction_points(q, x, f.point, f.normal, f.radius_m, eta_behind, eta_front, near)
-           : cylinder_refraction_points(x, q, f.point, f.normal, f.radius_m, eta_behind, eta_front, near);
+  auto once = [&](const SphereRefraction& r) {
     for (int k = 0; k < r.count; ++k) out.crossing[static_cast<std::size_t>(k)][0] = r.points[static_cast<std::size_t>(k)];
     out.count = r.count;
     return out;
-  }
-  if (f.shape == Interface::Shape::plane) {
-    if (fx == fq) return out;
-    if (const auto y = refraction_point(x, q, f.point, f.normal, fx ? eta_front : eta_behind,
-                                        fx ? eta_behind : eta_front))
-      out.crossing[static_cast<std::size_t>(out.count++)][0] = *y;
-    return out;
-  }
-  if (fx && fq) {
-    if (!f.twice) return out;
-    const SpherePassages p = sphere_passage_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near);
+  };
+  auto twice = [&](const SpherePassages& p) {
     out.crossings = 2;
     for (int k = 0; k < p.count; ++k)
       out.crossing[static_cast<std::size_t>(k)] = {p.entry[static_cast<std::size_t>(k)],
                                                    p.exit[static_cast<std::size_t>(k)]};
     out.count = p.count;
     return out;
+  };
+  const bool fx = f.front(x), fq = f.front(q);
+  switch (f.shape) {
+    case Interface::Shape::plane:
+      if (fx == fq) return out;
+      if (const auto y = refraction_point(x, q, f.point, f.normal, fx ? eta_front : eta_behind,
+                                          fx ? eta_behind : eta_front))
+        out.crossing[static_cast<std::size_t>(out.count++)][0] = *y;
+      return out;
+    case Interface::Shape::cylinder:  // its side, once, or in and out (a rod)
+      if (fx && fq)
+        return f.twice ? twice(cylinder_passage_points(x, q, f.point, f.normal, f.radius_m, eta_behind, eta_front, near))
+                       : out;
+      if (fx == fq) return out;
+      return once(fx ? cylinder_refraction_points(q, x, f.point, f.normal, f.radius_m, eta_behind, eta_front, near)
+                     : cylinder_refraction_points(x, q, f.point, f.normal, f.radius_m, eta_behind, eta_front, near));
+    case Interface::Shape::sphere:
+      if (fx && fq)
+        return f.twice ? twice(sphere_passage_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near)) : out;
+      if (fx == fq) return out;  // both inside: no crossing
+      return once(fx ? sphere_refraction_points(q, x, f.point, f.radius_m, eta_behind, eta_front, near)
+                     : sphere_refraction_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near));
   }
-  if (fx == fq) return out;  // both inside: no crossing
-  const SphereRefraction r = fx ? sphere_refraction_points(q, x, f.point, f.radius_m, eta_behind, eta_front, near)
-                                : sphere_refraction_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near);
-  for (int k = 0; k < r.count; ++k) out.crossing[static_cast<std::size_t>(k)][0] = r.points[static_cast<std::size_t>(k)];
-  out.count = r.count;
   return out;
 }
 
@@ -657,8 +676,8 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
     }
   }
   // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path. A
-  // cylinder's side crossed twice, a glass rod between the vertex and the lamp: not yet.)
-  if (f.shape != Interface::Shape::plane && f.front(at.point) && f.front(lamp->p)) return {};
+  // cylinder's side crossed twice, a glass rod between the vertex and the lamp, is solved here.)
+  if (f.shape == Interface::Shape::sphere && f.front(at.point) && f.front(lamp->p)) return {};
   return delta_through(v, at, inside, f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
 }
 
