@@ -157,13 +157,19 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
         const double weight = (mis ? mis_weight(light_pdf, vertex_pdf, *t) : 1.0) * li->factor /
                               (light_pdf * light_ratio(*t));
         sum += f * sample_radiance(v, *li, w) * t->tr * static_cast<float>(weight);
-      } else if (interfaces && (glass || f.is_zero()) && lamp_through_chains(v, light)) {
+      } else if (interfaces && lamp_through_chains(v, light)) {
         // Hidden by smooth refracting faces of meshes (or turned away from the vertex, where a
         // refracted path may still reach it): on through them from the same point (manifold.h;
         // the chain's own seed finds nothing where the straight segment is clear or blocked).
+        // Hidden by an exact cylinder's side: on through it, where that side is the first surface
+        // the straight segment meets (which the walk can ask too).
         const Vec3 y = at.point + li->wi * li->distance_m;
-        sum += area_light_through_chain(v, at, light, y, p_choice * pdf_point(light, at.point, y), towards,
-                                        medium_towards, w, path_r_u, rng, rays);
+        const double point_pdf = p_choice * pdf_point(light, at.point, y);
+        if (glass || f.is_zero())
+          sum += area_light_through_chain(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng, rays);
+        if (s.glass_cylinders)
+          sum += area_light_through_cylinder(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng,
+                                             rays);
       }
     }
   }

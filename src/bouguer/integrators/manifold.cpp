@@ -779,45 +779,42 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
   return out;
 }
 
-CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCaster& c, const Vec3& x,
-                                          const std::array<Vec3, 2>& ys, int crossings, const Hit& light_hit) {
+namespace {
+
+// A walk's path from x through interface f (crossings ys, in order) to a lamp hit, whose point the
+// connection draws with density area_pdf per m² (0: it does not): the walk's refraction
+// probabilities at its crossings, and the connection's density for the path (its full solve for
+// that point, the walk's path among its solutions to the walk's single precision, and the ray tube
+// there).
+CasterPathDensities interface_path_densities(const RenderScene& s, const manifold_detail::Interface& f,
+                                             const Vec3& x, std::span<const Vec3> ys, const Hit& light_hit,
+                                             double area_pdf) {
   using namespace manifold_detail;
   CasterPathDensities out;
-  const Interface f = caster_interface(s, c);
   const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
   const double eta_behind = s.media[static_cast<std::size_t>(f.medium_behind)].ior_reference;
   const Vec3& q = light_hit.point;
+  const int crossings = static_cast<int>(ys.size());
   // The walk's refraction choices, at the crossings where it made them.
   Vec3 from = x;
   bool front = f.front(x);
-  for (int k = 0; k < crossings; ++k) {
-    const Vec3 y = ys[static_cast<std::size_t>(k)], n = f.normal_at(y), d = normalize(y - from);
+  for (const Vec3& y : ys) {
+    const Vec3 n = f.normal_at(y), d = normalize(y - from);
     const double eta_i = front ? eta_front : eta_behind, eta_t = front ? eta_behind : eta_front;
     const double cos_i = std::abs(dot(d, n)), cos_t = cos_theta_transmitted(cos_i, eta_i, eta_t);
     out.refraction *= cos_t > 0.0 ? 1.0 - fresnel_dielectric(cos_i, cos_t, eta_i, eta_t) : 0.0;
     from = y, front = !front;
   }
-  // The point's density: the light's choice by power, its point by area (a sphere: on its cap).
-  const Surface& surface = s.surfaces[light_hit.geometry];
-  const auto index = static_cast<std::size_t>(surface.first_light) + light_hit.primitive;
-  const Light& light = s.lights[index];
-  double area_pdf = 0.0;
-  if (const auto* a = std::get_if<AreaLight>(&light)) {
-    area_pdf = a->area_m2 > 0.0 ? 1.0 / a->area_m2 : 0.0;
-  } else if (const auto* sphere = std::get_if<SphereLight>(&light)) {
-    const auto cap = facing_cap(*sphere, c);
-    if (cap && dot(normalize(q - sphere->centre_m), cap->axis) > cap->mu0) area_pdf = cap->pdf_area;
-  }
-  area_pdf *= s.area_lights.pmf[index];
-  if (!(area_pdf > 0.0)) return out;
-  // The connection's own solve for this point, the path among its solutions (to the walk's
-  // single precision), and the ray tube there.
+  if (!(area_pdf > 0.0) || crossings < 1 || crossings > 2) return out;
   const Paths paths = solve(f, x, q, eta_front, eta_behind);
   if (paths.crossings != crossings) return out;
-  const double tolerance = 1e-5 * (c.radius_m + length(q - x));
+  const double tolerance = 1e-5 * (f.radius_m + length(q - x));
   for (int k = 0; k < paths.count; ++k) {
     const auto& exact = paths.crossing[static_cast<std::size_t>(k)];
-    if (length(exact[0] - ys[0]) > tolerance) continue;
+    bool same = true;
+    for (int c = 0; c < crossings; ++c)
+      same = same && length(exact[static_cast<std::size_t>(c)] - ys[static_cast<std::size_t>(c)]) <= tolerance;
+    if (!same) continue;
     const Vec3& last = exact[static_cast<std::size_t>(crossings - 1)];
     double path_m = length(exact[0] - x) + length(q - last);
     if (crossings == 2) path_m += length(exact[1] - exact[0]);
@@ -828,6 +825,42 @@ CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCa
     return out;
   }
   return out;
+}
+
+}  // namespace
+
+CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCaster& c, const Vec3& x,
+                                          const std::array<Vec3, 2>& ys, int crossings, const Hit& light_hit) {
+  using namespace manifold_detail;
+  // The point's density: the light's choice by power, its point by area (a sphere: on its cap).
+  const Surface& surface = s.surfaces[light_hit.geometry];
+  const auto index = static_cast<std::size_t>(surface.first_light) + light_hit.primitive;
+  const Light& light = s.lights[index];
+  double area_pdf = 0.0;
+  if (const auto* a = std::get_if<AreaLight>(&light)) {
+    area_pdf = a->area_m2 > 0.0 ? 1.0 / a->area_m2 : 0.0;
+  } else if (const auto* sphere = std::get_if<SphereLight>(&light)) {
+    const auto cap = facing_cap(*sphere, c);
+    if (cap && dot(normalize(light_hit.point - sphere->centre_m), cap->axis) > cap->mu0) area_pdf = cap->pdf_area;
+  }
+  area_pdf *= s.area_lights.pmf[index];
+  return interface_path_densities(s, caster_interface(s, c), x,
+                                  std::span<const Vec3>(ys.data(), static_cast<std::size_t>(crossings)), light_hit,
+                                  area_pdf);
+}
+
+CasterPathDensities cylinder_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                            std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const Vec3& q = light_hit.point;
+  const auto index = static_cast<std::size_t>(s.surfaces[light_hit.geometry].first_light) + light_hit.primitive;
+  const double point_pdf = s.area_lights.pmf[index] * pdf_point(s.lights[index], x, q);
+  // The connection's own first surface for this point, its interface.
+  const InsideSet towards = x_hit ? inside_towards(s, *x_hit, inside, normalize(q - x)) : inside;
+  const auto first = first_surface(s, x, x_hit, towards, q, rays);
+  const auto f = first ? smooth_interface(s, first->hit, first->seen) : std::nullopt;
+  if (!f || f->shape != Interface::Shape::cylinder) return {};  // (it does not draw the path)
+  return interface_path_densities(s, *f, x, ys, light_hit, point_pdf);
 }
 
 CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,

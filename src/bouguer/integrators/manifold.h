@@ -515,6 +515,33 @@ SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& 
   return fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * tube / mean_ratio(s, path_r_u, r->r_l * e.r_l));
 }
 
+// The smooth interface a connection refracts through at `hit` (seen there as `seen`): a face of
+// a mesh or a cylinder's cap (its plane: a cap stays a plane under any affine transform), an exact
+// sphere, or a cylinder's side that its transform keeps circular. Nothing where it is not smooth
+// glass (rough, index-matched, dispersive) or is an ellipsoid or an elliptic cylinder (not yet).
+// (A disk bounds no medium, so it is never an interface.)
+inline std::optional<Interface> smooth_interface(const RenderScene& s, const Hit& hit, const SurfaceSeen& seen) {
+  if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched)
+    return std::nullopt;
+  if (s.media[static_cast<std::size_t>(seen.medium_front)].dispersive ||
+      s.media[static_cast<std::size_t>(seen.medium_behind)].dispersive)
+    return std::nullopt;
+  Interface f{hit.geometry, Interface::Shape::plane, hit.point, hit.normal, 0.0, seen.medium_front, seen.medium_behind};
+  const AnalyticShape* shape = s.rays.analytic(hit.geometry);
+  if (!shape) return f;
+  if (const auto* sphere = std::get_if<SphereSurface>(&shape->surface)) {
+    const double scale = shape->to_world.similarity_scale();
+    if (scale == 0.0) return std::nullopt;
+    f.shape = Interface::Shape::sphere, f.point = shape->to_world.apply(Vec3{}), f.radius_m = sphere->radius_m * scale;
+  } else if (const auto* cylinder = std::get_if<CylinderSurface>(&shape->surface);
+             cylinder && hit.primitive == static_cast<std::uint32_t>(AnalyticPart::side)) {
+    const auto side = circular_side(*cylinder, shape->to_world);
+    if (!side) return std::nullopt;
+    f.shape = Interface::Shape::cylinder, f.point = side->on_axis, f.normal = side->axis, f.radius_m = side->radius_m;
+  }
+  return f;
+}
+
 inline Interface caster_interface(const RenderScene& s, const ManifoldCaster& c) {
   const Surface& surface = s.surfaces[c.geometry];
   return Interface{c.geometry, Interface::Shape::sphere, c.centre_m, Vec3{}, c.radius_m, surface.medium_front,
@@ -623,6 +650,12 @@ CasterPathDensities caster_path_densities(const RenderScene& s, const ManifoldCa
 CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
                                          std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays);
 
+// The same for a walk's path through an exact cylinder's side (crossings `ys`, one or two, on it)
+// to a lamp hit: the connection draws it where the straight segment from x to the lamp point meets
+// that side first (area_light_through_cylinder) and its solve finds the walk's path.
+CasterPathDensities cylinder_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                            std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays);
+
 // The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
 // whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals or
 // a cylinder's cap, solved on its plane, a chain of mesh faces (manifold_chain.h), or an exact
@@ -652,33 +685,36 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
       return delta_through_chain(v, at, *chain, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
     if (smooth_shaded) return {};
   }
-  const SurfaceSeen seen = surface_seen(s, blocker, inside);
-  if (seen.surface.kind != SurfaceKind::interface || seen.surface.roughness != 0.0 || seen.index_matched) return {};
-  if (s.media[static_cast<std::size_t>(seen.medium_front)].dispersive ||
-      s.media[static_cast<std::size_t>(seen.medium_behind)].dispersive)
-    return {};
-  const AnalyticShape* shape = s.rays.analytic(blocker.geometry);
-  Interface f{blocker.geometry, Interface::Shape::plane, blocker.point, blocker.normal, 0.0, seen.medium_front,
-              seen.medium_behind};
-  if (shape) {
-    // A cylinder's caps stay planes under any affine transform: solved as a mesh's face. (A disk
-    // bounds no medium, so it is never an interface.)
-    const auto* cylinder = std::get_if<CylinderSurface>(&shape->surface);
-    const bool flat = cylinder && blocker.primitive != static_cast<std::uint32_t>(AnalyticPart::side);
-    if (const auto* sphere = std::get_if<SphereSurface>(&shape->surface)) {
-      const double scale = shape->to_world.similarity_scale();
-      if (scale == 0.0) return {};  // an ellipsoid: not yet
-      f.shape = Interface::Shape::sphere, f.point = shape->to_world.apply(Vec3{}), f.radius_m = sphere->radius_m * scale;
-    } else if (cylinder && !flat) {
-      const auto side = circular_side(*cylinder, shape->to_world);
-      if (!side) return {};  // an elliptic cylinder: not yet
-      f.shape = Interface::Shape::cylinder, f.point = side->on_axis, f.normal = side->axis, f.radius_m = side->radius_m;
-    }
-  }
+  const auto f = smooth_interface(s, blocker, surface_seen(s, blocker, inside));
+  if (!f) return {};
   // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path. A
   // cylinder's side crossed twice, a glass rod between the vertex and the lamp, is solved here.)
-  if (f.shape == Interface::Shape::sphere && f.front(at.point) && f.front(lamp->p)) return {};
-  return delta_through(v, at, inside, f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
+  if (f->shape == Interface::Shape::sphere && f->front(at.point) && f->front(lamp->p)) return {};
+  return delta_through(v, at, inside, *f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
+}
+
+// The light of an area or spherical lamp at vertex `at` through an exact cylinder's side (once, or
+// in and out: a rod), from the point y next-event estimation drew on it for the straight line
+// (point_pdf: its density per m², the lamp's choice by power included), where the first surface
+// that straight segment meets is that side (first_surface). Then as `through`: the solved paths,
+// each weighted by the power heuristic against the walk's own paths through the same side (its
+// direction's density times the probability of refracting at each crossing: radiance.h,
+// CylinderTrail and cylinder_path_densities, which asks the same first surface).
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> area_light_through_cylinder(const SceneView<N>& v, const PathVertex& at, const Light& light,
+                                               const Vec3& y, double point_pdf, Towards towards,
+                                               MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                                               const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  if (!(point_pdf > 0.0)) return {};
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(y - at.point)) : at.inside;
+  const auto first = first_surface(s, at.point, at.hit, inside, y, rays);
+  if (!first) return {};
+  const auto f = smooth_interface(s, first->hit, first->seen);
+  if (!f || f->shape != Interface::Shape::cylinder) return {};
+  auto end = [&](const Reach<N>& r) { return area_lamp_end(v, light, y, point_pdf, r, w, rng, rays); };
+  return through(v, at, inside, *f, y, towards, medium_towards, w, path_r_u, rng, rays, end);
 }
 
 // The light of the delta lights and of one area or spherical light (its index drawn by power with

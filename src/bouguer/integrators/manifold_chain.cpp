@@ -293,6 +293,18 @@ Vec3 chain_shading_normal(const RenderScene& s, const Hit& on, const Vec3& point
   return shading_normal(triangle_of(s, on), point);
 }
 
+std::optional<FirstSurface> first_surface(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                          const Vec3& q, std::uint64_t& rays) {
+  const double d = length(q - x);
+  if (!(d > 0.0)) return std::nullopt;
+  const Vec3 dir = (q - x) / d;
+  // (Short of q as seed_chain's.)
+  const double short_m = std::max(0.0, d * (1.0 - 1e-4) - 2.0 * ray_offset_m(q));
+  const auto m = next_surface(s, x_hit ? offset_ray_origin(*x_hit, dir) : x, dir, short_m, inside, rays);
+  if (!m) return std::nullopt;
+  return FirstSurface{m->hit, m->seen};
+}
+
 std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q,
                                 std::uint64_t& rays) {
   Chain c;

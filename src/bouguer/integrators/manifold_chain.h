@@ -22,6 +22,7 @@
 
 #include "bouguer/core/math.h"
 #include "bouguer/geometry/ray_scene.h"
+#include "bouguer/integrators/surface_assembly.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/nested.h"
 
@@ -38,6 +39,17 @@ struct ChainCrossing {
   int medium_from = -1, medium_to = -1;
   InsideSet inside_to = 0;
 };
+
+// The surface the straight segment from x (on x_hit, or in a medium: null) to q meets first, short
+// of q, crossing index-matched ones as a shadow ray does (`inside`: the nested set leaving x), and
+// how it is seen there: nothing where none is in the way. Deterministic, so that a walk can ask
+// what a connection from x found.
+struct FirstSurface {
+  Hit hit;
+  SurfaceSeen seen;
+};
+std::optional<FirstSurface> first_surface(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                          const Vec3& q, std::uint64_t& rays);
 
 // The crossings in order from x towards q; `inside_x`: the nested set leaving x.
 struct Chain {

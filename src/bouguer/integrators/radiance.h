@@ -75,17 +75,27 @@ struct CasterTrail {
 // the connecting vertex, which may draw the same path (chain_path_densities runs the connection's
 // own seed and solve for the lamp point and looks for the walk's path among what they find).
 // Reflections and exact shapes close it.
-struct ChainTrail {
-  Refractions<kMaxChain> path;
-  Vec3 x{};  // the connecting vertex, on the surface x_hit (when on_surface)
+// The vertex a trail's connection starts from: its point, on the surface x_hit (when on_surface),
+// and the nested set there (a surface's as the walk arrived).
+struct ConnectingVertex {
+  Vec3 x{};
   bool on_surface = false;
   Hit x_hit{};
-  InsideSet inside = 0;  // the nested set there (a surface's as the walk arrived)
+  InsideSet inside = 0;
+  void set(const Vec3& at, const Hit* hit, InsideSet in) {
+    x = at, on_surface = hit != nullptr, inside = in;
+    if (hit) x_hit = *hit;
+  }
+  const Hit* hit() const { return on_surface ? &x_hit : nullptr; }
+};
+
+struct ChainTrail {
+  Refractions<kMaxChain> path;
+  ConnectingVertex from;
 
   void start(bool connected, const Vec3& at, const Hit* hit, InsideSet in) {
     path.restart(connected);
-    x = at, on_surface = hit != nullptr, inside = in;
-    if (hit) x_hit = *hit;
+    from.set(at, hit, in);
   }
   void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
     if (!path.settle(-wo_here)) return;
@@ -96,6 +106,35 @@ struct ChainTrail {
     path.add(hit, wo_here, pdf_dir);
   }
   // A lamp reached along d after refracting at least once.
+  bool reached_through(const Vec3& d) { return path.settle(d) && path.crossings > 0; }
+};
+
+// The same for an exact cylinder's side (manifold.h: area_light_through_cylinder): the walk's
+// refractions at the side of one cylinder, once or in and out. A lamp it then reaches is weighted
+// against the connection from the connecting vertex where the straight segment to the lamp point
+// meets that side first (cylinder_path_densities). Any other surface, or the cylinder's cap, closes
+// it.
+struct CylinderTrail {
+  Refractions<2> path;
+  ConnectingVertex from;
+  std::uint32_t geometry = 0;
+
+  void start(bool connected, const Vec3& at, const Hit* hit, InsideSet in) {
+    path.restart(connected);
+    from.set(at, hit, in);
+  }
+  void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
+    if (!path.settle(-wo_here)) return;
+    const AnalyticShape* shape = scene.rays.analytic(hit.geometry);
+    if (!shape || !std::holds_alternative<CylinderSurface>(shape->surface) ||
+        hit.primitive != static_cast<std::uint32_t>(AnalyticPart::side) ||
+        (path.crossings > 0 && hit.geometry != geometry) || path.full()) {
+      path.open = false;
+      return;
+    }
+    geometry = hit.geometry;
+    path.add(hit, wo_here, pdf_dir);
+  }
   bool reached_through(const Vec3& d) { return path.settle(d) && path.crossings > 0; }
 };
 
@@ -144,6 +183,7 @@ struct Radiance {
   NextEvent next_event = NextEvent::lights_and_map_weighted;
   CasterTrail casters = {};
   ChainTrail chains = {};
+  CylinderTrail cylinders = {};
   // Path guiding (render/path_guide.h): the guide drawn from (null: none), its mixture at the
   // surface vertex just handed over, and, while it trains (integrators/guiding.h), where the walk's
   // records go.
@@ -202,6 +242,10 @@ struct Radiance {
     return next_event == NextEvent::lights_map_and_interfaces && v.any_lamp_through_chains();
   }
 
+  // And through exact cylinders' sides, where the scene has any that next-event estimation
+  // refracts through (direct_light.h).
+  bool through_cylinders() const { return through_chains() && v.scene.glass_cylinders; }
+
   GuideTrail& exit_guide_trail() { return trail; }
   const SurfaceDistance& surface_distance() const { return near; }
   float split_weight() const { return bin_weight; }
@@ -252,8 +296,15 @@ struct Radiance {
     if (chains.path.open && v.lamp_through_chains(x.hit.geometry) &&
         chains.reached_through(d)) {  // (manifold.h: area_light_through_chain)
       add_against_connection(x, chains.path.pdf_x,
-                             chain_path_densities(scene, chains.x, chains.on_surface ? &chains.x_hit : nullptr,
-                                                  chains.inside, chains.path.points(), x.hit, rays));
+                             chain_path_densities(scene, chains.from.x, chains.from.hit(), chains.from.inside,
+                                                  chains.path.points(), x.hit, rays));
+      return;
+    }
+    if (cylinders.path.open && v.lamp_through_chains(x.hit.geometry) &&
+        cylinders.reached_through(d)) {  // (manifold.h: area_light_through_cylinder)
+      add_against_connection(x, cylinders.path.pdf_x,
+                             cylinder_path_densities(scene, cylinders.from.x, cylinders.from.hit(),
+                                                     cylinders.from.inside, cylinders.path.points(), x.hit, rays));
       return;
     }
     const double weight =
@@ -267,7 +318,7 @@ struct Radiance {
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
     return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight,
-                    next_event, casters, chains, guide, here, learning};
+                    next_event, casters, chains, cylinders, guide, here, learning};
   }
   void join(const Radiance& child) {
     child.finish_learning();
@@ -292,9 +343,11 @@ struct Radiance {
       if (guided) trail.guide = surface_exit_guide();
       casters.start(through_casters(), x.point);
       chains.start(through_chains(), x.point, &x.hit, x.event.inside);
+      cylinders.start(through_cylinders(), x.point, &x.hit, x.event.inside);
     } else {
       if (casters.path.open) casters.specular(v.scene, x.hit, x.wo, state.pdf_dir);
       if (chains.path.open) chains.specular(v.scene, x.hit, x.wo, state.pdf_dir);
+      if (cylinders.path.open) cylinders.specular(v.scene, x.hit, x.wo, state.pdf_dir);
     }
     moved_to(x.point, x.delta);
     return true;
@@ -309,6 +362,7 @@ struct Radiance {
     const MediumPoint at{point, state.ray.direction, scattering_medium(scene, medium)->phase, medium, state.inside};
     casters.start(through_casters(), point);
     chains.start(through_chains(), point, nullptr, state.inside);
+    cylinders.start(through_cylinders(), point, nullptr, state.inside);
     // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
     const double q = nee_probability_in_medium(v, medium, point, w, near);
     if (q >= 1.0 || rng.next_double() < q)

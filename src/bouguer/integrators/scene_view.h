@@ -32,8 +32,8 @@ struct SceneView {
   int max_depth = 32;
   bool exit_guide = true;  // the path tracer's ExitGuide (exit_guide.h)
   bool manifold = true;    // the path tracer's next-event estimation through glass (manifold.h)
-  // With it, area and spherical lamps through chains of mesh faces: all, none, or (unset) the
-  // compiled scene's small lamps (Surface::small_lamp).
+  // With it, area and spherical lamps through chains of mesh faces and exact cylinders' sides:
+  // all, none, or (unset) the compiled scene's small lamps (Surface::small_lamp).
   std::optional<bool> area_lamp_chains = std::nullopt;
   bool lamp_through_chains(std::uint32_t emitter_geometry) const {
     return area_lamp_chains.value_or(scene.surfaces[emitter_geometry].small_lamp);

@@ -548,18 +548,25 @@ void add_casters(RenderScene& s) {
 }
 
 // Which emitters are small seen from the glass (Surface::small_lamp): those that subtend less than
-// kLampChainSolidAngle seen from the nearest point of a smooth refracting mesh (an area light's whole emitter: its area over
-// the squared distance from its centroid; a sphere: its cone from its centre's distance). A lamp
-// inside a glass globe is measured from the globe's wall.
+// kLampChainSolidAngle seen from the nearest point of a smooth refracting mesh, or of an exact
+// cylinder's bounding box (an area light's whole emitter: its area over the squared distance from
+// its centroid; a sphere: its cone from its centre's distance). A lamp inside a glass globe is
+// measured from the globe's wall. Also whether there is such a cylinder (RenderScene::glass_cylinders).
 void mark_small_lamps(RenderScene& s) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<std::uint32_t> glass;
   std::size_t triangles = 0, emitters = 0;
   for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
     const Surface& f = s.surfaces[g];
-    if (f.kind == SurfaceKind::interface && f.roughness == 0.0 && !f.index_matched && f.normal_map < 0 &&
-        !s.rays.analytic(g))
-      glass.push_back(g), triangles += s.rays.mesh(g).triangles.size();
+    const bool smooth = f.kind == SurfaceKind::interface && f.roughness == 0.0 && !f.index_matched && f.normal_map < 0;
+    const AnalyticShape* shape = s.rays.analytic(g);
+    if (smooth && !shape) glass.push_back(g), triangles += s.rays.mesh(g).triangles.size();
+    // An exact cylinder whose side stays circular: its distance by its bounding box below.
+    const auto* cylinder = shape ? std::get_if<CylinderSurface>(&shape->surface) : nullptr;
+    if (smooth && cylinder && circular_side(*cylinder, shape->to_world) && f.medium_front >= 0 &&
+        f.medium_behind >= 0 && !s.media[static_cast<std::size_t>(f.medium_front)].dispersive &&
+        !s.media[static_cast<std::size_t>(f.medium_behind)].dispersive)
+      glass.push_back(g), s.glass_cylinders = true;
     emitters += f.kind == SurfaceKind::emitter;
   }
   if (glass.empty()) return;
@@ -576,7 +583,7 @@ void mark_small_lamps(RenderScene& s) {
       const Vec3 outside{std::max({0.0, lo.x - p.x, p.x - hi.x}), std::max({0.0, lo.y - p.y, p.y - hi.y}),
                          std::max({0.0, lo.z - p.z, p.z - hi.z})};
       const double to_box = length(outside);
-      if (!every_triangle || to_box >= best) {
+      if (!every_triangle || to_box >= best || s.rays.analytic(glass[k])) {
         best = std::min(best, to_box);
         continue;
       }

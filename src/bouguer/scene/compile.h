@@ -30,8 +30,9 @@ struct Surface {
   int material = -1;       // opaque surfaces: index into materials
   int first_light = -1;    // emitters: the area light of primitive p is lights[first_light + p]
   // Emitters: whether they subtend less than kLampChainSolidAngle seen from the nearest smooth
-  // refracting mesh, where next-event estimation goes on to them through chains of mesh faces
-  // unless the render says otherwise (integrators/manifold.h: area_light_through_chain;
+  // refracting mesh or exact cylinder (by its bounding box), where next-event estimation goes on to
+  // them through chains of mesh faces and cylinders' sides unless the render says otherwise
+  // (integrators/manifold.h: area_light_through_chain, area_light_through_cylinder;
   // RenderSettings::area_lamp_chains).
   bool small_lamp = false;
   double roughness = 0.0;  // interfaces: GGX alpha (0: smooth)
@@ -112,10 +113,13 @@ struct RenderScene {
   std::vector<DielectricAlbedo> dielectric_albedo;
   std::vector<ManifoldCaster> casters;  // at most kMaxCasters, in geometry order
   bool small_lamps = false;  // whether any emitter's Surface::small_lamp is set
+  // Whether any exact cylinder's side is smooth glass that next-event estimation refracts
+  // through to area lamps (manifold.h: area_light_through_cylinder).
+  bool glass_cylinders = false;
 };
 // Unless the scene says otherwise (RenderSettings::area_lamp_chains), an area or spherical lamp is
-// reached through chains of mesh faces where it subtends less than this seen from the nearest
-// smooth refracting mesh (a disk about 14° across: Surface::small_lamp): a larger lamp is found often enough by
+// reached through chains of mesh faces and exact cylinders' sides where it subtends less than this
+// seen from the nearest such glass (a disk about 14° across: Surface::small_lamp): a larger lamp is found often enough by
 // the walk's own refracted directions that a chain at every vertex costs more than it saves
 // (docs/performance.md: sunset-in-a-tank's panel 3.6 times the time for 8 % less error).
 inline constexpr double kLampChainSolidAngle = 0.05;  // sr

@@ -61,10 +61,10 @@ struct RenderSettings {
   // tracer as before it, lamps behind glass reached only by its own directions (point and spot
   // lamps behind glass not at all).
   bool manifold = true;
-  // path: with `manifold`, area and spherical lamps hidden by smooth faces of meshes reached through
-  // their chain (integrators/manifold.h: area_light_through_chain). Unset: for lamps that subtend
-  // less than kLampChainSolidAngle from the nearest such mesh (RenderScene: Surface::small_lamp);
-  // set: for every lamp, or none.
+  // path: with `manifold`, area and spherical lamps hidden by smooth faces of meshes or by an exact
+  // cylinder's side reached through them (integrators/manifold.h: area_light_through_chain,
+  // area_light_through_cylinder). Unset: for lamps that subtend less than kLampChainSolidAngle from
+  // the nearest such glass (RenderScene: Surface::small_lamp); set: for every lamp, or none.
   std::optional<bool> area_lamp_chains;
   // path: path guiding at diffuse surfaces (integrators/guiding.h), trained before the render; off
   // unless asked for (guiding_enabled).
