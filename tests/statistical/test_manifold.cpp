@@ -1297,18 +1297,81 @@ TEST(ManifoldNextEvent, WhiteFurnaceOfLampsWithChains) {
   expect_white_furnace_of_lamps(R"(, "tessellate": true, "segments": 48)", "chains");
 }
 
-// Exact cylinders: a lying rod of clear glass in front of the white ball and a standing column of
-// the scattering liquid. The walls' points drawn for the straight line, hidden by a cylinder's side,
-// are reached through it (area_light_through_cylinder, once from inside the column, in and out
-// through the rod; the scene asks for it, as for the chains), and the walks that refract onto a
-// wall through the side are weighted against them (CylinderTrail).
+// Exact cylinders: a lying rod of clear glass in front of the white ball, a standing column of the
+// scattering liquid and, behind the rod, the clear ball (a caster). The walls' points drawn for the
+// straight line, hidden by a cylinder's side, are reached through it (area_light_through_cylinder,
+// once from inside the column, in and out through the rod; the scene asks for it, as for the
+// chains), and the walks that refract onto a wall through the side are weighted against them
+// (CylinderTrail), except where the ball lies across the straight segment and next-event
+// estimation draws nothing there.
 TEST(ManifoldNextEvent, WhiteFurnaceOfLampsWithCylinders) {
   expect_white_furnace_of_lamps("", "cylinders", R"(,
       {"name": "rod", "shape": {"type": "cylinder", "radius": 0.015, "height": 0.16},
        "transform": [{"translate": [0, -0.08, 0]}, {"rotate_deg": [90, [0, 0, 1]]}, {"translate": [0, -0.01, 0.04]}],
        "inside": "glass"},
+      {"name": "clear", "shape": {"type": "sphere", "radius": 0.03}, "transform": [{"translate": [0.0, -0.03, -0.05]}],
+       "inside": "glass"},
       {"name": "column", "shape": {"type": "cylinder", "radius": 0.02, "height": 0.08},
        "transform": [{"translate": [0.05, -0.05, -0.01]}], "inside": "milky"})");
+}
+
+// Where a caster lies across the straight segment from a vertex to the lamp point, next-event
+// estimation draws no shadow ray and so no connection through a rod either (direct_light.h:
+// caster_between); the walk's path through the rod to that point must then keep all its weight
+// (cylinder_path_densities: no connection density). A rod along z, a spherical lamp beyond it, and
+// (in the second scene, listed last so that the ids stay) a glass ball across the straight
+// segment: the walk's path through the rod, solved in the first, gets a connection density there
+// and none in the second. Before, the walk asked only for the first surface (the rod) and gave
+// away a share of the path that no connection carried.
+TEST(ManifoldNextEvent, NoConnectionThroughARodWhereABallLiesAcrossTheStraightSegment) {
+  using namespace manifold_detail;
+  auto scene = [](bool ball) {
+    return compile(parse_scene(fmt::format(R"({{
+    "camera": {{"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [4, 4]}},
+    "render": {{"integrator": "path"}},
+    "world_medium": "vacuum",
+    "media": {{"glass": {{"ior": 1.5}}}},
+    "objects": [
+      {{"name": "rod", "shape": {{"type": "cylinder", "radius": 0.01, "height": 0.2}},
+        "transform": [{{"translate": [0, -0.1, 0]}}, {{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 0.045, 0]}}],
+        "inside": "glass"}},
+      {{"name": "lamp", "shape": {{"type": "sphere", "radius": 0.01}}, "transform": [{{"translate": [0.11, 0.16, 0]}}],
+        "emission": {{"spectrum": "D65", "scale": 1}}}}{}
+    ],
+    "background": {{"spectrum": "E", "scale": 0}}
+  }})",
+                                           ball ? R"(,
+      {"name": "ball", "shape": {"type": "sphere", "radius": 0.02}, "transform": [{"translate": [0.05, 0.1, 0]}],
+       "inside": "glass"})"
+                                                : ""),
+                               "rod.json"));
+  };
+  const RenderScene clear = scene(false), blocked = scene(true);
+  ASSERT_EQ(blocked.casters.size(), 1u);
+  const Vec3 x{-0.05, 0.0, 0.002}, centre{0.11, 0.16, 0.0};
+  const Vec3 q = centre - normalize(centre - x) * 0.01;  // the lamp's point facing x
+  EXPECT_FALSE(caster_between(clear, x, q));
+  EXPECT_TRUE(caster_between(blocked, x, q));
+  std::uint64_t rays = 0;
+  const auto first = first_surface(clear, x, nullptr, 0, q, rays);
+  ASSERT_TRUE(first);
+  const auto f = smooth_interface(clear, first->hit, first->seen);
+  ASSERT_TRUE(f && f->shape == Interface::Shape::cylinder);
+  const Paths p = solve(*f, x, q, 1.0, 1.5);
+  ASSERT_GE(p.count, 1);
+  ASSERT_EQ(p.crossings, 2);
+  const std::array<Vec3, 2>& ys = p.crossing[0];
+  const Vec3 d = normalize(q - ys[1]);
+  const auto hit = clear.rays.intersect(Ray{ys[1] + d * 1e-6, d, 1.0});
+  ASSERT_TRUE(hit);
+  ASSERT_EQ(clear.surfaces[hit->geometry].kind, SurfaceKind::emitter);
+  const std::span<const Vec3> points(ys.data(), 2);
+  const CasterPathDensities there = cylinder_path_densities(clear, x, nullptr, 0, points, *hit, rays);
+  const CasterPathDensities behind_ball = cylinder_path_densities(blocked, x, nullptr, 0, points, *hit, rays);
+  std::printf("the walk's path through the rod: connection density %.4g without the ball, %.4g with it\n",
+              there.connection, behind_ball.connection);
+  EXPECT_GT(there.connection, 0.0);
+  EXPECT_EQ(behind_ball.connection, 0.0);
 }
 
 // Which lamps next-event estimation reaches through chains of mesh faces unless the scene says
@@ -1354,6 +1417,11 @@ TEST(ManifoldNextEvent, AreaLampChainsRunForLampsSmallSeenFromTheGlass) {
   EXPECT_EQ(small(bulb, globe), (std::vector<bool>{true}));
   const char* exact_globe = R"({"name": "globe", "shape": {"type": "sphere", "radius": "50 mm"}, "inside": "glass"})";
   EXPECT_EQ(small(bulb, exact_globe), (std::vector<bool>{false}));
+  // Inside an exact glass tube (50 mm in radius, 200 mm long, the bulb halfway up its axis): from
+  // its wall, 0.03 sr (measured to its bounding box, which holds the bulb, it read as large).
+  const char* tube = R"({"name": "tube", "shape": {"type": "cylinder", "radius": "50 mm", "height": "200 mm"},
+      "transform": [{"translate": [0, "-100 mm", 0]}], "inside": "glass"})";
+  EXPECT_EQ(small(bulb, tube), (std::vector<bool>{true}));
   // The render's setting over the compiled flags.
   RenderScene s;
   s.surfaces.resize(2);

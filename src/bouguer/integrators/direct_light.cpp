@@ -87,31 +87,6 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
 
 namespace {
 
-// Whether the segment from a to b certainly crosses a caster's sphere (RenderScene::casters: exact
-// smooth refracting spheres): then the straight shadow ray to the area lamp's point is blocked, and
-// nothing but the connections through the caster (through_casters) reaches that point from a (a
-// chain of mesh faces does not seed through an analytic sphere). Skipping the ray saves its trace
-// and its ratio tracking from every scattering event inside a ball of milk. Only without
-// priorities (an object with one may make the sphere's boundary a false one), and not within a
-// millionth of the radius of the sphere, where rounding decides what the ray meets. (Not for point
-// and spot lamps: the first surface their ray meets may be a flat face or a cylinder's side whose
-// own solve bends the path past the caster.)
-bool caster_between(const RenderScene& s, const Vec3& a, const Vec3& b) {
-  if (!s.nested.empty()) return false;
-  for (const ManifoldCaster& c : s.casters) {
-    const double r = c.radius_m, near = r * (1.0 - 1e-6), far = r * (1.0 + 1e-6);
-    const double da = length(a - c.centre_m), db = length(b - c.centre_m);
-    if ((da < near && db > far) || (da > far && db < near)) return true;
-    if (da <= far || db <= far || !std::isfinite(db)) continue;
-    // Both outside: blocked where the segment's nearest point to the centre is inside.
-    const Vec3 ab = b - a;
-    const double len2 = dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(dot(c.centre_m - a, ab) / len2, 0.0, 1.0) : 0.0;
-    if (length(a + ab * t - c.centre_m) < near) return true;
-  }
-  return false;
-}
-
 // Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
 // vertex's f·|cos θ| (or phase value) towards wi and the density with which the vertex itself
 // would sample wi; medium_towards(wi) the medium wi leaves into.

@@ -455,7 +455,8 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
   };
   auto at = [&](double phi, double beta) { return at_cs(phi, std::cos(phi), std::sin(phi), beta, std::sin(beta)); };
   auto negative = [](double x) { return x < 0.0; };
-  const double miss_tolerance = 1e-9 * (1.0 + std::abs(dz));
+  // (side scales with the way from the exit to `to`, at most its distance from the axis and 1.)
+  const double miss_tolerance = 1e-9 * (1.0 + std::abs(dz)), side_tolerance = 1e-12 * (1.0 + norm2(b1, b2));
   // Where side = 0 meets miss = 0, cell by cell of a grid over (φ, β) (marching squares): side's
   // zero set is the circle's passages as β changes its indices, a set of curves that fold back in
   // β and in φ (passages appear and end in pairs at a caustic's fold), so neither can be followed
@@ -568,7 +569,7 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
       if (!p.valid) return std::nullopt;
       if (std::abs(step_phi) < 1e-15 && std::abs(step_beta) < 1e-15) break;
     }
-    if (!(std::abs(p.miss) <= miss_tolerance) || !(std::abs(p.side) <= 1e-12)) return std::nullopt;
+    if (!(std::abs(p.miss) <= miss_tolerance) || !(std::abs(p.side) <= side_tolerance)) return std::nullopt;
     keep(Corner{phi, beta, p});
     return Corner{phi, beta, p};
   };
@@ -597,12 +598,16 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
       x.at[k] = *r, x.exact[k] = true;
       return true;
     };
+    // (One that cannot be made exact is dropped: the last takes its place.)
     for (int i = 0; i < x.count; ++i) {
       const auto e = static_cast<std::size_t>(x.edge[static_cast<std::size_t>(i)]);
       if (std::abs(x.at[static_cast<std::size_t>(i)].p.miss) <= std::abs(c[e].p.miss - c[(e + 1) % 4].p.miss) &&
-          !make_exact(i))
-        return;
+          !make_exact(i)) {
+        const auto last = static_cast<std::size_t>(--x.count), k = static_cast<std::size_t>(i--);
+        x.at[k] = x.at[last], x.edge[k] = x.edge[last], x.exact[k] = x.exact[last];
+      }
     }
+    if (x.count < 2) return;
     const double dphi = c[1].phi - c[0].phi, dbeta = c[3].beta - c[0].beta;
     const double spread = std::max({c[0].p.miss, c[1].p.miss, c[2].p.miss, c[3].p.miss}) -
                           std::min({c[0].p.miss, c[1].p.miss, c[2].p.miss, c[3].p.miss});
@@ -621,7 +626,7 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
         if (negative(n.p.miss) == negative(q.p.miss)) continue;
         both_sides = true;
         const Corner& start = std::abs(n.p.miss) < std::abs(q.p.miss) ? n : q;
-        if (const auto r = newton(start, dphi, dbeta); r && inside(*r)) continue;
+        if (const auto r = newton(start, dphi, dbeta); r && r->p.passes && inside(*r)) continue;
         if (!make_exact(i) || !make_exact(j)) continue;
         negative(n.p.miss) ? refine(n, q, dphi, dbeta) : refine(q, n, dphi, dbeta);
       }
@@ -738,9 +743,10 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
           lo = x1, x1 = x2, f1 = f2, x2 = lo + ratio * (hi - lo), f2 = f(x2);
         }
       }
-      if (!(std::min(f1, f2) < 0.0)) continue;
+      if (std::isnan(f1) || std::isnan(f2) || !(std::min(f1, f2) < 0.0)) continue;
       const double phi_m = f1 <= f2 ? x1 : x2;
       const Corner turn{phi_m, beta, at(phi_m, beta)};
+      if (!turn.p.valid) continue;
       for (const auto& c : {root_between(l, turn, l.p.side, turn.p.side), root_between(turn, h, turn.p.side, h.p.side)})
         if (c) r.edge[c->phi < m.phi ? i - 1 : i].add(c, 0, true);
     }
@@ -777,6 +783,31 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
   }
   out.count = count;
   return out;
+}
+
+// Whether the segment from a to b certainly crosses a caster's sphere (RenderScene::casters: exact
+// smooth refracting spheres): then the straight shadow ray to the area lamp's point is blocked, and
+// nothing but the connections through the caster (through_casters) reaches that point from a (a
+// chain of mesh faces does not seed through an analytic sphere). Skipping the ray saves its trace
+// and its ratio tracking from every scattering event inside a ball of milk. Only without
+// priorities (an object with one may make the sphere's boundary a false one), and not within a
+// millionth of the radius of the sphere, where rounding decides what the ray meets. (Not for point
+// and spot lamps: the first surface their ray meets may be a flat face or a cylinder's side whose
+// own solve bends the path past the caster.)
+bool caster_between(const RenderScene& s, const Vec3& a, const Vec3& b) {
+  if (!s.nested.empty()) return false;
+  for (const ManifoldCaster& c : s.casters) {
+    const double r = c.radius_m, near = r * (1.0 - 1e-6), far = r * (1.0 + 1e-6);
+    const double da = length(a - c.centre_m), db = length(b - c.centre_m);
+    if ((da < near && db > far) || (da > far && db < near)) return true;
+    if (da <= far || db <= far || !std::isfinite(db)) continue;
+    // Both outside: blocked where the segment's nearest point to the centre is inside.
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(dot(c.centre_m - a, ab) / len2, 0.0, 1.0) : 0.0;
+    if (length(a + ab * t - c.centre_m) < near) return true;
+  }
+  return false;
 }
 
 namespace {
@@ -855,7 +886,9 @@ CasterPathDensities cylinder_path_densities(const RenderScene& s, const Vec3& x,
   const Vec3& q = light_hit.point;
   const auto index = static_cast<std::size_t>(s.surfaces[light_hit.geometry].first_light) + light_hit.primitive;
   const double point_pdf = s.area_lights.pmf[index] * pdf_point(s.lights[index], x, q);
-  // The connection's own first surface for this point, its interface.
+  // Where a caster lies across the straight segment, next-event estimation draws no shadow ray
+  // and no connection (direct_light.h); elsewhere, its own first surface for this point.
+  if (caster_between(s, x, q)) return {};
   const InsideSet towards = x_hit ? inside_towards(s, *x_hit, inside, normalize(q - x)) : inside;
   const auto first = first_surface(s, x, x_hit, towards, q, rays);
   const auto f = first ? smooth_interface(s, first->hit, first->seen) : std::nullopt;

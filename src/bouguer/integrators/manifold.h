@@ -30,7 +30,10 @@
 // interval, near a caustic's fold) is the walk's alone: caster_path_densities runs the same solve.
 // Area and spherical lights hidden by smooth faces of meshes (small ones by default: SceneView::
 // lamp_through_chains) likewise through their chain from the point next-event estimation drew
-// (area_light_through_chain), weighed in the walk by chain_path_densities (radiance.h: ChainTrail).
+// (area_light_through_chain), weighed in the walk by chain_path_densities (radiance.h: ChainTrail);
+// and (the same lamps) hidden by an exact cylinder's side, the first surface the straight segment
+// meets (area_light_through_cylinder), weighed by cylinder_path_densities (radiance.h:
+// CylinderTrail).
 #include <array>
 #include <algorithm>
 #include <limits>
@@ -117,11 +120,12 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
 // across, refracted out at exit[k]. Each crossing's normal lies across the axis, so η times the
 // direction's part along the axis is one invariant α for the whole path, and across the axis the
 // path refracts as through a circle with Bravais' effective indices √(η² − α²), each segment rising
-// α/√(η² − α²) per unit of its length across. Over the entry angle φ and α, the paths are where
-// the ray traced across the axis passes `to`'s foot and its rise meets `to`'s height: found by
-// marching squares on a grid of 16 angles by 12 values of α over the window its paths can have
-// (close pairs along the grid's rows as scan_roots finds them; in a cell, Newton's method on both
-// conditions, or the curve of the first followed between two crossings), to 1e-14. Paths within
+// α/√(η² − α²) per unit of its length across. Over the entry angle φ and α = η_min·sin β, the paths
+// are where the ray traced across the axis passes `to`'s foot and its rise meets `to`'s height:
+// found by marching squares on a grid of 16 angles by 12 values of β over the window its paths can
+// have (close pairs along the grid's rows as scan_roots finds them; in a cell, Newton's method on
+// both conditions, or the curve of the first followed between two crossings), each accepted where
+// the rise misses by less than 1e-9 of the radius (Snell's law then holds to about 1e-13). Paths within
 // about 3° of grazing, and two paths closer than a cell where neither search sees them, may be
 // missed. `near`: as above, an entry point (a 2×2 grid around its angle and α).
 SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const Vec3& on_axis, const Vec3& axis,
@@ -627,6 +631,11 @@ SampledSpectrum<N> area_light_through_chain(const SceneView<N>& v, const PathVer
          static_cast<float>(weight * r->fresnel * manifold_detail::chain_eta_ratio2(*c) * reverse /
                             mean_ratio(s, path_r_u, r_l));
 }
+
+// Whether the segment from a to b certainly crosses a caster's sphere: then next-event estimation
+// skips the straight shadow ray to an area lamp's point (direct_light.h), and with it the
+// connections through a cylinder's side from that point (cylinder_path_densities asks the same).
+bool caster_between(const RenderScene& s, const Vec3& a, const Vec3& b);
 
 // A walk's path from the connecting vertex x through refractions of caster c (at crossings ys) to
 // a lamp hit (an area or spherical light): the solid-angle density with which the connection at

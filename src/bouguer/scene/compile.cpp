@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include "bouguer/core/error.h"
@@ -548,25 +550,41 @@ void add_casters(RenderScene& s) {
 }
 
 // Which emitters are small seen from the glass (Surface::small_lamp): those that subtend less than
-// kLampChainSolidAngle seen from the nearest point of a smooth refracting mesh, or of an exact
-// cylinder's bounding box (an area light's whole emitter: its area over the squared distance from
-// its centroid; a sphere: its cone from its centre's distance). A lamp inside a glass globe is
-// measured from the globe's wall. Also whether there is such a cylinder (RenderScene::glass_cylinders).
+// kLampChainSolidAngle seen from the nearest point of a smooth refracting mesh or exact cylinder (an
+// area light's whole emitter: its area over the squared distance from its centroid; a sphere: its
+// cone from its centre's distance). A lamp inside a glass globe or tube is measured from its wall.
+// Also whether there is such a cylinder (RenderScene::glass_cylinders).
 void mark_small_lamps(RenderScene& s) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<std::uint32_t> glass;
+  // An exact cylinder whose side stays circular (its base's centre, axis and radius; its length):
+  // its distance exactly, to its side or a cap (from inside, to the nearest wall).
+  struct Cylinder {
+    CircularSide side;
+    double length_m = 0.0;
+    double distance(const Vec3& p) const {
+      const Vec3 rel = p - side.on_axis;
+      const double t = dot(rel, side.axis), r = length(rel - side.axis * t);
+      const double beyond = t < 0.0 ? -t : t > length_m ? t - length_m : 0.0;
+      if (beyond > 0.0) return std::hypot(beyond, std::max(0.0, r - side.radius_m));
+      return r > side.radius_m ? r - side.radius_m : std::min({side.radius_m - r, t, length_m - t});
+    }
+  };
+  std::vector<std::optional<Cylinder>> cylinders;  // by entry of `glass`
   std::size_t triangles = 0, emitters = 0;
   for (std::uint32_t g = 0; g < s.surfaces.size(); ++g) {
     const Surface& f = s.surfaces[g];
     const bool smooth = f.kind == SurfaceKind::interface && f.roughness == 0.0 && !f.index_matched && f.normal_map < 0;
     const AnalyticShape* shape = s.rays.analytic(g);
-    if (smooth && !shape) glass.push_back(g), triangles += s.rays.mesh(g).triangles.size();
-    // An exact cylinder whose side stays circular: its distance by its bounding box below.
+    if (smooth && !shape) glass.push_back(g), cylinders.emplace_back(), triangles += s.rays.mesh(g).triangles.size();
     const auto* cylinder = shape ? std::get_if<CylinderSurface>(&shape->surface) : nullptr;
-    if (smooth && cylinder && circular_side(*cylinder, shape->to_world) && f.medium_front >= 0 &&
-        f.medium_behind >= 0 && !s.media[static_cast<std::size_t>(f.medium_front)].dispersive &&
-        !s.media[static_cast<std::size_t>(f.medium_behind)].dispersive)
-      glass.push_back(g), s.glass_cylinders = true;
+    const auto side = cylinder ? circular_side(*cylinder, shape->to_world) : std::nullopt;
+    if (smooth && side && f.medium_front >= 0 && f.medium_behind >= 0 &&
+        !s.media[static_cast<std::size_t>(f.medium_front)].dispersive &&
+        !s.media[static_cast<std::size_t>(f.medium_behind)].dispersive) {
+      const double length_m = cylinder->height_m * length(shape->to_world.linear * Vec3{0, 1, 0});
+      glass.push_back(g), cylinders.emplace_back(Cylinder{*side, length_m}), s.glass_cylinders = true;
+    }
     emitters += f.kind == SurfaceKind::emitter;
   }
   if (glass.empty()) return;
@@ -583,7 +601,11 @@ void mark_small_lamps(RenderScene& s) {
       const Vec3 outside{std::max({0.0, lo.x - p.x, p.x - hi.x}), std::max({0.0, lo.y - p.y, p.y - hi.y}),
                          std::max({0.0, lo.z - p.z, p.z - hi.z})};
       const double to_box = length(outside);
-      if (!every_triangle || to_box >= best || s.rays.analytic(glass[k])) {
+      if (cylinders[k]) {
+        best = std::min(best, cylinders[k]->distance(p));
+        continue;
+      }
+      if (!every_triangle || to_box >= best) {
         best = std::min(best, to_box);
         continue;
       }

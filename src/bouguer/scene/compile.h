@@ -30,7 +30,7 @@ struct Surface {
   int material = -1;       // opaque surfaces: index into materials
   int first_light = -1;    // emitters: the area light of primitive p is lights[first_light + p]
   // Emitters: whether they subtend less than kLampChainSolidAngle seen from the nearest smooth
-  // refracting mesh or exact cylinder (by its bounding box), where next-event estimation goes on to
+  // refracting mesh or exact cylinder, where next-event estimation goes on to
   // them through chains of mesh faces and cylinders' sides unless the render says otherwise
   // (integrators/manifold.h: area_light_through_chain, area_light_through_cylinder;
   // RenderSettings::area_lamp_chains).
