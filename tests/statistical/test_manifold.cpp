@@ -1035,7 +1035,15 @@ TEST(ManifoldNextEvent, TheSpherePassagesObeySnellsLawTwiceAndNoneIsMissed) {
 // (T² ≈ 0.1 on two chords: 0.4 %). Without the connection the shadow is black to the path tracer
 // (no strategy of its meets a point lamp through glass); with one of the two paths through each
 // point left out, it is about half as bright.
-std::string caustic_scene(const char* integrator, int spp, const char* lamp) {
+// A diffuse floor under one glass object `glass` (its JSON) of the absorbing glass, seen from
+// above, lit by a point lamp at (0.1, 0.1, 0.01) or, with lamp_radius_m > 0, a spherical lamp
+// there of that radius and emission scale `lamp_scale`.
+std::string floor_under_glass(const char* integrator, int spp, const char* glass, double lamp_radius_m = 0.0,
+                              double lamp_scale = 0.0) {
+  const std::string sphere_lamp = fmt::format(R"(,
+      {{"name": "lamp", "shape": {{"type": "sphere", "radius": {}}}, "transform": [{{"translate": [0.1, 0.1, 0.01]}}],
+       "emission": {{"spectrum": "D65", "scale": {}}}}})",
+                                              lamp_radius_m, lamp_scale);
   return fmt::format(R"({{
     "camera": {{"type": "orthographic", "position": [0, 0.3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
                "width": 0.12, "resolution": [24, 24]}},
@@ -1046,17 +1054,21 @@ std::string caustic_scene(const char* integrator, int spp, const char* lamp) {
     "objects": [
       {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
         "material": {{"type": "diffuse", "reflectance": 0.8}}}},
-      {{"name": "ball", "shape": {{"type": "sphere", "radius": 0.02}}, "transform": [{{"translate": [0, 0.03, 0]}}],
-        "inside": "glass"}}{}
+      {}{}
     ],
     {}
     "background": {{"spectrum": "E", "scale": 0}}
   }})",
-                     integrator, spp, lamp[0] == 'p' ? "" : R"(,
-      {"name": "lamp", "shape": {"type": "sphere", "radius": 0.012}, "transform": [{"translate": [0.1, 0.1, 0.01]}],
-       "emission": {"spectrum": "D65", "scale": 40}})",
-                     lamp[0] == 'p' ? R"("lights": [{"type": "point", "position": [0.1, 0.1, 0.01], "spectrum": "D65", "scale": 0.02}],)"
-                                    : "");
+                     integrator, spp, glass, lamp_radius_m > 0.0 ? sphere_lamp : "",
+                     lamp_radius_m > 0.0
+                         ? ""
+                         : R"("lights": [{"type": "point", "position": [0.1, 0.1, 0.01], "spectrum": "D65", "scale": 0.02}],)");
+}
+
+std::string caustic_scene(const char* integrator, int spp, const char* lamp) {
+  return floor_under_glass(integrator, spp, R"({"name": "ball", "shape": {"type": "sphere", "radius": 0.02},
+        "transform": [{"translate": [0, 0.03, 0]}], "inside": "glass"})",
+                           lamp[0] == 'p' ? 0.0 : 0.012, 40.0);
 }
 
 // The floor where the camera above does not see the ball (the light tracer cannot connect through
@@ -1117,30 +1129,10 @@ TEST(ManifoldNextEvent, CausticUnderAGlassBallFromAPointLampMatchesTheLightTrace
 // the light tracer carries, stays far below the tolerance). The floor lies beyond the rod's focus, so each point has one path (the
 // pairs near a caustic's fold are the unit test's).
 std::string rod_scene(const char* integrator, int spp, bool spherical_lamp = false) {
-  return fmt::format(R"({{
-    "camera": {{"type": "orthographic", "position": [0, 0.3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
-               "width": 0.12, "resolution": [24, 24]}},
-    "render": {{"integrator": "{}", "spectral": "full", "spp": {}, "max_depth": 16, "seed": 1}},
-    "world_medium": "vacuum",
-    "media": {{"glass": {{"ior": 1.5, "absorption": {{"unit": "attenuation_per_m", "wavelength_nm": [380, 780],
-                                                     "value": [20, 30]}}}}}},
-    "objects": [
-      {{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}}, "transform": [{{"rotate_deg": [-90, [1, 0, 0]]}}],
-        "material": {{"type": "diffuse", "reflectance": 0.8}}}},
-      {{"name": "rod", "shape": {{"type": "cylinder", "radius": 0.02, "height": 0.3}},
-        "transform": [{{"translate": [0, -0.15, 0]}}, {{"rotate_deg": [90, [1, 0, 0]]}}, {{"translate": [0, 0.03, 0]}}],
-        "inside": "glass"}}{}
-    ],
-    {}
-    "background": {{"spectrum": "E", "scale": 0}}
-  }})",
-                     integrator, spp,
-                     spherical_lamp ? R"(,
-      {"name": "lamp", "shape": {"type": "sphere", "radius": 0.008}, "transform": [{"translate": [0.1, 0.1, 0.01]}],
-       "emission": {"spectrum": "D65", "scale": 90}})"
-                                    : "",
-                     spherical_lamp ? ""
-                                    : R"("lights": [{"type": "point", "position": [0.1, 0.1, 0.01], "spectrum": "D65", "scale": 0.02}],)");
+  return floor_under_glass(integrator, spp, R"({"name": "rod", "shape": {"type": "cylinder", "radius": 0.02, "height": 0.3},
+        "transform": [{"translate": [0, -0.15, 0]}, {"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.03, 0]}],
+        "inside": "glass"})",
+                           spherical_lamp ? 0.008 : 0.0, 90.0);
 }
 
 TEST(ManifoldNextEvent, CausticUnderAGlassRodFromAPointLampMatchesTheLightTracer) {

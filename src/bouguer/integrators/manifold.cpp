@@ -55,6 +55,28 @@ std::optional<double> bracketed_root(F f, double lo, double hi, double f_lo, dou
   return 0.5 * (lo + hi);
 }
 
+// The minimum of f over [a, b] by golden-section search, stopping once f is negative at a probe (a
+// sign change found), after 60 steps, or 1e-14 wide: its last two probes (NaN where f is).
+struct GoldenProbes {
+  double x1, f1, x2, f2;
+  double at() const { return f1 <= f2 ? x1 : x2; }
+  double value() const { return std::min(f1, f2); }
+};
+template <typename F>
+GoldenProbes golden_minimum(F f, double a, double b) {
+  const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = b - ratio * (b - a), x2 = a + ratio * (b - a);
+  double f1 = f(x1), f2 = f(x2);
+  for (int k = 0; k < 60 && f1 > 0.0 && f2 > 0.0 && b - a > 1e-14; ++k) {
+    if (f1 < f2) {
+      b = x2, x2 = x1, f2 = f1, x1 = b - ratio * (b - a), f1 = f(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2, x2 = a + ratio * (b - a), f2 = f(x2);
+    }
+  }
+  return {x1, f1, x2, f2};
+}
+
 // The roots of a solve's slope (the derivative of the optical length along an arc) over the arc's
 // angles [from, to]: its sign changes between `intervals` + 1 points, whose (cos, sin) come by
 // rotation (96 steps lose no more than 1e-14; scan_cs(cos, sin) at them: its sign is all that is
@@ -93,18 +115,10 @@ void scan_roots(ScanCS scan_cs, SlopeCS slope_cs, double from, double to, int in
       }
     } else if (pairs && g_before != 0.0 && (g_before < 0.0) == (g_lo < 0.0) && (g_lo < 0.0) == (g_hi < 0.0) &&
                std::abs(g_lo) < std::abs(g_before) && std::abs(g_lo) < std::abs(g_hi)) {
-      // The extremum of sign·slope over [before, hi], by golden section (stopping once it changes sign).
-      const double sign = g_lo < 0.0 ? -1.0 : 1.0, ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-      double a = before, b = hi, x1 = b - ratio * (b - a), x2 = a + ratio * (b - a);
-      double f1 = sign * slope(x1), f2 = sign * slope(x2);
-      for (int k = 0; k < 60 && f1 > 0.0 && f2 > 0.0 && b - a > 1e-14; ++k) {
-        if (f1 < f2) {
-          b = x2, x2 = x1, f2 = f1, x1 = b - ratio * (b - a), f1 = sign * slope(x1);
-        } else {
-          a = x1, x1 = x2, f1 = f2, x2 = a + ratio * (b - a), f2 = sign * slope(x2);
-        }
-      }
-      const double m = f1 <= f2 ? x1 : x2, f_m = std::min(f1, f2);
+      // The extremum of sign·slope over [before, hi] (stopping once it changes sign).
+      const double sign = g_lo < 0.0 ? -1.0 : 1.0;
+      const GoldenProbes g = golden_minimum([&](double phi) { return sign * slope(phi); }, before, hi);
+      const double m = g.at(), f_m = g.value();
       if (f_m < 0.0) {  // two roots, either side of the extremum
         refine(before, m, g_before, sign * f_m);
         refine(m, hi, sign * f_m, g_hi);
@@ -729,22 +743,15 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
           negative(m.p.side) != negative(h.p.side) || !(std::abs(m.p.side) < std::abs(l.p.side)) ||
           !(std::abs(m.p.side) < std::abs(h.p.side)))
         continue;
-      const double sign = negative(m.p.side) ? -1.0 : 1.0, ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-      auto f = [&](double phi) {
-        const Point p = at(phi, beta);
-        return p.valid ? sign * p.side : std::numeric_limits<double>::quiet_NaN();
-      };
-      double lo = l.phi, hi = h.phi, x1 = hi - ratio * (hi - lo), x2 = lo + ratio * (hi - lo);
-      double f1 = f(x1), f2 = f(x2);
-      for (int k = 0; k < 60 && f1 > 0.0 && f2 > 0.0 && hi - lo > 1e-14; ++k) {
-        if (f1 < f2) {
-          hi = x2, x2 = x1, f2 = f1, x1 = hi - ratio * (hi - lo), f1 = f(x1);
-        } else {
-          lo = x1, x1 = x2, f1 = f2, x2 = lo + ratio * (hi - lo), f2 = f(x2);
-        }
-      }
-      if (std::isnan(f1) || std::isnan(f2) || !(std::min(f1, f2) < 0.0)) continue;
-      const double phi_m = f1 <= f2 ? x1 : x2;
+      const double sign = negative(m.p.side) ? -1.0 : 1.0;
+      const GoldenProbes g = golden_minimum(
+          [&](double phi) {
+            const Point p = at(phi, beta);
+            return p.valid ? sign * p.side : std::numeric_limits<double>::quiet_NaN();
+          },
+          l.phi, h.phi);
+      if (std::isnan(g.f1) || std::isnan(g.f2) || !(g.value() < 0.0)) continue;
+      const double phi_m = g.at();
       const Corner turn{phi_m, beta, at(phi_m, beta)};
       if (!turn.p.valid) continue;
       for (const auto& c : {root_between(l, turn, l.p.side, turn.p.side), root_between(turn, h, turn.p.side, h.p.side)})
@@ -887,13 +894,11 @@ CasterPathDensities cylinder_path_densities(const RenderScene& s, const Vec3& x,
   const auto index = static_cast<std::size_t>(s.surfaces[light_hit.geometry].first_light) + light_hit.primitive;
   const double point_pdf = s.area_lights.pmf[index] * pdf_point(s.lights[index], x, q);
   // Where a caster lies across the straight segment, next-event estimation draws no shadow ray
-  // and no connection (direct_light.h); elsewhere, its own first surface for this point.
+  // and no connection (direct_light.h); elsewhere, the connection's own cylinder for this point.
   if (caster_between(s, x, q)) return {};
-  const InsideSet towards = x_hit ? inside_towards(s, *x_hit, inside, normalize(q - x)) : inside;
-  const auto first = first_surface(s, x, x_hit, towards, q, rays);
-  const auto f = first ? smooth_interface(s, first->hit, first->seen) : std::nullopt;
-  if (!f || f->shape != Interface::Shape::cylinder) return {};  // (it does not draw the path)
-  return interface_path_densities(s, *f, x, ys, light_hit, point_pdf);
+  const auto met = cylinder_met_first(s, x, x_hit, inside, q, rays);
+  if (!met) return {};  // (it does not draw the path)
+  return interface_path_densities(s, met->f, x, ys, light_hit, point_pdf);
 }
 
 CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,

@@ -546,6 +546,24 @@ inline std::optional<Interface> smooth_interface(const RenderScene& s, const Hit
   return f;
 }
 
+// The exact cylinder's side a connection from x (on x_hit, or in a medium; `arrived`: the nested
+// set there) to the point q goes on through: the first surface the straight segment meets, where
+// that is one (and the nested set leaving x). The same question from both sides of the MIS:
+// area_light_through_cylinder's and cylinder_path_densities'.
+struct CylinderMet {
+  Interface f;
+  InsideSet inside = 0;
+};
+inline std::optional<CylinderMet> cylinder_met_first(const RenderScene& s, const Vec3& x, const Hit* x_hit,
+                                                     InsideSet arrived, const Vec3& q, std::uint64_t& rays) {
+  const InsideSet inside = x_hit ? inside_towards(s, *x_hit, arrived, normalize(q - x)) : arrived;
+  const auto first = first_surface(s, x, x_hit, inside, q, rays);
+  if (!first) return std::nullopt;
+  const auto f = smooth_interface(s, first->hit, first->seen);
+  if (!f || f->shape != Interface::Shape::cylinder) return std::nullopt;
+  return CylinderMet{*f, inside};
+}
+
 inline Interface caster_interface(const RenderScene& s, const ManifoldCaster& c) {
   const Surface& surface = s.surfaces[c.geometry];
   return Interface{c.geometry, Interface::Shape::sphere, c.centre_m, Vec3{}, c.radius_m, surface.medium_front,
@@ -715,15 +733,11 @@ SampledSpectrum<N> area_light_through_cylinder(const SceneView<N>& v, const Path
                                                MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                                const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
   using namespace manifold_detail;
-  const RenderScene& s = v.scene;
   if (!(point_pdf > 0.0)) return {};
-  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(y - at.point)) : at.inside;
-  const auto first = first_surface(s, at.point, at.hit, inside, y, rays);
-  if (!first) return {};
-  const auto f = smooth_interface(s, first->hit, first->seen);
-  if (!f || f->shape != Interface::Shape::cylinder) return {};
+  const auto met = cylinder_met_first(v.scene, at.point, at.hit, at.inside, y, rays);
+  if (!met) return {};
   auto end = [&](const Reach<N>& r) { return area_lamp_end(v, light, y, point_pdf, r, w, rng, rays); };
-  return through(v, at, inside, *f, y, towards, medium_towards, w, path_r_u, rng, rays, end);
+  return through(v, at, met->inside, met->f, y, towards, medium_towards, w, path_r_u, rng, rays, end);
 }
 
 // The light of the delta lights and of one area or spherical light (its index drawn by power with

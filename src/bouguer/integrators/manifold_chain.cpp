@@ -293,14 +293,20 @@ Vec3 chain_shading_normal(const RenderScene& s, const Hit& on, const Vec3& point
   return shading_normal(triangle_of(s, on), point);
 }
 
+namespace {
+
+// How far a ray towards q goes, `left_m` from it: short of q as a shadow ray stops short of its
+// target (q may lie on an area light's surface).
+double short_of(const Vec3& q, double left_m) { return std::max(0.0, left_m * (1.0 - 1e-4) - 2.0 * ray_offset_m(q)); }
+
+}  // namespace
+
 std::optional<FirstSurface> first_surface(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
                                           const Vec3& q, std::uint64_t& rays) {
   const double d = length(q - x);
   if (!(d > 0.0)) return std::nullopt;
   const Vec3 dir = (q - x) / d;
-  // (Short of q as seed_chain's.)
-  const double short_m = std::max(0.0, d * (1.0 - 1e-4) - 2.0 * ray_offset_m(q));
-  const auto m = next_surface(s, x_hit ? offset_ray_origin(*x_hit, dir) : x, dir, short_m, inside, rays);
+  const auto m = next_surface(s, x_hit ? offset_ray_origin(*x_hit, dir) : x, dir, short_of(q, d), inside, rays);
   if (!m) return std::nullopt;
   return FirstSurface{m->hit, m->seen};
 }
@@ -316,9 +322,8 @@ std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* 
   const Hit* from_hit = x_hit;
   for (;;) {
     bool gave_up = false;
-    // (Short of q as a shadow ray stops short of its target: q may lie on an area light's surface.)
-    const double left_m = length(q - from), short_m = std::max(0.0, left_m * (1.0 - 1e-4) - 2.0 * ray_offset_m(q));
-    const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, short_m, inside, rays, &gave_up);
+    const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir,
+                                short_of(q, length(q - from)), inside, rays, &gave_up);
     if (gave_up) return std::nullopt;
     if (!m) break;  // clear to the lamp
     if (c.count == kMaxChain || !chain_surface(s, *m)) return std::nullopt;

@@ -89,14 +89,22 @@ struct ConnectingVertex {
   const Hit* hit() const { return on_surface ? &x_hit : nullptr; }
 };
 
-struct ChainTrail {
-  Refractions<kMaxChain> path;
+// Up to K refractions since a connecting vertex, for a connection from there: what ChainTrail and
+// CylinderTrail share (each says which refractions it keeps).
+template <std::size_t K>
+struct TrailFrom {
+  Refractions<K> path;
   ConnectingVertex from;
 
   void start(bool connected, const Vec3& at, const Hit* hit, InsideSet in) {
     path.restart(connected);
     from.set(at, hit, in);
   }
+  // A lamp reached along d after refracting at least once.
+  bool reached_through(const Vec3& d) { return path.settle(d) && path.crossings > 0; }
+};
+
+struct ChainTrail : TrailFrom<kMaxChain> {
   void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
     if (!path.settle(-wo_here)) return;
     if (scene.rays.analytic(hit.geometry) || path.full()) {
@@ -105,8 +113,6 @@ struct ChainTrail {
     }
     path.add(hit, wo_here, pdf_dir);
   }
-  // A lamp reached along d after refracting at least once.
-  bool reached_through(const Vec3& d) { return path.settle(d) && path.crossings > 0; }
 };
 
 // The same for an exact cylinder's side (manifold.h: area_light_through_cylinder): the walk's
@@ -114,15 +120,9 @@ struct ChainTrail {
 // against the connection from the connecting vertex where the straight segment to the lamp point
 // meets that side first (cylinder_path_densities). Any other surface, or the cylinder's cap, closes
 // it.
-struct CylinderTrail {
-  Refractions<2> path;
-  ConnectingVertex from;
+struct CylinderTrail : TrailFrom<2> {
   std::uint32_t geometry = 0;
 
-  void start(bool connected, const Vec3& at, const Hit* hit, InsideSet in) {
-    path.restart(connected);
-    from.set(at, hit, in);
-  }
   void specular(const RenderScene& scene, const Hit& hit, const Vec3& wo_here, double pdf_dir) {
     if (!path.settle(-wo_here)) return;
     const AnalyticShape* shape = scene.rays.analytic(hit.geometry);
@@ -135,7 +135,6 @@ struct CylinderTrail {
     geometry = hit.geometry;
     path.add(hit, wo_here, pdf_dir);
   }
-  bool reached_through(const Vec3& d) { return path.settle(d) && path.crossings > 0; }
 };
 
 // A direction a training walk drew at a non-specular surface, kept until the walk ends to learn

@@ -530,16 +530,20 @@ void add_lights(RenderScene& s, const SceneDesc& desc) {
   }
 }
 
+// Whether a surface is smooth glass that next-event estimation solves its way through: a smooth
+// interface between two media, neither dispersive, without a normal map.
+bool clear_smooth_interface(const RenderScene& s, const Surface& f) {
+  return f.kind == SurfaceKind::interface && f.roughness == 0.0 && !f.index_matched && f.normal_map < 0 &&
+         f.medium_front >= 0 && f.medium_behind >= 0 && !s.media[static_cast<std::size_t>(f.medium_front)].dispersive &&
+         !s.media[static_cast<std::size_t>(f.medium_behind)].dispersive;
+}
+
 // The exact spheres next-event estimation reaches lights through (ManifoldCaster), the first
 // kMaxCasters of them: each costs a solve at every vertex.
 void add_casters(RenderScene& s) {
   for (std::uint32_t g = 0; g < s.surfaces.size() && s.casters.size() < kMaxCasters; ++g) {
     const Surface& f = s.surfaces[g];
-    if (f.kind != SurfaceKind::interface || f.roughness != 0.0 || f.index_matched || f.nested >= 0 ||
-        f.normal_map >= 0 || f.medium_front < 0 || f.medium_behind < 0 ||
-        s.media[static_cast<std::size_t>(f.medium_front)].dispersive ||
-        s.media[static_cast<std::size_t>(f.medium_behind)].dispersive)
-      continue;
+    if (!clear_smooth_interface(s, f) || f.nested >= 0) continue;
     const AnalyticShape* shape = s.rays.analytic(g);
     const auto* sphere = shape ? std::get_if<SphereSurface>(&shape->surface) : nullptr;
     const double scale = shape ? shape->to_world.similarity_scale() : 0.0;
@@ -579,9 +583,7 @@ void mark_small_lamps(RenderScene& s) {
     if (smooth && !shape) glass.push_back(g), cylinders.emplace_back(), triangles += s.rays.mesh(g).triangles.size();
     const auto* cylinder = shape ? std::get_if<CylinderSurface>(&shape->surface) : nullptr;
     const auto side = cylinder ? circular_side(*cylinder, shape->to_world) : std::nullopt;
-    if (smooth && side && f.medium_front >= 0 && f.medium_behind >= 0 &&
-        !s.media[static_cast<std::size_t>(f.medium_front)].dispersive &&
-        !s.media[static_cast<std::size_t>(f.medium_behind)].dispersive) {
+    if (side && clear_smooth_interface(s, f)) {
       const double length_m = cylinder->height_m * length(shape->to_world.linear * Vec3{0, 1, 0});
       glass.push_back(g), cylinders.emplace_back(Cylinder{*side, length_m}), s.glass_cylinders = true;
     }
@@ -597,14 +599,14 @@ void mark_small_lamps(RenderScene& s) {
   auto nearest_glass = [&](const Vec3& p) {
     double best = kInf;
     for (std::size_t k = 0; k < glass.size(); ++k) {
-      const auto& [lo, hi] = boxes[k];
-      const Vec3 outside{std::max({0.0, lo.x - p.x, p.x - hi.x}), std::max({0.0, lo.y - p.y, p.y - hi.y}),
-                         std::max({0.0, lo.z - p.z, p.z - hi.z})};
-      const double to_box = length(outside);
       if (cylinders[k]) {
         best = std::min(best, cylinders[k]->distance(p));
         continue;
       }
+      const auto& [lo, hi] = boxes[k];
+      const Vec3 outside{std::max({0.0, lo.x - p.x, p.x - hi.x}), std::max({0.0, lo.y - p.y, p.y - hi.y}),
+                         std::max({0.0, lo.z - p.z, p.z - hi.z})};
+      const double to_box = length(outside);
       if (!every_triangle || to_box >= best) {
         best = std::min(best, to_box);
         continue;
