@@ -111,7 +111,7 @@ TEST(BidirectionalLong, ConvergesToThePathTracerUnderADispersiveBall) {
 // The scattering furnaces of #12: medium vertices connected like surface vertices, with the
 // spectral MIS of the camera and light subpaths and of each connection, full and hero.
 void expect_bidirectional_furnace(const std::string& density, const std::string& what,
-                                  IntegratorType integrator = IntegratorType::bdpt, int spp = 8192) {
+                                  IntegratorType integrator = IntegratorType::bdpt, int spp = 6144) {
   SceneDesc desc = parse_scene(test::furnace_scene(density, "bdpt"), "furnace.json");
   desc.render.merge_radius_m = 0.001;  // vcm: two footprints of this small image hold most of the photons
   for (const SpectralMode mode : {SpectralMode::full, SpectralMode::hero}) {
