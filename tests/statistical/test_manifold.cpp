@@ -15,6 +15,7 @@
 #include <cmath>
 #include <algorithm>
 #include <numbers>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -500,54 +501,71 @@ TEST(ManifoldNextEvent, TheCylinderRefractionPointsObeySnellsLawAndFindTheTraced
   EXPECT_FALSE(cylinder_refraction_points(on_axis, on_axis + axis, on_axis, axis, kR, 1.5, 1.0).count);  // on the axis
 }
 
-// Paths through a cylinder's side, in and out (a glass rod between a vertex and a lamp), built by
-// tracing: a ray from a random point outside towards the side, refracted in, across, refracted out
-// (where it gets out), and on to a point 0.05 to 3 radii along it, outside. The solve finds each
-// path, and every path it finds obeys Snell's law at both crossings (the whole tangential
-// vector: along the axis and around it, which checks Bravais' reduction as well as the circle's
-// solve) and reaches its far end. An axis invariant taken from the wrong index, a rise per unit
-// across of the wrong segment, or a passage followed to the wrong neighbour loses paths here.
+// A path through a cylinder's side, in and out (a glass rod between a vertex and a lamp), built by
+// tracing: a ray from a random point outside (1.02 to 4 radii from the axis) towards the side,
+// refracted in, across, refracted out (where it gets out), and on to a point 0.05 to 3 radii along
+// it, outside. Indices inside and outside by k: glass, water, and air bubbles in water.
+struct TracedRodPath {
+  Vec3 from, to, y1, y2;
+  double eta_inside, eta_outside;
+  bool grazing;  // entering or leaving within 3° of grazing
+};
+std::optional<TracedRodPath> traced_rod_path(int k, Rng& rng, const Vec3& on_axis, const Vec3& axis, double radius_m) {
+  const Frame frame(axis);
+  const double kR = radius_m;
+  auto across = [&](const Vec3& p) { return (p - on_axis) - axis * dot(p - on_axis, axis); };
+  const auto [ei, eo] = k % 3 == 0 ? std::pair{1.5, 1.0} : k % 3 == 1 ? std::pair{1.33, 1.0} : std::pair{1.0, 1.33};
+  const double r = kR * (1.02 + 3.0 * rng.next_double()), psi = 2.0 * std::numbers::pi * rng.next_double();
+  const Vec3 from = on_axis + (frame.s * std::cos(psi) + frame.t * std::sin(psi)) * r +
+                    axis * (kR * (4.0 * rng.next_double() - 2.0));
+  // Towards a random point of the side within two radii of `from`'s height (most such rays enter).
+  const double phi = 2.0 * std::numbers::pi * rng.next_double();
+  const Vec3 aim = on_axis + (frame.s * std::cos(phi) + frame.t * std::sin(phi)) * kR +
+                   axis * (dot(from - on_axis, axis) + kR * (4.0 * rng.next_double() - 2.0));
+  const Vec3 d = normalize(aim - from);
+  // Into the side: the nearer root of |across(from + t·d)| = R.
+  const Vec3 o = across(from), da = d - axis * dot(d, axis);
+  const double qa = dot(da, da), qb = dot(o, da), qc = dot(o, o) - kR * kR;
+  if (!(qa > 1e-12) || qb * qb - qa * qc <= 0.0) return std::nullopt;
+  const double t_in = (-qb - std::sqrt(qb * qb - qa * qc)) / qa;
+  if (!(t_in > 0.0)) return std::nullopt;
+  auto refract = [](const Vec3& u, const Vec3& n, double eta) -> std::optional<Vec3> {  // n against u
+    const double c = -dot(u, n), s2 = eta * eta * (1.0 - c * c);
+    if (s2 >= 1.0) return std::nullopt;
+    return u * eta + n * (eta * c - std::sqrt(1.0 - s2));
+  };
+  const Vec3 y1 = from + d * t_in, n1 = across(y1) / kR;
+  const auto t = refract(d, n1, eo / ei);
+  if (!t) return std::nullopt;
+  // Out: the far root along t from y1 (on the side: across(y1) has length R).
+  const Vec3 ta = *t - axis * dot(*t, axis);
+  if (!(dot(ta, ta) > 1e-12)) return std::nullopt;
+  const Vec3 y2 = y1 + *t * (-2.0 * dot(across(y1), ta) / dot(ta, ta)), n2 = across(y2) / kR;
+  const auto out = refract(*t, -n2, ei / eo);
+  if (!out) return std::nullopt;  // totally reflected inside: a walk's path
+  const Vec3 to = y2 + *out * (kR * (0.05 + 3.0 * rng.next_double()));
+  if (length(across(to)) <= kR) return std::nullopt;
+  // A path entering or leaving within 3° of grazing sits on the edge of the arc the solve scans,
+  // as in the sphere's test.
+  return TracedRodPath{from, to, y1, y2, ei, eo, -dot(d, n1) < 0.05 || dot(*out, n2) < 0.05};
+}
+
+// The solve finds each traced path (traced_rod_path), and every path it finds obeys Snell's law at
+// both crossings (the whole tangential vector: along the axis and around it, which checks
+// Bravais' reduction as well as the circle's solve) and reaches its far end. An axis invariant
+// taken from the wrong index, a rise per unit across of the wrong segment, or a passage followed
+// to the wrong neighbour loses paths here.
 TEST(ManifoldNextEvent, TheCylinderPassagesObeySnellsLawTwiceAndFindTheTracedPath) {
   const Vec3 on_axis{0.1, -0.2, 0.3}, axis = normalize(Vec3{-2, 1, 3});
   constexpr double kR = 0.04;
-  const Frame frame(axis);
   Rng rng(12, 0);
   auto across = [&](const Vec3& p) { return (p - on_axis) - axis * dot(p - on_axis, axis); };
   int built = 0, found_it = 0, total = 0, grazing = 0;
   double worst = 0.0;
   for (int k = 0; k < 1500; ++k) {
-    const auto [ei, eo] = k % 3 == 0 ? std::pair{1.5, 1.0} : k % 3 == 1 ? std::pair{1.33, 1.0} : std::pair{1.0, 1.33};
-    const double r = kR * (1.02 + 3.0 * rng.next_double()), psi = 2.0 * std::numbers::pi * rng.next_double();
-    const Vec3 from = on_axis + (frame.s * std::cos(psi) + frame.t * std::sin(psi)) * r +
-                      axis * (kR * (4.0 * rng.next_double() - 2.0));
-    // Towards a random point of the side within two radii of `from`'s height (most such rays
-    // enter).
-    const double phi = 2.0 * std::numbers::pi * rng.next_double();
-    const Vec3 aim = on_axis + (frame.s * std::cos(phi) + frame.t * std::sin(phi)) * kR +
-                     axis * (dot(from - on_axis, axis) + kR * (4.0 * rng.next_double() - 2.0));
-    const Vec3 d = normalize(aim - from);
-    // Into the side: the nearer root of |across(from + t·d)| = R.
-    const Vec3 o = across(from), da = d - axis * dot(d, axis);
-    const double qa = dot(da, da), qb = dot(o, da), qc = dot(o, o) - kR * kR;
-    if (!(qa > 1e-12) || qb * qb - qa * qc <= 0.0) continue;
-    const double t_in = (-qb - std::sqrt(qb * qb - qa * qc)) / qa;
-    if (!(t_in > 0.0)) continue;
-    auto refract = [](const Vec3& u, const Vec3& n, double eta) -> std::optional<Vec3> {  // n against u
-      const double c = -dot(u, n), s2 = eta * eta * (1.0 - c * c);
-      if (s2 >= 1.0) return std::nullopt;
-      return u * eta + n * (eta * c - std::sqrt(1.0 - s2));
-    };
-    const Vec3 y1 = from + d * t_in, n1 = across(y1) / kR;
-    const auto t = refract(d, n1, eo / ei);
-    if (!t) continue;
-    // Out: the far root along t from y1 (on the side: across(y1) has length R).
-    const Vec3 ta = *t - axis * dot(*t, axis);
-    if (!(dot(ta, ta) > 1e-12)) continue;
-    const Vec3 y2 = y1 + *t * (-2.0 * dot(across(y1), ta) / dot(ta, ta)), n2 = across(y2) / kR;
-    const auto out = refract(*t, -n2, ei / eo);
-    if (!out) continue;  // totally reflected inside: a walk's path
-    const Vec3 to = y2 + *out * (kR * (0.05 + 3.0 * rng.next_double()));
-    if (length(across(to)) <= kR) continue;
+    const std::optional<TracedRodPath> traced = traced_rod_path(k, rng, on_axis, axis, kR);
+    if (!traced) continue;
+    const auto& [from, to, y1, y2, ei, eo, near_grazing] = *traced;
     ++built;
     const SpherePassages found = cylinder_passage_points(from, to, on_axis, axis, kR, ei, eo);
     bool has = false;
@@ -563,16 +581,12 @@ TEST(ManifoldNextEvent, TheCylinderPassagesObeySnellsLawTwiceAndFindTheTracedPat
                         length((v - m2 * dot(v, m2)) * ei - (w - m2 * dot(w, m2)) * eo)});
       has = has || (length(p1 - y1) < 1e-9 * kR && length(p2 - y2) < 1e-9 * kR);
     }
-    // A path entering or leaving within 3° of grazing sits on the edge of the arc the solve scans,
-    // as in the sphere's test.
-    if (-dot(d, n1) < 0.05 || dot(*out, n2) < 0.05) {
+    if (near_grazing) {
       ++grazing;
       continue;
     }
     found_it += has;
-    if (!has)
-      ADD_FAILURE() << "missed: pair " << k << ", entering " << std::acos(-dot(d, n1)) * 180.0 / std::numbers::pi
-                    << "°, leaving " << std::acos(dot(*out, n2)) * 180.0 / std::numbers::pi << "° from the normal";
+    if (!has) ADD_FAILURE() << "missed: pair " << k;
     total += found.count;
   }
   std::printf("cylinder passages: %d of %d traced paths found (%d within 3° of grazing, not counted; %d solutions), "
@@ -790,6 +804,48 @@ TEST(ManifoldNextEvent, TheRayTubeOfALongPathThroughARodOrABall) {
       EXPECT_NEAR(t / reference, 1.0, 1e-4);
     }
   }
+}
+
+// The ray tubes of traced paths through a rod (traced_rod_path: the vertex 0.02 to 3 radii from
+// the side, the lamp 0.05 to 3 radii beyond it, in glass, water and bubbles), by tube()'s
+// neighbour solves (Newton's method from the straight line to the path's entry point, the
+// window's grid where that fails) against the same finite differences by full solves. A neighbour
+// that Newton's method took to another path, or lost, reads another tube or 0.
+TEST(ManifoldNextEvent, TheRayTubesOfTracedPathsThroughARodAreTheFullSolves) {
+  using namespace manifold_detail;
+  const Vec3 on_axis{0.1, -0.2, 0.3}, axis = normalize(Vec3{-2, 1, 3});
+  constexpr double kR = 0.04;
+  const Interface f{0, Interface::Shape::cylinder, on_axis, axis, kR};
+  Rng rng(21, 0);
+  int compared = 0, off = 0;
+  double worst = 0.0;
+  std::vector<double> errors;
+  for (int k = 0; k < 600; ++k) {
+    const std::optional<TracedRodPath> traced = traced_rod_path(k, rng, on_axis, axis, kR);
+    if (!traced || traced->grazing) continue;
+    const Paths p = solve(f, traced->from, traced->to, traced->eta_outside, traced->eta_inside);
+    for (int i = 0; i < p.count; ++i) {
+      const std::array<Vec3, 2>& ys = p.crossing[static_cast<std::size_t>(i)];
+      if (p.crossings != 2 || length(ys[0] - traced->y1) > 1e-9 * kR) continue;  // the traced path
+      const double path_m = length(ys[0] - traced->from) + length(ys[1] - ys[0]) + length(traced->to - ys[1]);
+      const Vec3 wi = normalize(ys[0] - traced->from);
+      const double t = tube(f, traced->from, wi, ys, 2, traced->to, path_m, traced->eta_outside, traced->eta_inside);
+      const double reference =
+          tube_by_full_solves(f, traced->from, wi, ys, 2, traced->to, path_m, traced->eta_outside, traced->eta_inside);
+      ++compared;
+      const double error = std::abs(t / reference - 1.0);
+      errors.push_back(error);
+      worst = std::max(worst, error);
+      if (!(error < 1e-4)) {
+        ++off;
+        ADD_FAILURE() << "path " << k << ": tube " << t << ", by full solves " << reference;
+      }
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  std::printf("rod tubes: %d compared, %d off by 1e-4 or more, median %.1e, worst %.1e\n", compared, off,
+              errors.empty() ? 0.0 : errors[errors.size() / 2], worst);
+  EXPECT_GT(compared, 400);
 }
 
 // A point lamp in air lights a floor under flat water (a box's face) along a refracted path that

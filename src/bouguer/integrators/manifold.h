@@ -127,7 +127,8 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
 // both conditions, or the curve of the first followed between two crossings), each accepted where
 // the rise misses by less than 1e-9 of the radius (Snell's law then holds to about 1e-13). Paths within
 // about 3° of grazing, and two paths closer than a cell where neither search sees them, may be
-// missed. `near`: as above, an entry point (a 2×2 grid around its angle and α).
+// missed. `near`: as above, an entry point: Newton's method from the angle and α of the straight
+// line to it, and a 2×2 grid around them where that finds no path.
 SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const Vec3& on_axis, const Vec3& axis,
                                        double radius_m, double eta_inside, double eta_outside,
                                        const NearSolution* near = nullptr);
