@@ -809,8 +809,9 @@ TEST(ManifoldNextEvent, TheRayTubeOfALongPathThroughARodOrABall) {
 // The ray tubes of traced paths through a rod (traced_rod_path: the vertex 0.02 to 3 radii from
 // the side, the lamp 0.05 to 3 radii beyond it, in glass, water and bubbles), by tube()'s
 // neighbour solves (Newton's method from the straight line to the path's entry point, the
-// window's grid where that fails) against the same finite differences by full solves. A neighbour
-// that Newton's method took to another path, or lost, reads another tube or 0.
+// window's grid where it finds nothing within the window) against the same finite differences by
+// full solves. A neighbour that Newton's method took to another path reads that path's tube:
+// started 0.6 rad off and its root taken wherever it lay, 143 of the 472 failed.
 TEST(ManifoldNextEvent, TheRayTubesOfTracedPathsThroughARodAreTheFullSolves) {
   using namespace manifold_detail;
   const Vec3 on_axis{0.1, -0.2, 0.3}, axis = normalize(Vec3{-2, 1, 3});

@@ -13,7 +13,8 @@ void render(const RenderScene& scene, const RenderSettings& settings, FilmBuffer
             SampleRange range, const RenderControl& control, RenderStats& stats) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene)};
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
+                          settings.manifold};
   for_each_pixel_sample<N>(
       scene, tables, settings, film.width(), region, range, control, stats, 2,
       [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u, std::uint64_t& rays) {

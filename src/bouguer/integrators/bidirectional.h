@@ -8,7 +8,8 @@
 // and one light subpath, both built by the one random walk (integrators/walk.h), and every
 // connection strategy (s light vertices, t camera vertices): the camera path meeting a lamp or
 // escaping to a light at infinity (s = 0), next-event estimation (s = 1), light tracing to the
-// camera (t = 1, splatted), and vertex connections, surface and medium vertices alike. The
+// camera (t = 1, splatted), and vertex connections, surface and medium vertices alike; and, in
+// bdpt, next-event estimation through glass where no other strategy reaches (through_glass). The
 // strategies are combined by the power heuristic over the densities of the vertex records, by
 // Georgiev's recursion (Bdpt::mis_weight: each subpath folded once, O(1) a strategy), the one
 // formulation vcm's merges share; a lamp seen directly is left to s = 0 (the light tracer's lamp
@@ -116,8 +117,14 @@ class Bdpt {
         if ((k == 1 && t == 1) || depth < 0 || depth > v_.max_depth) continue;
         l += connect(light, camera, k, t, film, keep);
       }
+    if (!merges()) l += through_glass(camera, keep);
     return l;
   }
+  // bdpt's next-event estimation through smooth glass (manifold.h) to the point and spot lamps, at
+  // the camera subpath's first non-specular vertex where the camera sees it through specular ones
+  // (a liquid or a floor behind glass): there it is the only strategy of the paths it makes, so
+  // they are not weighted (below, where it is defined).
+  SampledSpectrum<N> through_glass(const std::vector<Vertex<N>>& camera, const SampledSpectrum<N>& keep);
 
   // The densities of the vertex records, from the geometry (public for the MIS check,
   // tests/support/mis_check.h).
@@ -447,6 +454,51 @@ double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) 
   const Vec3 a = reverse ? wi : x.wo, b = reverse ? x.wo : wi;
   if (x.kind == VertexKind::medium) return phase_value(scattering_medium(s_, x.medium)->phase, -a, b);
   return x.event.pdf(a, b);
+}
+
+// The paths this makes: the lens, specular vertices only, x (the first non-specular vertex), a
+// chain of smooth refractions that the straight segment from x to a point or spot lamp meets, the
+// lamp. No other strategy of bdpt makes them: a connection needs two non-specular vertices next to
+// each other (the lens and the first vertex for light tracing, t = 1), and the only ones here are
+// the lens, x and the lamp, with specular vertices between each two; the lamp itself is met by no
+// camera path (s = 0). So the weight is 1, and the other strategies' weights are unchanged (this
+// one has density 0 for every path they make). Without it, bdpt left the light scattered once in
+// a liquid behind glass, and a caustic seen through the glass that casts it, black (0.61 of the
+// path tracer on the lit tumbler's liquid). Not in vcm, whose merges make these paths and are
+// weighted against them.
+template <std::size_t N>
+SampledSpectrum<N> Bdpt<N>::through_glass(const std::vector<Vertex<N>>& camera, const SampledSpectrum<N>& keep) {
+  if (!v_.manifold || s_.delta_lights.empty()) return {};
+  std::size_t i = 1;
+  while (i < camera.size() && camera[i].kind == VertexKind::surface && camera[i].delta) ++i;
+  if (i < 2 || i >= camera.size() || camera[i].kind == VertexKind::light) return {};
+  const Vertex<N>& x = camera[i];
+  const PathVertex at = path_vertex(x);
+  auto towards = [&](const Vec3& wi, double& pdf) {
+    pdf = direction_pdf(x, wi, false);
+    return f(x, wi, TransportMode::radiance);
+  };
+  auto leaves_into = [&](const Vec3& wi) { return medium_towards(x, wi); };
+  SampledSpectrum<N> sum;
+  if (!s_.casters.empty()) {  // (exact glass spheres: every delta light, no area light)
+    Rng side(rng_.next_u32(), kManifoldStream);
+    sum += through_casters(v_, at, towards, leaves_into, std::nullopt, 0.0, 0.0, w_, x.r_u, side, rays_);
+  }
+  for (const int index : s_.delta_lights) {
+    const Light& lamp = s_.lights[static_cast<std::size_t>(index)];
+    const auto li = sample_li(lamp, x.point, 0.0, 0.0);
+    if (!li || li->factor == 0.0) continue;
+    double pdf = 0.0;
+    if (towards(li->wi, pdf).is_zero()) continue;
+    bool glass = false;
+    Hit blocker;
+    // (Where the straight segment is clear, s = 1 has the lamp.)
+    if (transmission(v_, at, li->wi, li->distance_m, leaves_into(li->wi), w_, rng_, rays_, {}, &glass, &blocker) ||
+        !glass)
+      continue;
+    sum += delta_light_through_interface(v_, at, lamp, blocker, towards, leaves_into, w_, x.r_u, rng_, rays_);
+  }
+  return x.beta * sum * (x.dispersed ? keep : SampledSpectrum<N>::constant(1.0f));
 }
 
 template <std::size_t N>

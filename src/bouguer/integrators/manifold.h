@@ -20,7 +20,8 @@
 // something else in the way.
 //
 // Which strategy owns which path. Point and spot lights: these connections are the path tracer's
-// only strategy, so nothing is weighted. Area and spherical lights through a caster
+// only strategy, so nothing is weighted (and bdpt's, at the first non-specular vertex the camera
+// sees through specular ones: Bdpt::through_glass). Area and spherical lights through a caster
 // (RenderScene::casters: exact smooth spheres of objects without a priority): the walk also
 // reaches a path from a non-specular vertex through one or two refractions of one caster to the
 // light (a BSDF or phase direction refracted onto it), and the two are weighted by the power
@@ -128,7 +129,7 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
 // the rise misses by less than 1e-9 of the radius (Snell's law then holds to about 1e-13). Paths within
 // about 3° of grazing, and two paths closer than a cell where neither search sees them, may be
 // missed. `near`: as above, an entry point: Newton's method from the angle and α of the straight
-// line to it, and a 2×2 grid around them where that finds no path.
+// line to it, and a 2×2 grid around them where that finds no path within the window.
 SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const Vec3& on_axis, const Vec3& axis,
                                        double radius_m, double eta_inside, double eta_outside,
                                        const NearSolution* near = nullptr);
