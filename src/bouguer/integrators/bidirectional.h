@@ -121,10 +121,12 @@ class Bdpt {
     return l;
   }
   // bdpt's next-event estimation through smooth glass (manifold.h) to the point and spot lamps, at
-  // the camera subpath's first non-specular vertex where the camera sees it through specular ones
-  // (a liquid or a floor behind glass): there it is the only strategy of the paths it makes, so
-  // they are not weighted (below, where it is defined).
+  // each non-specular vertex of the camera subpath that the camera sees through specular ones (a
+  // liquid or a floor behind glass), up to the first two non-specular vertices side by side: there
+  // it is the only strategy of the paths it makes, so they are not weighted (below, where it is
+  // defined). through_glass_at: at one vertex.
   SampledSpectrum<N> through_glass(const std::vector<Vertex<N>>& camera, const SampledSpectrum<N>& keep);
+  SampledSpectrum<N> through_glass_at(const Vertex<N>& x, const SampledSpectrum<N>& keep);
 
   // The densities of the vertex records, from the geometry (public for the MIS check,
   // tests/support/mis_check.h).
@@ -456,23 +458,37 @@ double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) 
   return x.event.pdf(a, b);
 }
 
-// The paths this makes: the lens, specular vertices only, x (the first non-specular vertex), a
-// chain of smooth refractions that the straight segment from x to a point or spot lamp meets, the
-// lamp. No other strategy of bdpt makes them: a connection needs two non-specular vertices next to
-// each other (the lens and the first vertex for light tracing, t = 1), and the only ones here are
-// the lens, x and the lamp, with specular vertices between each two; the lamp itself is met by no
-// camera path (s = 0). So the weight is 1, and the other strategies' weights are unchanged (this
-// one has density 0 for every path they make). Without it, bdpt left the light scattered once in
-// a liquid behind glass, and a caustic seen through the glass that casts it, black (0.61 of the
-// path tracer on the lit tumbler's liquid). Not in vcm, whose merges make these paths and are
-// weighted against them.
+// The paths this makes: the lens, the camera subpath up to a non-specular vertex x whose
+// predecessor is specular, a chain of smooth refractions that the straight segment from x to a
+// point or spot lamp meets, the lamp. No other strategy of bdpt makes them where no two
+// non-specular vertices of the camera subpath up to x lie side by side (the lens counts as one):
+// a connection joins two such neighbours, light tracing (t = 1) the lens and the camera's first
+// vertex, and next-event estimation's straight segment (s = 1) is blocked; the lamp itself is met
+// by no camera path (s = 0). So the weight is 1, and the other strategies' weights are unchanged
+// (this one has density 0 for every path they make). From the first such pair on, the paths have
+// other strategies, and it stops. A surface vertex past max_depth gets nothing, as s = 1 and the
+// path tracer give it nothing. Without it, bdpt left the light scattered once in a liquid behind
+// glass, and a caustic seen through the glass that casts it, black (0.61 of the path tracer on the
+// lit tumbler's liquid). Not in vcm, whose merges make these paths and are weighted against them.
 template <std::size_t N>
 SampledSpectrum<N> Bdpt<N>::through_glass(const std::vector<Vertex<N>>& camera, const SampledSpectrum<N>& keep) {
   if (!v_.manifold || s_.delta_lights.empty()) return {};
-  std::size_t i = 1;
-  while (i < camera.size() && camera[i].kind == VertexKind::surface && camera[i].delta) ++i;
-  if (i < 2 || i >= camera.size() || camera[i].kind == VertexKind::light) return {};
-  const Vertex<N>& x = camera[i];
+  SampledSpectrum<N> sum;
+  bool before_specular = false;  // (the lens is not)
+  for (std::size_t i = 1; i < camera.size(); ++i) {
+    const Vertex<N>& x = camera[i];
+    if (x.kind == VertexKind::light) break;
+    const bool specular = x.kind == VertexKind::surface && x.delta;
+    if (!specular && !before_specular) break;  // two non-specular neighbours: other strategies
+    before_specular = specular;
+    if (specular || (x.kind == VertexKind::surface && i > static_cast<std::size_t>(v_.max_depth))) continue;
+    sum += through_glass_at(x, keep);
+  }
+  return sum;
+}
+
+template <std::size_t N>
+SampledSpectrum<N> Bdpt<N>::through_glass_at(const Vertex<N>& x, const SampledSpectrum<N>& keep) {
   const PathVertex at = path_vertex(x);
   auto towards = [&](const Vec3& wi, double& pdf) {
     pdf = direction_pdf(x, wi, false);
@@ -487,7 +503,7 @@ SampledSpectrum<N> Bdpt<N>::through_glass(const std::vector<Vertex<N>>& camera, 
   for (const int index : s_.delta_lights) {
     const Light& lamp = s_.lights[static_cast<std::size_t>(index)];
     const auto li = sample_li(lamp, x.point, 0.0, 0.0);
-    if (!li || li->factor == 0.0) continue;
+    if (!li || li->factor == 0.0 || v_.tables.at(li->spectrum, w_).is_zero()) continue;
     double pdf = 0.0;
     if (towards(li->wi, pdf).is_zero()) continue;
     bool glass = false;

@@ -82,8 +82,8 @@ enum class NextEvent : std::uint8_t {
   // The same, and a point or spot light that smooth interfaces hide (a flat face, a chain of mesh
   // faces, an exact sphere) reached through them (manifold.h), for the path tracer alone: no other strategy of its
   // reaches those paths, where the bidirectional estimators' light subpaths do (their tails keep
-  // lights_and_map_weighted; bdpt's one exception, where no light subpath does, is
-  // Bdpt::through_glass). Area and spherical lights too, through exact spheres and (small ones:
+  // lights_and_map_weighted; bdpt's one exception, where its light subpaths reach the vertex but
+  // no connection can join them to the camera subpath, is Bdpt::through_glass). Area and spherical lights too, through exact spheres and (small ones:
   // SceneView::lamp_through_chains) through chains of mesh faces and exact cylinders' sides,
   // weighted against the walk.
   lights_map_and_interfaces,

@@ -20,8 +20,8 @@
 // something else in the way.
 //
 // Which strategy owns which path. Point and spot lights: these connections are the path tracer's
-// only strategy, so nothing is weighted (and bdpt's, at the first non-specular vertex the camera
-// sees through specular ones: Bdpt::through_glass). Area and spherical lights through a caster
+// only strategy, so nothing is weighted (and bdpt's, at a non-specular vertex the camera sees
+// through specular ones: Bdpt::through_glass). Area and spherical lights through a caster
 // (RenderScene::casters: exact smooth spheres of objects without a priority): the walk also
 // reaches a path from a non-specular vertex through one or two refractions of one caster to the
 // light (a BSDF or phase direction refracted onto it), and the two are weighted by the power
