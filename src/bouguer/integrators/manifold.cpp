@@ -256,20 +256,40 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
   return out;
 }
 
+namespace {
+
+// Two points in a cylinder's frame: `ref` at (r, 0) across the axis on e1 (r its distance from the
+// axis in radii; e2 = axis × e1), `other` at (x1, x2) in radii and other_across_m from the axis,
+// `rise` radii above `ref` along it; their heights along the axis from on_axis (metres).
+struct AcrossAxis {
+  Vec3 e1, e2;
+  double r = 0.0, x1 = 0.0, x2 = 0.0, rise = 0.0, other_across_m = 0.0, z_ref_m = 0.0, z_other_m = 0.0;
+};
+AcrossAxis across_axis(const Vec3& ref, const Vec3& other, const Vec3& on_axis, const Vec3& axis, double radius_m) {
+  AcrossAxis f;
+  const Vec3 to_ref = ref - on_axis, to_other = other - on_axis;
+  f.z_ref_m = dot(to_ref, axis), f.z_other_m = dot(to_other, axis);
+  const Vec3 ref_across = to_ref - axis * f.z_ref_m, other_across = to_other - axis * f.z_other_m;
+  f.r = length(ref_across) / radius_m;
+  f.other_across_m = length(other_across);
+  f.e1 = ref_across / (f.r * radius_m), f.e2 = cross(axis, f.e1);
+  f.x1 = dot(other_across, f.e1) / radius_m, f.x2 = dot(other_across, f.e2) / radius_m;
+  f.rise = (f.z_other_m - f.z_ref_m) / radius_m;
+  return f;
+}
+
+}  // namespace
+
 SphereRefraction cylinder_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& on_axis,
                                             const Vec3& axis, double radius_m, double eta_inner, double eta_outer,
                                             const NearSolution* near) {
   SphereRefraction out;
   // Across the axis, in units of the radius: the outer point at (b, 0) on e1, the inner one at
   // (a1, a2); along it, the outer point dz above the inner one; y(φ, z) = (cos φ, sin φ, z).
-  const Vec3 to_outer = outer - on_axis, to_inner = inner - on_axis;
-  const double z_outer = dot(to_outer, axis), z_inner = dot(to_inner, axis);
-  const Vec3 outer_across = to_outer - axis * z_outer, inner_across = to_inner - axis * z_inner;
-  const double b = length(outer_across) / radius_m;
-  if (!(b > 1.0) || !(length(inner_across) < radius_m)) return out;
-  const Vec3 e1 = outer_across / (b * radius_m), e2 = cross(axis, e1);
-  const double a1 = dot(inner_across, e1) / radius_m, a2 = dot(inner_across, e2) / radius_m;
-  const double dz = (z_outer - z_inner) / radius_m;
+  const AcrossAxis frame = across_axis(outer, inner, on_axis, axis, radius_m);
+  if (!(frame.r > 1.0) || !(frame.other_across_m < radius_m)) return out;
+  const Vec3 e1 = frame.e1, e2 = frame.e2;
+  const double b = frame.r, a1 = frame.x1, a2 = frame.x2, dz = -frame.rise, z_inner = frame.z_other_m;
   // At (cos φ, sin φ): the height from the inner point's where the path crosses (Snell's law
   // along the axis over the two distances across it), and the path's two lengths.
   struct Crossing {
@@ -489,14 +509,10 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
   SpherePassages out;
   // Across the axis, in units of the radius: `from` at (a, 0) on e1, `to` at (b1, b2); along
   // it, `to` dz above `from`.
-  const Vec3 to_from = from - on_axis, to_to = to - on_axis;
-  const double z_from = dot(to_from, axis), z_to = dot(to_to, axis);
-  const Vec3 from_across = to_from - axis * z_from, to_across = to_to - axis * z_to;
-  const double a = length(from_across) / radius_m;
-  if (!(a > 1.0) || !(length(to_across) > radius_m)) return out;
-  const Vec3 e1 = from_across / (a * radius_m), e2 = cross(axis, e1);
-  const double b1 = dot(to_across, e1) / radius_m, b2 = dot(to_across, e2) / radius_m;
-  const double dz = (z_to - z_from) / radius_m;
+  const AcrossAxis frame = across_axis(from, to, on_axis, axis, radius_m);
+  if (!(frame.r > 1.0) || !(frame.other_across_m > radius_m)) return out;
+  const Vec3 e1 = frame.e1, e2 = frame.e2;
+  const double a = frame.r, b1 = frame.x1, b2 = frame.x2, dz = frame.rise, z_from = frame.z_ref_m;
   const double eta_min = std::min(eta_inside, eta_outside), eta_max = std::max(eta_inside, eta_outside);
   const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12), beta_max = 0.5 * std::numbers::pi * (1.0 - 1e-9);
   // A path entering at angle φ around the axis with the invariant α = η_min·sin β (η times the
