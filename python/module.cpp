@@ -375,7 +375,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
     choice.emplace(choose_estimator(compiled, settings, trial_spp, keep_spectra, &scene.desc.display, control, stats));
   }
   RenderSettings chosen = settings;
-  if (choice) chosen.integrator = choice->chosen;
+  if (choice) chosen.integrator = choice->chosen, chosen.light_paths = chosen.light_paths || choice->light_paths;
   FilmBuffer buffer = choice && choice->film ? std::move(*choice->film) : make_film(compiled, keep_spectra);
   if (choice) st.complete = choice->trial_spp;
   const bool stopped = render_waiting(scene, compiled, chosen, buffer, a, stats, st);

@@ -174,6 +174,13 @@ int run_render(const RenderCli& o) {
     fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel (path or whitted); "
                "{} adds light paths' splats anywhere on the film",
                integrator_info(settings.integrator).name);
+  if (o.noise > 0.0 && settings.integrator == IntegratorType::path && settings.light_paths)
+    fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel; the path tracer's "
+               "light paths (render.light_paths) add splats anywhere on the film");
+  if (settings.light_paths && settings.integrator != IntegratorType::path &&
+      settings.integrator != IntegratorType::automatic)
+    fmt::print(stderr, "bouguer: warning: light_paths: only the path tracer traces them; {} renders without\n",
+               integrator_info(settings.integrator).name);
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
@@ -191,7 +198,11 @@ int run_render(const RenderCli& o) {
     // many as the budget allows".
     const int trial_spp = auto_trial_spp(settings.spp, o.time_s > 0.0 && !o.overrides.spp);
     choice.emplace(choose_estimator(scene, settings, trial_spp, keep_spectra, &desc.display, control, stats));
+    if (settings.light_paths && choice->chosen != IntegratorType::path)
+      fmt::print(stderr, "bouguer: warning: light_paths: auto chose {}, which renders without them\n",
+                 integrator_info(choice->chosen).name);
     settings.integrator = choice->chosen;
+    settings.light_paths = settings.light_paths || choice->light_paths;
   }
   const bool mpi = distributed::launched_by_mpirun();
   FilmBuffer buffer = choice && choice->film && !mpi ? std::move(*choice->film) : make_film(scene, keep_spectra);
@@ -284,8 +295,10 @@ int run_render(const RenderCli& o) {
                           {"cost", t.cost},
                           {"score", t.score},
                           {"seconds", t.seconds},
-                          {"complete", t.complete}});
+                          {"complete", t.complete},
+                          {"light_paths", t.light_paths}});
       jv["auto"] = {{"chosen", integrator_info(choice->chosen).name},
+                    {"light_paths", choice->light_paths},
                     {"trial_spp", choice->trial_spp},
                     {"trials", trials}};
     }
@@ -320,16 +333,18 @@ int run_render(const RenderCli& o) {
                passes.complete, integrator_info(settings.integrator).name, mode, stats.seconds, stats.rays,
                rays_per_second, fmt::join(o.outputs, ", "));
     if (choice) {
+      const char* with = choice->light_paths ? " with its light paths" : "";
       if (choice->trials.empty())
-        fmt::print("  auto: {}, without trials ({} spp; trials need 16)\n", integrator_info(choice->chosen).name,
-                   settings.spp);
+        fmt::print("  auto: {}{}, without trials ({} spp; trials need 16)\n", integrator_info(choice->chosen).name,
+                   with, settings.spp);
       else {
         std::string rows;
         for (const EstimatorTrial& t : choice->trials)
-          rows += fmt::format("{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00²·cost {:.3g}{}", rows.empty() ? "" : "; ",
-                              integrator_info(t.type).name, t.error_de00, t.cost, t.score,
-                              t.complete ? "" : " (misses light here: not chosen)");
-        fmt::print("  auto: {} (trials of {} spp: {})\n", integrator_info(choice->chosen).name, choice->trial_spp, rows);
+          rows += fmt::format("{}{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00²·cost {:.3g}{}", rows.empty() ? "" : "; ",
+                              integrator_info(t.type).name, t.light_paths ? " with light paths" : "", t.error_de00,
+                              t.cost, t.score, t.complete ? "" : " (misses light here: not chosen)");
+        fmt::print("  auto: {}{} (trials of {} spp: {})\n", integrator_info(choice->chosen).name, with,
+                   choice->trial_spp, rows);
       }
     }
     if (stats.iterations > 0)

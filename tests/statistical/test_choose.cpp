@@ -135,14 +135,18 @@ TEST(Choose, DarkerBeyondNoiseOnlyWhereTheGapIsBothSignificantAndLarge) {
   EXPECT_FALSE(darker_somewhere(dark_block, dark_block, spark_a, spark_m));
 }
 
-// Where a point lamp shines through a glass block onto a floor, the path tracer cannot reach the
-// caustic at all (no direction it draws meets a point): it is no candidate and not trialled. An
-// exact glass sphere instead of the block is one next-event estimation connects through
-// (integrators/manifold.h): then it is, unless the scene turns that off.
-TEST(Choose, PathTracerLeftOutWhereAPointLampShinesThroughGlassItCannotConnectThrough) {
-  auto scene = [](const char* shape, bool manifold) {
+// Where a point lamp shines through a glass block onto a floor, the path tracer by itself cannot
+// reach the light the block reflects (no direction it draws meets a point): it is trialled, and
+// chosen, only with its light paths (render.light_paths), which make that light. With an
+// orthographic camera, whose connections through glass the light paths lack, or a distant lamp,
+// which has none, it is no candidate and not trialled. An exact glass sphere instead of the block
+// is one next-event estimation connects through (integrators/manifold.h): then it is a candidate
+// by itself, unless the scene turns that off.
+TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlass) {
+  auto scene = [](const char* shape, bool manifold, const char* camera = R"("fov_deg": 45)",
+                  const char* lamp = R"("type": "point", "position": [0, 0.4, 0])") {
     return fmt::format(R"({{
-      "camera": {{"position": [0, 0.5, 0.35], "look_at": [0, 0, 0], "fov_deg": 45, "resolution": [8, 8]}},
+      "camera": {{"position": [0, 0.5, 0.35], "look_at": [0, 0, 0], {}, "resolution": [8, 8]}},
       "render": {{"spp": 64, "manifold": {}}},
       "media": {{"glass": {{"ior": 1.5}}}},
       "objects": [
@@ -150,9 +154,9 @@ TEST(Choose, PathTracerLeftOutWhereAPointLampShinesThroughGlassItCannotConnectTh
           "material": {{"type": "diffuse", "reflectance": 0.8}}}},
         {{"name": "glass", "shape": {}, "transform": [{{"translate": [0, 0.06, 0]}}], "inside": "glass"}}
       ],
-      "lights": [{{"type": "point", "position": [0, 0.4, 0], "spectrum": "D65", "scale": 1}}]
+      "lights": [{{{}, "spectrum": "D65", "scale": 1}}]
     }})",
-                       manifold ? "true" : "false", shape);
+                       camera, manifold ? "true" : "false", shape, lamp);
   };
   const char* block = R"({"type": "box", "size": [0.08, 0.08, 0.08]})";
   const char* ball = R"({"type": "sphere", "radius": "40 mm"})";
@@ -163,15 +167,29 @@ TEST(Choose, PathTracerLeftOutWhereAPointLampShinesThroughGlassItCannotConnectTh
   EXPECT_TRUE(misses(scene(block, true)));
   EXPECT_FALSE(misses(scene(ball, true)));
   EXPECT_TRUE(misses(scene(ball, false)));
-  const SceneDesc desc = parse_scene(scene(block, true), "a.json");
-  RenderControl control;
-  RenderStats stats;
-  const EstimatorChoice c =
-      choose_estimator(compile(desc), desc.render, auto_trial_spp(64), false, nullptr, control, stats);
-  ASSERT_EQ(c.trials.size(), 3u);
-  EXPECT_FALSE(c.trials[0].complete);
-  EXPECT_EQ(c.trials[0].rays, 0u);  // not trialled
-  EXPECT_NE(c.chosen, IntegratorType::path);
+  auto choose = [](const std::string& text) {
+    const SceneDesc desc = parse_scene(text, "a.json");
+    RenderControl control;
+    RenderStats stats;
+    return choose_estimator(compile(desc), desc.render, auto_trial_spp(64), false, nullptr, control, stats);
+  };
+  const EstimatorChoice with = choose(scene(block, true));
+  ASSERT_EQ(with.trials.size(), 3u);
+  EXPECT_TRUE(with.trials[0].complete);
+  EXPECT_TRUE(with.trials[0].light_paths);
+  EXPECT_GT(with.trials[0].rays, 0u);
+  EXPECT_EQ(with.light_paths, with.chosen == IntegratorType::path);
+  const char* orthographic = R"("type": "orthographic", "width": 0.3)";
+  const char* distant = R"("type": "distant", "direction": [0, -1, 0.2])";
+  for (const std::string& text : {scene(block, true, orthographic), scene(block, true, R"("fov_deg": 45)", distant)}) {
+    const EstimatorChoice c = choose(text);
+    ASSERT_EQ(c.trials.size(), 3u);
+    EXPECT_FALSE(c.trials[0].complete);
+    EXPECT_FALSE(c.trials[0].light_paths);
+    EXPECT_EQ(c.trials[0].rays, 0u);  // not trialled
+    EXPECT_NE(c.chosen, IntegratorType::path);
+    EXPECT_FALSE(c.light_paths);
+  }
 }
 
 }  // namespace

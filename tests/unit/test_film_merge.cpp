@@ -11,6 +11,7 @@
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_scenes.h"
 #include "support/test_support.h"
 
 namespace bouguer {
@@ -66,16 +67,25 @@ TEST(FilmMerge, PiecesMergedEqualOneRenderBitForBitForEveryIntegrator) {
       // auto is resolved before any piece is rendered (the command line's trials, the same on
       // every rank: integrators/choose.h); the pieces are then the chosen estimator's.
       if (integrator.type == IntegratorType::automatic) continue;
-      SCOPED_TRACE(fmt::format("{} {}", integrator.name, spectral_mode_name(mode)));
-      const SceneDesc desc = small_example(integrator.type, mode);
-      const RenderScene scene = compile(desc);
-      const RenderSettings& settings = desc.render;
-      for (const int parts : {2, 3}) {
-        const bool spectra = mode == SpectralMode::full;
-        const OneAndMerged r = render_one_and_merged(scene, settings, spectra, parts);
-        EXPECT_TRUE(any_light(r.image));  // a test of nothing would pass too
-        EXPECT_EQ(r.one.size(), r.merged.size());
-        EXPECT_TRUE(r.one == r.merged) << parts << " parts";
+      // (the path tracer also with its light paths, whose splats land anywhere)
+      for (const bool light_paths : {false, true}) {
+        if (light_paths && integrator.type != IntegratorType::path) continue;
+        SCOPED_TRACE(fmt::format("{} {}{}", integrator.name, spectral_mode_name(mode), light_paths ? ", light paths" : ""));
+        // (its light paths on the lit tumbler: a point and a spot lamp behind glass)
+        SceneDesc desc = light_paths ? parse_scene(test::lit_tumbler("path"), "tumbler.json")
+                                     : small_example(integrator.type, mode);
+        desc.render.spp = 3;
+        desc.render.spectral = mode;
+        desc.render.light_paths = light_paths;
+        const RenderScene scene = compile(desc);
+        const RenderSettings& settings = desc.render;
+        for (const int parts : {2, 3}) {
+          const bool spectra = mode == SpectralMode::full;
+          const OneAndMerged r = render_one_and_merged(scene, settings, spectra, parts);
+          EXPECT_TRUE(any_light(r.image));  // a test of nothing would pass too
+          EXPECT_EQ(r.one.size(), r.merged.size());
+          EXPECT_TRUE(r.one == r.merged) << parts << " parts";
+        }
       }
     }
 }

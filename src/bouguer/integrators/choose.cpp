@@ -87,6 +87,15 @@ bool path_misses_light(const RenderScene& scene, const RenderSettings& settings)
   return false;
 }
 
+bool light_paths_complete(const RenderScene& scene) {
+  if (scene.camera.type != CameraType::pinhole) return false;
+  for (const int index : scene.delta_lights) {
+    const Light& light = scene.lights[static_cast<std::size_t>(index)];
+    if (!std::holds_alternative<PointLight>(light) && !std::holds_alternative<SpotLight>(light)) return false;
+  }
+  return true;
+}
+
 bool darker_somewhere(const Film& dark_first, const Film& dark_mean, const Film& bright_first,
                       const Film& bright_mean) {
   return darker_blocks(blocks_of(dark_first, dark_mean), blocks_of(bright_first, bright_mean));
@@ -129,10 +138,16 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
   choice.trial_spp = std::min(trial_spp - trial_spp % 2, settings.spp);
   const std::vector<IntegratorType> candidates = auto_candidates(scene);
   if (choice.trial_spp < 2 || candidates.size() < 2) {
-    // Without trials: the path tracer, which renders every scene, unless it misses light here and
-    // bdpt can render the scene (unbiased, as the path tracer; vcm's first iterations blur).
+    // Without trials: the path tracer, which renders every scene, with its light paths where it
+    // misses light here that they make; otherwise there bdpt, where it can render the scene
+    // (unbiased, as the path tracer; vcm's first iterations blur).
     choice.trial_spp = 0;
-    if (candidates.size() > 1 && path_misses_light(scene, settings)) choice.chosen = IntegratorType::bdpt;
+    if (path_misses_light(scene, settings)) {
+      if (light_paths_complete(scene))
+        choice.light_paths = true;
+      else if (candidates.size() > 1)
+        choice.chosen = IntegratorType::bdpt;
+    }
     return choice;
   }
   const int k = choice.trial_spp / 2;
@@ -148,13 +163,16 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     const IntegratorType type = candidates[i];
     EstimatorTrial t;
     t.type = type;
-    t.complete = !(type == IntegratorType::path && path_misses_light(scene, settings));
+    const bool misses = type == IntegratorType::path && path_misses_light(scene, settings);
+    t.light_paths = misses && light_paths_complete(scene);
+    t.complete = !misses || t.light_paths;
     if (!t.complete) {  // no trial: its noise would say nothing of the light it leaves out
       choice.trials.push_back(t);
       continue;
     }
     RenderSettings s = settings;
     s.integrator = type;
+    s.light_paths = settings.light_paths || t.light_paths;
     FilmBuffer& film = films[i].emplace(make_film(scene, keep_spectra));
     RenderStats st;
     render_into(scene, s, film, PixelRegion::whole(scene.camera), {0, k}, trial_control, st);
@@ -198,6 +216,7 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     if (t.complete && (best == choice.trials.size() || t.score < choice.trials[best].score)) best = i;
   }
   choice.chosen = choice.trials[best].type;
+  choice.light_paths = choice.trials[best].light_paths;
   choice.film.emplace(std::move(*films[best]));
   return choice;
 }

@@ -13,9 +13,10 @@
 // the image after each read from the same film (the second half's is 2·M − A, splats included),
 // and a pixel's error is ΔE00(A, B)/2 on the display colour (render/adaptive.h's estimate); the
 // trial's is the mean over the pixels. Noise cannot tell an estimator that misses light: the path
-// tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So the
-// path tracer is no candidate where a delta lamp shines and a specular surface it cannot connect
-// through is in the scene (path_misses_light); and where a short trial has not yet found light
+// tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So
+// where a delta lamp shines and a specular surface it cannot connect through is in the scene
+// (path_misses_light), the path tracer is trialled with its light paths where they make that light
+// (light_paths_complete), and is no candidate otherwise; and where a short trial has not yet found light
 // that another unbiased estimator's has (darker_somewhere), it is left out too.
 #include <cstdint>
 #include <optional>
@@ -35,11 +36,13 @@ struct EstimatorTrial {
   double score = 0.0;    // error² × cost: the cost of a given noise (lower is better)
   double seconds = 0.0;  // measured, reported; the choice does not read it
   bool complete = true;  // false: it misses light in this scene (path_misses_light), not chosen
+  bool light_paths = false;  // path: trialled with its light paths, which make what it misses here
 };
 
 struct EstimatorChoice {
   IntegratorType chosen = IntegratorType::path;
   int trial_spp = 0;  // samples per pixel each candidate rendered (2k); the chosen film has them
+  bool light_paths = false;  // the path tracer chosen with its light paths (render.light_paths)
   std::vector<EstimatorTrial> trials;
   std::optional<FilmBuffer> film;  // the chosen candidate's film after its trial
 };
@@ -61,6 +64,13 @@ int auto_trial_spp(int spp, bool seconds_only = false);
 // not a manifold caster, a smooth mirror, a thin dielectric sheet), so that the light it carries
 // onto diffuse surfaces (caustics) is found by no direction the walk draws.
 bool path_misses_light(const RenderScene& scene, const RenderSettings& settings);
+
+// Whether the path tracer's light paths (render.light_paths) make the light path_misses_light
+// says it misses: every delta lamp a point or spot lamp (a distant one has no light paths) and a
+// pinhole camera (their connections through glass need one). What is then still missing, light
+// reflected on both sides of a vertex, the trials' comparison (darker_somewhere) is there for.
+// Where it holds, the path tracer is trialled, and chosen, with its light paths.
+bool light_paths_complete(const RenderScene& scene);
 
 // Whether one trial's image is darker than another's in some block of 8 × 8 pixels, by more than
 // five standard errors of the two (from each trial's halves) and by more than a fifth of the

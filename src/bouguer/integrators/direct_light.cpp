@@ -55,7 +55,9 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
   bool nothing_through = false;
   auto segment = [&](const Hit* hit, const SurfaceSeen*) {
     const double length_m = hit ? length(hit->point - seg.start) : remaining;
-    if (const ScatteringMedium* sm = scattering_medium(s, seg.medium); sm && !nothing_through) {
+    if (v.visibility_only) {
+      // (clear as far as the geometry goes)
+    } else if (const ScatteringMedium* sm = scattering_medium(s, seg.medium); sm && !nothing_through) {
       ratio_track(*sm, v.tables, Ray{seg.start, wi}, length_m, w, rng, out.tr, out.ratios);
       if (!sigma_mean.empty() && std::isfinite(length_m))
         out.tau += sigma_mean[static_cast<std::size_t>(seg.medium)] *

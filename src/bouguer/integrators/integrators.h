@@ -23,6 +23,14 @@ void render_path(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRe
                  const RenderControl&, RenderStats&);
 void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                   const RenderControl&, RenderStats&);
+// The path tracer's light paths (render.light_paths): after each camera sample, one light path
+// from a point or spot lamp (drawn by power among all lamps: from another, nothing), splatted only
+// where the path tracer's next-event estimation does not make the path (light.cpp). Their
+// streams' salt (render/sampling.h: sample_rng), apart from every other's.
+inline constexpr std::uint64_t kLightPathsSalt = 5;
+template <std::size_t N>
+void trace_light_path_beyond_next_event(const SceneView<N>& v, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
+                                        FilmBuffer& film, std::uint64_t& rays);
 void render_bdpt(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                  const RenderControl&, RenderStats&);
 void render_vcm(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
@@ -96,10 +104,13 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
 
 // The camera-sample loop of the estimators that trace from the camera: a camera ray through a
 // stratified sub-pixel position and li(view, ray, wavelengths, dispersion_u, rng, rays) → radiance.
+// With `light_paths` (the path tracer's, render.light_paths), each sample then traces its light
+// path, with the wavelengths the sample began with, in the same loop (so a pass cut short has the
+// light paths of the samples it took, as the splats' scale counts them).
 template <std::size_t N, bool kDispersion = true, typename Li>
 void render_camera_paths(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
                          PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
-                         Li li) {
+                         Li li, bool light_paths = false) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
@@ -107,10 +118,16 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
   for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, range, control, stats, 0,
                            [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                std::uint64_t& rays) {
-                             const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel_index(x, y, film.width()), rng);
+                             const std::uint64_t pixel = pixel_index(x, y, film.width());
+                             std::optional<SampledWavelengths<N>> began;
+                             if (light_paths) began = w;
+                             const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel, rng);
                              const SampledSpectrum<N> l =
                                  li(view, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
                              add_camera_sample(film, tables, w, x, y, s, l);
+                             if (!began) return;
+                             Rng light_rng = sample_rng(settings.seed, pixel, s, kLightPathsSalt);
+                             trace_light_path_beyond_next_event(view, *began, dispersion_u, light_rng, film, rays);
                            });
 }
 

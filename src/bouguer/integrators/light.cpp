@@ -3,23 +3,38 @@
 // non-specular surface is connected to the camera by a shadow ray and splatted at its film
 // position, and a lamp's own point is connected too (the lamp seen directly). It finds caustics
 // on diffuse receivers (light focused by glass), which the path tracer reaches only by chance.
-// What it cannot see: anything the camera sees through a purely specular chain (mirrors, glass)
-// and the background or environment seen directly, since a connection to a pinhole ends on a
-// non-specular surface or a lamp. The same Russian roulette and depth limit as the path tracer.
+// Where smooth glass stands between a vertex and a pinhole camera, the connection is solved
+// through it (splats.cpp: splat_through_glass, as next-event estimation through glass). What it
+// cannot see: what the camera sees by a reflection (a mirror, the glass's own reflections), and
+// the background or environment seen directly, since a connection ends on a non-specular surface
+// or a lamp. The same Russian roulette and depth limit as the path tracer.
+// The same walk also gives the path tracer its light paths (render.light_paths): only the splats
+// of paths that its next-event estimation does not make (LightSplats::beyond_next_event).
 // In scattering media: the same delta tracking as the path tracer, and every medium vertex is
 // connected to the camera through the phase function.
 // The walk is the one random walk of integrators/walk.h; this file is only its visitor.
 // Light path i of pixel slot p is seeded by (seed, p, i): region and sample-range splits give the
 // same splats, whose fixed-point sums (render/film.h) do not depend on the order of arrival.
 #include "bouguer/integrators/integrators.h"
+#include "bouguer/integrators/manifold.h"
 #include "bouguer/integrators/walk.h"
 
 namespace bouguer {
 namespace {
 
+// Which splats a light path makes: all of them (the light tracer), or only those of a path from a
+// point or spot lamp that the path tracer's next-event estimation does not make at the path's first
+// vertex that is not specular (manifold.h: next_event_makes): light a mirror or a glass reflected
+// on its way there, light through glass along a path the connection through the glass does not
+// solve. Added to the path tracer's image, these make every path either estimator makes count
+// once (render.light_paths).
+enum class LightSplats { all, beyond_next_event };
+
 // The light tracer's visitor of a light subpath: every vertex on a non-specular surface and every
 // medium vertex connected to the camera; at most max_depth surface vertices and kMaxScatterings
-// medium vertices.
+// medium vertices. beyond_next_event: first the path's specular prefix (the lamp's direction, the
+// crossings, whether a vertex reflected), and at its first vertex that is not specular whether
+// next-event estimation makes the path; where it does, the walk stops there.
 template <std::size_t N>
 struct SplatToCamera {
   static constexpr bool kReverse = false;
@@ -28,9 +43,19 @@ struct SplatToCamera {
   Rng& rng;
   FilmBuffer& film;
   std::uint64_t& rays;
+  LightSplats which = LightSplats::all;
+  std::optional<manifold_detail::DeltaLamp> lamp = std::nullopt;  // beyond_next_event: the path's
   int surfaces = 0, scatterings = 0;
+  // The specular prefix (beyond_next_event): its crossings, whether a vertex reflected, its first
+  // vertex (nearest the lamp), its length so far, and the last specular vertex's normal and arriving
+  // direction.
+  bool decided = false, after_specular = false, reflected = false;
+  int crossings = 0;
+  double path_m = 0.0;
+  Vec3 previous = {}, nearest_lamp = {}, specular_normal = {}, specular_wo = {};
 
   bool vertex(const Vertex<N>& x) {
+    if (which == LightSplats::beyond_next_event && !decided && !beyond_next_event(x)) return false;
     if (x.kind == VertexKind::medium) {
       if (++scatterings > kMaxScatterings) return false;
       const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
@@ -42,21 +67,84 @@ struct SplatToCamera {
     if (!x.delta) splat_surface_to_camera(v, x.hit, x.event, x.wo, x.beta, w, x.r_u, rng, film, rays);
     return true;
   }
+
+  // Adds x to the specular prefix; at the first vertex that is not specular, false where
+  // next-event estimation makes the path (its f there read with the light's own direction for the
+  // camera's, which zeroes it on the same side for a surface that only reflects, its shading
+  // normal's or its own), or where that vertex is on a rough interface (whose f, zero where the
+  // half vector of a refraction is not valid, next-event estimation reads with the camera's side,
+  // which a light path does not know there: such light stays the path tracer's to miss).
+  bool beyond_next_event(const Vertex<N>& x) {
+    path_m += length(x.point - previous);
+    previous = x.point;
+    if (after_specular) {
+      const bool same_side = (dot(specular_wo, specular_normal) > 0.0) == (dot(-x.wo, specular_normal) > 0.0);
+      reflected = reflected || same_side;
+      crossings += !same_side;
+    }
+    if (x.kind == VertexKind::surface && x.delta) {
+      if (!after_specular) nearest_lamp = x.point;
+      after_specular = true;
+      specular_normal = x.normal;
+      specular_wo = x.wo;
+      return true;
+    }
+    decided = true;
+    if (reflected) return true;
+    if (x.kind == VertexKind::medium) {
+      const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
+      auto towards = [&](const Vec3& wi, double& pdf) {
+        pdf = phase_value(phase, -x.wo, wi);
+        return SampledSpectrum<N>::constant(static_cast<float>(pdf));
+      };
+      auto medium_towards = [&](const Vec3&) { return x.medium; };
+      return !next_event_makes(v, PathVertex{x.point, nullptr, x.inside}, *lamp, nearest_lamp, path_m, crossings,
+                               towards, medium_towards, w, rays);
+    }
+    if (std::holds_alternative<RoughDielectric>(x.event.bsdf)) return false;
+    auto towards = [&](const Vec3& wi, double& pdf) {
+      pdf = x.event.pdf(x.wo, wi);
+      return x.event.eval(x.wo, wi, TransportMode::radiance);
+    };
+    auto medium_towards = [&](const Vec3& wi) { return x.event.medium_towards(wi); };
+    return !next_event_makes(v, PathVertex{x.point, &x.hit, x.event.inside}, *lamp, nearest_lamp, path_m, crossings,
+                             towards, medium_towards, w, rays);
+  }
 };
 static_assert(WalkVisitor<SplatToCamera<kFullBins>, kFullBins> && !TakesMediumPoints<SplatToCamera<kFullBins>> &&
               !SplitsWalks<SplatToCamera<kFullBins>, kFullBins>);
 
 template <std::size_t N>
 void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
-                      FilmBuffer& film, std::uint64_t& rays) {
+                      FilmBuffer& film, std::uint64_t& rays, LightSplats which) {
   Vertex<N> y;
   WalkState<N> state;
   if (!start_light_subpath(v, w, rng, y, state)) return;
   state.dispersion_u = dispersion_u;
-  if (const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)]; on_a_surface(lamp))
+  const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)];
+  SplatToCamera<N> splat{v, w, rng, film, rays, which};
+  if (which == LightSplats::beyond_next_event) {
+    // (The path tracer's own directions meet area, spherical and environment lamps, and it sees
+    // them directly; a distant lamp's light it misses through glass is left out.)
+    splat.lamp = manifold_detail::delta_lamp(lamp);
+    if (!splat.lamp) return;
+    splat.previous = splat.lamp->p;
+  } else if (on_a_surface(lamp)) {
     splat_light_to_camera(v, y.hit, lamp, state.medium, y.beta, w, rng, film, rays);
-  SplatToCamera<N> splat{v, w, rng, film, rays};
+  }
   random_walk(v, WalkMedia{}, TransportMode::importance, state, w, rng, rays, splat);
+}
+
+template <std::size_t N>
+void render_light_splats(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
+                         PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
+                         std::uint64_t salt, LightSplats which) {
+  const SpectralTables<N> tables(scene.spectra, settings.spectral);
+  const Camera camera(scene.camera);
+  const SceneView<N> view{scene, tables, camera, settings.max_depth, true, settings.manifold};
+  for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, salt,
+                           [&](int, int, int, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
+                               std::uint64_t& rays) { trace_light_path(view, w, dispersion_u, rng, film, rays, which); });
 }
 
 }  // namespace
@@ -64,13 +152,20 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
 void render_light(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                   SampleRange range, const RenderControl& control, RenderStats& stats) {
   with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    const SpectralTables<N> tables(scene.spectra, settings.spectral);
-    const Camera camera(scene.camera);
-    const SceneView<N> view{scene, tables, camera, settings.max_depth};
-    for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, 1,
-                             [&](int, int, int, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
-                                 std::uint64_t& rays) { trace_light_path(view, w, dispersion_u, rng, film, rays); });
+    render_light_splats<N>(scene, settings, film, region, range, control, stats, 1, LightSplats::all);
   });
 }
+
+template <std::size_t N>
+void trace_light_path_beyond_next_event(const SceneView<N>& v, SampledWavelengths<N>& w, double dispersion_u, Rng& rng,
+                                        FilmBuffer& film, std::uint64_t& rays) {
+  trace_light_path(v, w, dispersion_u, rng, film, rays, LightSplats::beyond_next_event);
+}
+template void trace_light_path_beyond_next_event(const SceneView<kFullBins>&, SampledWavelengths<kFullBins>&, double,
+                                                 Rng&, FilmBuffer&, std::uint64_t&);
+template void trace_light_path_beyond_next_event(const SceneView<3>&, SampledWavelengths<3>&, double, Rng&,
+                                                 FilmBuffer&, std::uint64_t&);
+template void trace_light_path_beyond_next_event(const SceneView<kHeroCount>&, SampledWavelengths<kHeroCount>&,
+                                                 double, Rng&, FilmBuffer&, std::uint64_t&);
 
 }  // namespace bouguer

@@ -134,6 +134,14 @@ SpherePassages cylinder_passage_points(const Vec3& from, const Vec3& to, const V
                                        double radius_m, double eta_inside, double eta_outside,
                                        const NearSolution* near = nullptr);
 
+// Which side a solved chain's forward tube dω_q/dA⊥_x is taken from. `vertex`: by étendue from the
+// reverse tube, (η_x/η_q)²·dω_x/dA⊥_q, what the walk's own directions at x would gather from a lamp
+// of vanishing size at q (the path tracer's and bdpt's lamps). `point`: traced from q through the
+// chain reversed, what the camera's own rays from a pinhole at q would reach (the light tracer's
+// camera connections). The same where the normals are the faces' own; with shading normals each
+// is the one the walk that also makes the path would see.
+enum class TubeFrom { vertex, point };
+
 namespace manifold_detail {
 
 // One smooth interface, as next-event estimation crosses it: a plane through `point` with
@@ -373,17 +381,18 @@ inline double connection_density(double area_pdf, double cos_light, double tube,
 }
 
 // What a light sends from point q (a point light's position, or a point drawn on an area or
-// spherical light) along the paths to the vertex: intensity (or radiance × |cos θ| / density)
-// towards the path's last direction, or zero; `end` traces the final segment.
-template <std::size_t N, typename Towards, typename MediumTowards, typename End>
-SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
-                           const Vec3& q, Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
-                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, End end) {
+// spherical light) along each path to the vertex: intensity (or radiance × |cos θ| / density)
+// towards the path's last direction, or zero; `end` traces the final segment. add(l, reach) takes
+// each path's light and how it went (the light tracer's camera connections splat each where its
+// last direction lands on the film).
+template <std::size_t N, typename Towards, typename MediumTowards, typename End, typename Add>
+void through_each(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f, const Vec3& q,
+                  Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                  const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, End end, Add add) {
   const RenderScene& s = v.scene;
   const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
   const double eta_behind = s.media[static_cast<std::size_t>(f.medium_behind)].ior_reference;
   const Paths paths = solve(f, at.point, q, eta_front, eta_behind);
-  SampledSpectrum<N> sum;
   for (int k = 0; k < paths.count; ++k) {
     const auto& ys = paths.crossing[static_cast<std::size_t>(k)];
     const auto r = follow(v, at, inside, f, ys, paths.crossings, q, medium_towards, w, rng, rays);
@@ -410,8 +419,18 @@ SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSe
       weight = power_heuristic(p_connection * mean_ratio(s, path_r_u, r_l),
                                vertex_pdf * r->fresnel * mean_ratio(s, path_r_u, r->r_u * e.r_u));
     }
-    sum += fv * e.value * r->tr * e.tr * static_cast<float>(weight * r->fresnel * t / mean_ratio(s, path_r_u, r_l));
+    add(fv * e.value * r->tr * e.tr * static_cast<float>(weight * r->fresnel * t / mean_ratio(s, path_r_u, r_l)), *r);
   }
+}
+
+// The paths' light summed (through_each).
+template <std::size_t N, typename Towards, typename MediumTowards, typename End>
+SampledSpectrum<N> through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
+                           const Vec3& q, Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, End end) {
+  SampledSpectrum<N> sum;
+  through_each(v, at, inside, f, q, towards, medium_towards, w, path_r_u, rng, rays, end,
+               [&](const SampledSpectrum<N>& l, const Reach<N>&) { sum += l; });
   return sum;
 }
 
@@ -427,6 +446,18 @@ inline std::optional<DeltaLamp> delta_lamp(const Light& light) {
   return std::nullopt;
 }
 
+// A path's final segment to a point that sends `value` along it (a delta lamp; the camera's
+// pinhole, 1, the light tracer's connections weighing its importance in): the segment's
+// transmittance and ratios, nothing where it is blocked.
+template <std::size_t N>
+LightEnd<N> point_end(const SceneView<N>& v, const SampledSpectrum<N>& value, const Reach<N>& r,
+                      const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+  const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
+                              rng, rays);
+  if (!t) return {};
+  return {value, 0.0, 1.0, t->tr, t->ratios.r_l, t->ratios.r_u};
+}
+
 // What delta lamp `lamp` sends along a path's final segment: its intensity and spot profile
 // towards the path's last direction, and the segment's transmittance.
 template <std::size_t N>
@@ -434,11 +465,7 @@ LightEnd<N> delta_lamp_end(const SceneView<N>& v, const DeltaLamp& lamp, const R
                            const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
   const double emitted = lamp.spot ? spot_falloff(*lamp.spot, -r.to_light) : 1.0;
   if (emitted == 0.0) return {};
-  const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, r.to_light, r.light_m, r.medium, w,
-                              rng, rays);
-  if (!t) return {};
-  return {v.tables.at(lamp.intensity, w) * static_cast<float>(emitted), 0.0, 1.0, t->tr, t->ratios.r_l,
-          t->ratios.r_u};
+  return point_end(v, v.tables.at(lamp.intensity, w) * static_cast<float>(emitted), r, w, rng, rays);
 }
 
 // What an area or spherical light sends from its point y along a path's final segment: clear up
@@ -495,30 +522,31 @@ inline double chain_eta_ratio2(const Chain& c) {
   return r * r;
 }
 
-// The light of delta lamp `lamp` at vertex `at` through a chain of mesh faces (manifold_chain.h,
+// The light sent from point q to vertex `at` through a chain of mesh faces (manifold_chain.h,
 // seeded from the straight segment): the path on which each crossing refracts by its shading
-// normal, then as `through`: f·|cos θ| towards its first crossing, the lamp's intensity and
-// profile, Fresnel at each crossing (by the shading normal, as the walk), every segment's
-// transmittance, and the ray tube (η_x/η_q)²·dω_x/dA⊥_q: where the normals are the faces' own,
-// étendue makes that the forward tube dω_q/dA⊥_x of `through`; with shading normals it is what
-// the walk's own directions would gather from a lamp of vanishing size ("Radiance across a
-// refraction": no n² in the radiance, flux conserved).
-template <std::size_t N, typename Towards, typename MediumTowards>
-SampledSpectrum<N> delta_through_chain(const SceneView<N>& v, const PathVertex& at, Chain c, const DeltaLamp& lamp,
-                                       Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
-                                       const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays) {
+// normal, then as `through_each`: f·|cos θ| towards its first crossing, what `end` says q sends
+// along the last segment, Fresnel at each crossing (by the shading normal, as the walk), every
+// segment's transmittance, and the forward ray tube dω_q/dA⊥_x (TubeFrom): with a lamp at q,
+// "Radiance across a refraction": no n² in the radiance, flux conserved.
+template <std::size_t N, typename Towards, typename MediumTowards, typename End, typename Add>
+void through_chain_each(const SceneView<N>& v, const PathVertex& at, Chain c, const Vec3& q, Towards towards,
+                        MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                        const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, TubeFrom from, End end,
+                        Add add) {
   const RenderScene& s = v.scene;
-  if (!solve_chain(s, at.point, at.hit, lamp.p, c, rays)) return {};
-  const auto r = follow_chain(v, at, c, lamp.p, medium_towards, w, rng, rays);
-  if (!r) return {};
+  if (!solve_chain(s, at.point, at.hit, q, c, rays)) return;
+  const auto r = follow_chain(v, at, c, q, medium_towards, w, rng, rays);
+  if (!r) return;
   double vertex_pdf = 0.0;
   const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
-  if (fv.is_zero()) return {};
-  const LightEnd<N> e = delta_lamp_end(v, lamp, *r, w, rng, rays);
-  if (e.value.is_zero()) return {};
-  const double tube = chain_eta_ratio2(c) * chain_reverse_tube(s, at.point, lamp.p, c);
-  if (!(tube > 0.0) || !std::isfinite(tube)) return {};
-  return fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * tube / mean_ratio(s, path_r_u, r->r_l * e.r_l));
+  if (fv.is_zero()) return;
+  const LightEnd<N> e = end(*r);
+  if (e.value.is_zero()) return;
+  const double tube = from == TubeFrom::vertex ? chain_eta_ratio2(c) * chain_reverse_tube(s, at.point, q, c)
+                                               : chain_reverse_tube(s, q, at.point, reversed(c));
+  if (!(tube > 0.0) || !std::isfinite(tube)) return;
+  add(fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * tube / mean_ratio(s, path_r_u, r->r_l * e.r_l)),
+      *r);
 }
 
 // The smooth interface a connection refracts through at `hit` (seen there as `seen`): a face of
@@ -617,7 +645,7 @@ bool lamp_through_chains(const SceneView<N>& v, const Light& light) {
 // The light of an area or spherical lamp at vertex `at` through a chain of mesh faces, from the
 // point y next-event estimation drew on it for the straight line (its density per m², the lamp's
 // choice by power included: point_pdf), where the straight segment is hidden by smooth
-// refracting faces. The path Newton reaches from the straight line (delta_through_chain's), then:
+// refracting faces. The path Newton reaches from the straight line (through_chain_each's), then:
 // f·|cos θ| towards its first crossing, the lamp's radiance towards the path's last direction,
 // Fresnel at each crossing, every segment's transmittance, and the change of variables from the
 // point to the vertex's directions, |cos θ_y|·dω_x/dA⊥_y (the reverse tube), times (η_x/η_y)² as
@@ -685,41 +713,106 @@ CasterPathDensities chain_path_densities(const RenderScene& s, const Vec3& x, co
 CasterPathDensities cylinder_path_densities(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
                                             std::span<const Vec3> ys, const Hit& light_hit, std::uint64_t& rays);
 
-// The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
-// whose hit `blocker` stopped the straight shadow ray: a face of a mesh without shading normals or
-// a cylinder's cap, solved on its plane, a chain of mesh faces (manifold_chain.h), or an exact
-// sphere that is not a caster (a nested one; casters are through_casters'); `towards(wi, pdf)`
-// gives the vertex's f·|cos θ| towards wi, medium_towards(wi) the medium wi leaves into. path_r_u: the
-// path's unidirectional ratios so far, each path divided by the mean of their product with its
-// own light ratios (direct_light.h).
-template <std::size_t N, typename Towards, typename MediumTowards>
-SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const PathVertex& at, const Light& light,
-                                                 const Hit& blocker, Towards towards, MediumTowards medium_towards,
-                                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
-                                                 Rng& rng, std::uint64_t& rays) {
+// The paths from vertex `at` to a point q (a delta lamp's position, the camera's pinhole) through
+// the smooth interface whose hit `blocker` stopped the straight segment between them: a face of a
+// mesh without shading normals or a cylinder's cap, solved on its plane, a chain of mesh faces
+// (manifold_chain.h), or an exact sphere that is not a caster (a nested one; casters are
+// through_casters'); each path as through_each, q sending what `end` says, add(l, reach) taking
+// it. `towards(wi, pdf)` gives the vertex's f·|cos θ| towards wi, medium_towards(wi) the medium wi
+// leaves into. path_r_u: the path's unidirectional ratios so far, each path divided by the mean of
+// their product with its own light ratios (direct_light.h).
+template <std::size_t N, typename Towards, typename MediumTowards, typename End, typename Add>
+void through_interface_each(const SceneView<N>& v, const PathVertex& at, const Vec3& q, const Hit& blocker,
+                            Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                            const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, TubeFrom from, End end,
+                            Add add) {
   using namespace manifold_detail;
   const RenderScene& s = v.scene;
-  const auto lamp = delta_lamp(light);
-  if (!lamp) return {};
-  if (find_caster(s, blocker.geometry)) return {};
-  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(lamp->p - at.point)) : at.inside;
+  if (find_caster(s, blocker.geometry)) return;
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, normalize(q - at.point)) : at.inside;
   // Faces of meshes: one without shading normals has its exact solve below; smooth-shaded ones,
   // and two or more crossings, the chain's.
   // (A straight segment the chain cannot seed, something else behind the face, leaves a flat face
   // to its own solve: the refracted path may pass by what the straight one meets.)
   if (!s.rays.analytic(blocker.geometry)) {
     const bool smooth_shaded = dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9;
-    const auto chain = seed_chain(s, at.point, at.hit, inside, lamp->p, rays);
+    const auto chain = seed_chain(s, at.point, at.hit, inside, q, rays);
     if (chain && (chain->count > 1 || smooth_shaded))
-      return delta_through_chain(v, at, *chain, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
-    if (smooth_shaded) return {};
+      return through_chain_each(v, at, *chain, q, towards, medium_towards, w, path_r_u, rng, rays, from, end, add);
+    if (smooth_shaded) return;
   }
   const auto f = smooth_interface(s, blocker, surface_seen(s, blocker, inside));
-  if (!f) return {};
+  if (!f) return;
   // (A sphere crossed twice is a caster's case: a nested sphere's media change with the path. A
   // cylinder's side crossed twice, a glass rod between the vertex and the lamp, is solved here.)
-  if (f->shape == Interface::Shape::sphere && f->front(at.point) && f->front(lamp->p)) return {};
-  return delta_through(v, at, inside, *f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
+  if (f->shape == Interface::Shape::sphere && f->front(at.point) && f->front(q)) return;
+  through_each(v, at, inside, *f, q, towards, medium_towards, w, path_r_u, rng, rays, end, add);
+}
+
+// The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
+// whose hit `blocker` stopped the straight shadow ray (through_interface_each), summed.
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const PathVertex& at, const Light& light,
+                                                 const Hit& blocker, Towards towards, MediumTowards medium_towards,
+                                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
+                                                 Rng& rng, std::uint64_t& rays) {
+  const auto lamp = manifold_detail::delta_lamp(light);
+  if (!lamp) return {};
+  SampledSpectrum<N> sum;
+  auto end = [&](const manifold_detail::Reach<N>& r) { return manifold_detail::delta_lamp_end(v, *lamp, r, w, rng, rays); };
+  through_interface_each(v, at, lamp->p, blocker, towards, medium_towards, w, path_r_u, rng, rays, TubeFrom::vertex,
+                         end, [&](const SampledSpectrum<N>& l, const manifold_detail::Reach<N>&) { sum += l; });
+  return sum;
+}
+
+// Whether the path tracer's next-event estimation at vertex `at` to delta lamp `lamp` makes the
+// path along which the lamp's light reached `at` refracted at each of `crossings` smooth
+// interfaces and reflected nowhere (a light path's first vertex that is not specular: from the
+// lamp through its first crossing, `nearest_lamp`, those refractions make one path; `path_m` its
+// length). With no crossing, always (the straight shadow ray). Otherwise as direct_light_at asks:
+// through each caster, and where `towards` and a spot's profile are not zero along the straight
+// segment and its shadow ray is stopped by a smooth refracting interface, through that interface;
+// made where one of the paths solved there crosses last (nearest the lamp) within 1e-5 of the
+// path's length of `nearest_lamp`, as chain_path_densities finds the walk's path. The question is
+// the geometry's: the segments are traced for whether they are clear only (visibility_only: a
+// transmittance ratio tracking estimates as 0 in a density field would otherwise answer "not
+// made" at random), so it draws no random numbers. (Where next-event estimation gets 0 from a
+// path it solves, f or a segment's transmittance, so does the light path.) The path tracer's light
+// paths (render.light_paths) keep only what this does not make.
+template <std::size_t N, typename Towards, typename MediumTowards>
+bool next_event_makes(const SceneView<N>& v, const PathVertex& at, const manifold_detail::DeltaLamp& lamp,
+                      const Vec3& nearest_lamp, double path_m, int crossings, Towards towards,
+                      MediumTowards medium_towards, const SampledWavelengths<N>& w, std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  if (crossings == 0) return true;
+  if (!v.manifold) return false;
+  SceneView<N> geometry = v;
+  geometry.visibility_only = true;
+  Rng unused(0, kManifoldStream);  // (nothing is drawn)
+  bool made = false;
+  const SampledSpectrum<N> one = SampledSpectrum<N>::constant(1.0f);
+  auto end = [&](const Reach<N>& r) { return point_end(geometry, one, r, w, unused, rays); };
+  auto add = [&](const SampledSpectrum<N>&, const Reach<N>& r) {
+    made = made || length(r.last.point - nearest_lamp) < 1e-5 * path_m;
+  };
+  const Vec3 to = lamp.p - at.point;
+  const double d = length(to);
+  const Vec3 straight = to / d;
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, straight) : at.inside;
+  for (const ManifoldCaster& c : s.casters)
+    through_each(geometry, at, inside, caster_interface(s, c), lamp.p, towards, medium_towards, w, one, unused, rays,
+                 end, add);
+  double pdf = 0.0;
+  // (A spot that does not send light along the straight segment: next-event estimation stops there.)
+  if (made || towards(straight, pdf).is_zero() || (lamp.spot && spot_falloff(*lamp.spot, -straight) == 0.0))
+    return made;
+  bool glass = false;
+  Hit blocker;
+  if (!transmission(geometry, at, straight, d, medium_towards(straight), w, unused, rays, {}, &glass, &blocker) && glass)
+    through_interface_each(geometry, at, lamp.p, blocker, towards, medium_towards, w, one, unused, rays,
+                           TubeFrom::vertex, end, add);
+  return made;
 }
 
 // The light of an area or spherical lamp at vertex `at` through an exact cylinder's side (once, or

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <utility>
 
 #include "bouguer/core/math.h"
 #include "bouguer/geometry/ray_scene.h"
@@ -57,6 +58,20 @@ struct Chain {
   int count = 0;
   InsideSet inside_x = 0;
 };
+
+// The same crossings walked the other way, from q to x (their sides swapped), for the tube seen
+// from q (chain_reverse_tube from q). Its inside_x and each crossing's inside_to stay the forward
+// walk's: only the points, the triangles and the indices are read there.
+inline Chain reversed(const Chain& c) {
+  Chain r = c;
+  for (int i = 0; i < c.count; ++i) {
+    ChainCrossing& k = r.crossing[static_cast<std::size_t>(i)];
+    k = c.crossing[static_cast<std::size_t>(c.count - 1 - i)];
+    std::swap(k.eta_from, k.eta_to);
+    std::swap(k.medium_from, k.medium_to);
+  }
+  return r;
+}
 
 // The smooth refracting interfaces the straight segment from x to q crosses (short of q, as a
 // shadow ray stops: q may be a point on an area lamp's surface), in order (the

@@ -19,10 +19,23 @@
 // The walk is the one random walk of integrators/walk.h; radiance.h is its visitor.
 // Path guiding (integrators/guiding.h): where the render control carries a trained guide, half the
 // directions at diffuse surfaces are drawn from it.
+// Light paths (render.light_paths; light.cpp): after each camera sample, its light path from a point
+// or spot lamp, splatted only where next-event estimation does not make it.
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/integrators/radiance.h"
 
 namespace bouguer {
+namespace {
+
+bool has_point_or_spot_lamp(const RenderScene& scene) {
+  for (const int index : scene.delta_lights) {
+    const Light& l = scene.lights[static_cast<std::size_t>(index)];
+    if (std::holds_alternative<PointLight>(l) || std::holds_alternative<SpotLight>(l)) return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 void render_path(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                  SampleRange range, const RenderControl& control, RenderStats& stats) {
@@ -31,7 +44,8 @@ void render_path(const RenderScene& scene, const RenderSettings& settings, FilmB
                            [guide = control.guide](const SceneView<N>& v, const Ray& ray, SampledWavelengths<N>& w,
                                                    double dispersion_u, Rng& rng, std::uint64_t& rays) {
                              return path_radiance(v, ray, w, dispersion_u, rng, rays, guide);
-                           });
+                           },
+                           settings.light_paths && has_point_or_spot_lamp(scene));
   });
 }
 

@@ -87,6 +87,7 @@ Film render(const RenderScene& scene, const RenderSettings& settings, const Rend
         choose_estimator(scene, settings, auto_trial_spp(settings.spp), keep_spectra, nullptr, control, stats);
     RenderSettings chosen = settings;
     chosen.integrator = choice.chosen;
+    chosen.light_paths = chosen.light_paths || choice.light_paths;
     FilmBuffer film = choice.film ? std::move(*choice.film) : make_film(scene, keep_spectra);
     return rest(chosen, film, choice.trial_spp);
   }

@@ -39,6 +39,9 @@ struct SceneView {
     return area_lamp_chains.value_or(scene.surfaces[emitter_geometry].small_lamp);
   }
   bool any_lamp_through_chains() const { return area_lamp_chains.value_or(scene.small_lamps); }
+  // transmission (direct_light.h) asks only whether a segment is clear: no medium is tracked, so
+  // nothing is drawn and the transmittance is 1 (manifold.h: next_event_makes, a geometric question).
+  bool visibility_only = false;
 };
 
 inline bool absorbs(const RenderScene& scene, int medium) {

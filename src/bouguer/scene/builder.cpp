@@ -124,6 +124,11 @@ SceneBuilder& SceneBuilder::manifold(bool on) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::light_paths(bool on) {
+  desc_.render.light_paths = on;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::guiding(bool on) {
   desc_.render.guiding = on;
   return *this;

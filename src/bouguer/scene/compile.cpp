@@ -315,6 +315,7 @@ void set_interface_optics(RenderScene& s, Surface& surface, AlbedoIndex& albedo_
   const SceneMedium& behind = s.media[static_cast<std::size_t>(surface.medium_behind)];
   if (surface.roughness == 0.0) {
     surface.index_matched = indices_match(s, surface.medium_front, surface.medium_behind);
+    s.smooth_glass = s.smooth_glass || !surface.index_matched;
     return;
   }
   const auto key = std::make_tuple(surface.roughness, front.ior_reference, behind.ior_reference);

@@ -116,6 +116,9 @@ struct RenderScene {
   // Whether any exact cylinder's side is smooth glass that next-event estimation refracts
   // through to area lamps (manifold.h: area_light_through_cylinder).
   bool glass_cylinders = false;
+  // Whether any surface is a smooth interface between media of different indices (the light
+  // tracer looks for a connection through glass only then: integrators/splats.cpp).
+  bool smooth_glass = false;
 };
 // Unless the scene says otherwise (RenderSettings::area_lamp_chains), an area or spherical lamp is
 // reached through chains of mesh faces and exact cylinders' sides where it subtends less than this

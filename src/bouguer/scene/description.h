@@ -66,6 +66,11 @@ struct RenderSettings {
   // area_light_through_cylinder). Unset: for lamps that subtend less than kLampChainSolidAngle from
   // the nearest such glass (RenderScene: Surface::small_lamp); set: for every lamp, or none.
   std::optional<bool> area_lamp_chains;
+  // path: also light paths from the point and spot lamps, connected to the camera straight or
+  // through smooth glass, that add what next-event estimation does not make (light reflected inside
+  // glass or by a mirror before its first diffuse or scattering vertex; integrators/light.cpp,
+  // docs/rendering.md: what neither makes).
+  bool light_paths = false;
   // path: path guiding at diffuse surfaces (integrators/guiding.h), trained before the render; off
   // unless asked for (guiding_enabled).
   bool guiding = false;
