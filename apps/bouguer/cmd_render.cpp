@@ -278,6 +278,7 @@ int run_render(const RenderCli& o) {
                               {"threads", o.threads},
                               {"exposure_scale", display.scale}};
     nlohmann::json jv = j;
+    if (settings.integrator == IntegratorType::path) jv["path_light_paths"] = settings.light_paths;
     if (o.noise > 0.0) {
       double samples = 0.0;
       for (int y = 0; y < buffer.height(); ++y)

@@ -139,7 +139,8 @@ TEST(Choose, DarkerBeyondNoiseOnlyWhereTheGapIsBothSignificantAndLarge) {
 // reach the light the block reflects (no direction it draws meets a point): it is trialled, and
 // chosen, only with its light paths (render.light_paths), which make that light. With an
 // orthographic camera, whose connections through glass the light paths lack, or a distant lamp,
-// which has none, it is no candidate and not trialled. An exact glass sphere instead of the block
+// which has none, or with `manifold` off, it is no candidate and not trialled; below 16 spp, with
+// no trials, it renders with them. An exact glass sphere instead of the block
 // is one next-event estimation connects through (integrators/manifold.h): then it is a candidate
 // by itself, unless the scene turns that off.
 TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlass) {
@@ -179,9 +180,19 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   EXPECT_TRUE(with.trials[0].light_paths);
   EXPECT_GT(with.trials[0].rays, 0u);
   EXPECT_EQ(with.light_paths, with.chosen == IntegratorType::path);
+  // Without trials (under 16 spp), the path tracer with its light paths.
+  const SceneDesc few = parse_scene(scene(block, true), "a.json");
+  RenderControl control;
+  RenderStats stats;
+  const EstimatorChoice quick = choose_estimator(compile(few), few.render, 0, false, nullptr, control, stats);
+  EXPECT_TRUE(quick.trials.empty());
+  EXPECT_EQ(quick.chosen, IntegratorType::path);
+  EXPECT_TRUE(quick.light_paths);
   const char* orthographic = R"("type": "orthographic", "width": 0.3)";
   const char* distant = R"("type": "distant", "direction": [0, -1, 0.2])";
-  for (const std::string& text : {scene(block, true, orthographic), scene(block, true, R"("fov_deg": 45)", distant)}) {
+  // (and with `manifold` off, which turns their connections through glass off)
+  for (const std::string& text : {scene(block, true, orthographic), scene(block, true, R"("fov_deg": 45)", distant),
+                                  scene(block, false)}) {
     const EstimatorChoice c = choose(text);
     ASSERT_EQ(c.trials.size(), 3u);
     EXPECT_FALSE(c.trials[0].complete);

@@ -87,12 +87,18 @@ bool path_misses_light(const RenderScene& scene, const RenderSettings& settings)
   return false;
 }
 
-bool light_paths_complete(const RenderScene& scene) {
-  if (scene.camera.type != CameraType::pinhole) return false;
+bool light_paths_complete(const RenderScene& scene, const RenderSettings& settings) {
+  if (!settings.manifold || scene.camera.type != CameraType::pinhole) return false;
   for (const int index : scene.delta_lights) {
     const Light& light = scene.lights[static_cast<std::size_t>(index)];
     if (!std::holds_alternative<PointLight>(light) && !std::holds_alternative<SpotLight>(light)) return false;
   }
+  // (A smooth metallic surface's lobe is narrow, not a delta: a light path ends there as at any
+  // surface, and the light it reflects on stays as rare to the path tracer as before.)
+  for (const SurfaceMaterial& m : scene.materials)
+    if (const auto* r = std::get_if<MetallicRoughnessMaterial>(&m);
+        r && r->roughness == 0.0 && r->metalness > 0.0 && r->metallic_roughness_texture < 0)
+      return false;
   return true;
 }
 
@@ -143,11 +149,12 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     // (unbiased, as the path tracer; vcm's first iterations blur).
     choice.trial_spp = 0;
     if (path_misses_light(scene, settings)) {
-      if (light_paths_complete(scene))
+      if (light_paths_complete(scene, settings))
         choice.light_paths = true;
       else if (candidates.size() > 1)
         choice.chosen = IntegratorType::bdpt;
     }
+    choice.light_paths = choice.chosen == IntegratorType::path && (choice.light_paths || settings.light_paths);
     return choice;
   }
   const int k = choice.trial_spp / 2;
@@ -164,15 +171,16 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     EstimatorTrial t;
     t.type = type;
     const bool misses = type == IntegratorType::path && path_misses_light(scene, settings);
-    t.light_paths = misses && light_paths_complete(scene);
-    t.complete = !misses || t.light_paths;
+    const bool completed = misses && light_paths_complete(scene, settings);
+    t.complete = !misses || completed;
+    t.light_paths = type == IntegratorType::path && (completed || settings.light_paths);
     if (!t.complete) {  // no trial: its noise would say nothing of the light it leaves out
       choice.trials.push_back(t);
       continue;
     }
     RenderSettings s = settings;
     s.integrator = type;
-    s.light_paths = settings.light_paths || t.light_paths;
+    s.light_paths = t.light_paths;
     FilmBuffer& film = films[i].emplace(make_film(scene, keep_spectra));
     RenderStats st;
     render_into(scene, s, film, PixelRegion::whole(scene.camera), {0, k}, trial_control, st);

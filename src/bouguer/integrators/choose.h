@@ -36,13 +36,13 @@ struct EstimatorTrial {
   double score = 0.0;    // error² × cost: the cost of a given noise (lower is better)
   double seconds = 0.0;  // measured, reported; the choice does not read it
   bool complete = true;  // false: it misses light in this scene (path_misses_light), not chosen
-  bool light_paths = false;  // path: trialled with its light paths, which make what it misses here
+  bool light_paths = false;  // path: trialled with its light paths (the scene's, or auto's where they make what it misses)
 };
 
 struct EstimatorChoice {
   IntegratorType chosen = IntegratorType::path;
   int trial_spp = 0;  // samples per pixel each candidate rendered (2k); the chosen film has them
-  bool light_paths = false;  // the path tracer chosen with its light paths (render.light_paths)
+  bool light_paths = false;  // the path tracer chosen, rendering with its light paths (render.light_paths)
   std::vector<EstimatorTrial> trials;
   std::optional<FilmBuffer> film;  // the chosen candidate's film after its trial
 };
@@ -66,11 +66,12 @@ int auto_trial_spp(int spp, bool seconds_only = false);
 bool path_misses_light(const RenderScene& scene, const RenderSettings& settings);
 
 // Whether the path tracer's light paths (render.light_paths) make the light path_misses_light
-// says it misses: every delta lamp a point or spot lamp (a distant one has no light paths) and a
-// pinhole camera (their connections through glass need one). What is then still missing, light
-// reflected on both sides of a vertex, the trials' comparison (darker_somewhere) is there for.
-// Where it holds, the path tracer is trialled, and chosen, with its light paths.
-bool light_paths_complete(const RenderScene& scene);
+// says it misses: every delta lamp a point or spot lamp (a distant one has no light paths), a
+// pinhole camera and `manifold` on (their connections through glass need both), and no smooth
+// metallic surface (a narrow lobe, not a delta: the light paths end there). What is then still
+// missing, light reflected on both sides of a vertex, the trials' comparison (darker_somewhere) is
+// there for. Where it holds, the path tracer is trialled, and chosen, with its light paths.
+bool light_paths_complete(const RenderScene& scene, const RenderSettings& settings);
 
 // Whether one trial's image is darker than another's in some block of 8 × 8 pixels, by more than
 // five standard errors of the two (from each trial's halves) and by more than a fifth of the

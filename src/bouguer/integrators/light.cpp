@@ -44,7 +44,7 @@ struct SplatToCamera {
   FilmBuffer& film;
   std::uint64_t& rays;
   LightSplats which = LightSplats::all;
-  std::optional<manifold_detail::DeltaLamp> lamp = std::nullopt;  // beyond_next_event: the path's
+  std::optional<manifold_detail::DeltaLamp> lamp = std::nullopt;  // beyond_next_event: the path's lamp
   int surfaces = 0, scatterings = 0;
   // The specular prefix (beyond_next_event): its crossings, whether a vertex reflected, its first
   // vertex (nearest the lamp), its length so far, and the last specular vertex's normal and arriving
@@ -55,15 +55,15 @@ struct SplatToCamera {
   Vec3 previous = {}, nearest_lamp = {}, specular_normal = {}, specular_wo = {};
 
   bool vertex(const Vertex<N>& x) {
+    // (The walk's limits first: where it stops anyway, no decision need be paid for.)
+    if (x.kind == VertexKind::medium ? ++scatterings > kMaxScatterings : ++surfaces > v.max_depth) return false;
     if (which == LightSplats::beyond_next_event && !decided && !beyond_next_event(x)) return false;
     if (x.kind == VertexKind::medium) {
-      if (++scatterings > kMaxScatterings) return false;
       const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
       splat_medium_to_camera(v, MediumPoint{x.point, -x.wo, phase, x.medium, x.inside}, x.beta, w, x.r_u, rng, film,
                              rays);
       return true;
     }
-    if (++surfaces > v.max_depth) return false;
     if (!x.delta) splat_surface_to_camera(v, x.hit, x.event, x.wo, x.beta, w, x.r_u, rng, film, rays);
     return true;
   }
@@ -136,15 +136,16 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
 }
 
 template <std::size_t N>
-void render_light_splats(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
-                         PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
-                         std::uint64_t salt, LightSplats which) {
+void render_light_paths(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
+                        SampleRange range, const RenderControl& control, RenderStats& stats) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
   const SceneView<N> view{scene, tables, camera, settings.max_depth, true, settings.manifold};
-  for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, salt,
+  for_each_pixel_sample<N>(scene, tables, settings, film.width(), region, range, control, stats, 1,
                            [&](int, int, int, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
-                               std::uint64_t& rays) { trace_light_path(view, w, dispersion_u, rng, film, rays, which); });
+                               std::uint64_t& rays) {
+                             trace_light_path(view, w, dispersion_u, rng, film, rays, LightSplats::all);
+                           });
 }
 
 }  // namespace
@@ -152,7 +153,7 @@ void render_light_splats(const RenderScene& scene, const RenderSettings& setting
 void render_light(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                   SampleRange range, const RenderControl& control, RenderStats& stats) {
   with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
-    render_light_splats<N>(scene, settings, film, region, range, control, stats, 1, LightSplats::all);
+    render_light_paths<N>(scene, settings, film, region, range, control, stats);
   });
 }
 

@@ -773,7 +773,8 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
 // through each caster, and where `towards` and a spot's profile are not zero along the straight
 // segment and its shadow ray is stopped by a smooth refracting interface, through that interface;
 // made where one of the paths solved there crosses last (nearest the lamp) within 1e-5 of the
-// path's length of `nearest_lamp`, as chain_path_densities finds the walk's path. The question is
+// path's length (at least of the float rounding's scale there: both points are hits on meshes) of
+// `nearest_lamp`, as chain_path_densities finds the walk's path. The question is
 // the geometry's: the segments are traced for whether they are clear only (visibility_only: a
 // transmittance ratio tracking estimates as 0 in a density field would otherwise answer "not
 // made" at random), so it draws no random numbers. (Where next-event estimation gets 0 from a
@@ -794,7 +795,7 @@ bool next_event_makes(const SceneView<N>& v, const PathVertex& at, const manifol
   const SampledSpectrum<N> one = SampledSpectrum<N>::constant(1.0f);
   auto end = [&](const Reach<N>& r) { return point_end(geometry, one, r, w, unused, rays); };
   auto add = [&](const SampledSpectrum<N>&, const Reach<N>& r) {
-    made = made || length(r.last.point - nearest_lamp) < 1e-5 * path_m;
+    made = made || length(r.last.point - nearest_lamp) < 1e-5 * std::max(path_m, s.rays.rounding_scale_m(nearest_lamp));
   };
   const Vec3 to = lamp.p - at.point;
   const double d = length(to);
