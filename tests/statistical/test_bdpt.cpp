@@ -441,7 +441,7 @@ TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
 // the spot lamp, whose beam the tumbler focuses, vcm's first merging radius (two pixel footprints,
 // 12.6 mm here) blurs it into 3.1 % more light than the ground truth's (0.04597 ± 0.00023 against
 // 0.04459 ± 0.00012); at half that radius they agree (0.04463 ± 0.00044), so it is left out here.
-// About 40 s on one core: `long`.
+// About 40 s on one idle core (106 s beside a build): `long`.
 TEST(VertexMergingLong, AgreesWithTheGroundTruthInALiquidInGlass) {
   SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   desc.lights.pop_back();  // the spot
