@@ -415,8 +415,8 @@ test::Estimate ground_truth_estimate(SceneDesc desc, int spp) {
 // connections do not) and is within 4 of them of the ground truth (ground_truth_estimate, 2048 spp:
 // before merges right after a specular vertex were weighed, vcm read 0.62 of the path tracer); the
 // ground truth is above the path tracer alone by more than 4 of its own standard errors (the light
-// reflected inside the glass before it scatters: 6.7 %, 13 of them), which vcm's error could not tell.
-// Measured: ground truth 0.06320 ± 0.00033, the path tracer 0.05898, vcm 0.964 ± 0.025 of it.
+// reflected inside the glass before it scatters: 6.5 %, 14 of them), which vcm's error could not tell.
+// Measured: ground truth 0.06309 ± 0.00030, the path tracer 0.05898, vcm 0.966 ± 0.025 of it.
 TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
@@ -435,12 +435,12 @@ TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
 // liquid's flat surface or the wall; 23 % of it reflected on the way, which the path tracer alone
 // leaves out): vcm's mean (8192 iterations) within 4 standard errors of the ground truth's (8192
 // spp), those under 10 % of it (the path tracer alone would be 23 % low). Measured: 1.026 ± 0.023
-// of it (0.01941 ± 0.00039 against 0.01892 ± 0.00019); with 4 seeds of 2048 and 8 of 1024, 0.01888 ±
-// 0.00015 against 0.01892 ± 0.00019. Merges lost after specular vertices read 0.6 of it, merges counted
+// of it (0.01941 ± 0.00039 against 0.01891 ± 0.00020); with 4 seeds of 2048, vcm reads 0.01888 ±
+// 0.00015. Merges lost after specular vertices read 0.6 of it, merges counted
 // twice about 1.6. Under
 // the spot lamp, whose beam the tumbler focuses, vcm's first merging radius (two pixel footprints,
-// 12.6 mm here) blurs it into 3.1 % more light than the ground truth's (0.04597 ± 0.00023 against
-// 0.04459 ± 0.00012); at half that radius they agree (0.04463 ± 0.00044), so it is left out here.
+// 12.6 mm here) blurs it into 3.2 % more light than the ground truth's (0.04597 ± 0.00023 against
+// 0.04455 ± 0.00012); at half that radius they agree (0.04463 ± 0.00044), so it is left out here.
 // About 40 s on one idle core (106 s beside a build): `long`.
 TEST(VertexMergingLong, AgreesWithTheGroundTruthInALiquidInGlass) {
   SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");

@@ -119,13 +119,15 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
                       FilmBuffer& film, std::uint64_t& rays, LightSplats which) {
   Vertex<N> y;
   WalkState<N> state;
-  if (!start_light_subpath(v, w, rng, y, state)) return;
+  // (The path tracer's light paths start at its point and spot lamps alone: its own directions
+  // meet every other lamp, and a distant lamp's light through glass is left out.)
+  if (!start_light_subpath(v, w, rng, y, state,
+                           which == LightSplats::beyond_next_event ? &v.scene.point_lamps : nullptr))
+    return;
   state.dispersion_u = dispersion_u;
   const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)];
   SplatToCamera<N> splat{v, w, rng, film, rays, which};
   if (which == LightSplats::beyond_next_event) {
-    // (The path tracer's own directions meet area, spherical and environment lamps, and it sees
-    // them directly; a distant lamp's light it misses through glass is left out.)
     splat.lamp = manifold_detail::delta_lamp(lamp);
     if (!splat.lamp) return;
     splat.previous = splat.lamp->p;

@@ -539,16 +539,16 @@ inline int emission_medium(const RenderScene& scene, const Light& light) {
   return scene.world_medium;
 }
 
-// The start of a light subpath: a light drawn by power, a ray from its own emission sampling. Its
-// first vertex `y` (beta: the emitted radiance over the densities of the light and the point) and
-// the walk's state on the ray leaving it. False when nothing leaves.
+// The start of a light subpath: a light drawn by power (among all, or among `lamps`), a ray from
+// its own emission sampling. Its first vertex `y` (beta: the emitted radiance over the densities
+// of the light and the point) and the walk's state on the ray leaving it. False when nothing leaves.
 template <std::size_t N>
 bool start_light_subpath(const SceneView<N>& v, const SampledWavelengths<N>& w, Rng& rng, Vertex<N>& y,
-                         WalkState<N>& state) {
+                         WalkState<N>& state, const LightDistribution* lamps = nullptr) {
   const RenderScene& scene = v.scene;
   const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double(), u3 = rng.next_double(),
                u4 = rng.next_double();
-  const auto chosen = scene.emitters.sample(u_light);
+  const auto chosen = (lamps ? *lamps : scene.emitters).sample(u_light);
   if (!chosen) return false;
   const Light& light = scene.lights[static_cast<std::size_t>(chosen->first)];
   const auto le = sample_le(light, scene.bounds, u1, u2, u3, u4);
