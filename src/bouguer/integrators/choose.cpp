@@ -69,6 +69,16 @@ bool darker_blocks(const Blocks& dark, const Blocks& bright) {
 
 }  // namespace
 
+namespace {
+
+// A glTF metal of roughness 0 (untextured): its lobe is narrow, not a delta.
+bool smooth_metal(const SurfaceMaterial& m) {
+  const auto* r = std::get_if<MetallicRoughnessMaterial>(&m);
+  return r && r->roughness == 0.0 && r->metalness > 0.0 && r->metallic_roughness_texture < 0;
+}
+
+}  // namespace
+
 bool path_misses_light(const RenderScene& scene, const RenderSettings& settings) {
   if (scene.delta_lights.empty()) return false;
   for (std::size_t g = 0; g < scene.surfaces.size(); ++g) {
@@ -79,9 +89,7 @@ bool path_misses_light(const RenderScene& scene, const RenderSettings& settings)
     if (f.kind != SurfaceKind::opaque || f.material < 0) continue;
     const SurfaceMaterial& m = scene.materials[static_cast<std::size_t>(f.material)];
     if (const auto* c = std::get_if<ConductorMaterial>(&m); c && c->alpha == 0.0 && c->alpha_texture < 0) return true;
-    if (const auto* r = std::get_if<MetallicRoughnessMaterial>(&m);
-        r && r->roughness == 0.0 && r->metalness > 0.0 && r->metallic_roughness_texture < 0)
-      return true;
+    if (smooth_metal(m)) return true;
     if (std::holds_alternative<ThinDielectricMaterial>(m)) return true;
   }
   return false;
@@ -95,11 +103,7 @@ bool light_paths_complete(const RenderScene& scene, const RenderSettings& settin
   }
   // (A smooth metallic surface's lobe is narrow, not a delta: a light path ends there as at any
   // surface, and the light it reflects on stays as rare to the path tracer as before.)
-  for (const SurfaceMaterial& m : scene.materials)
-    if (const auto* r = std::get_if<MetallicRoughnessMaterial>(&m);
-        r && r->roughness == 0.0 && r->metalness > 0.0 && r->metallic_roughness_texture < 0)
-      return false;
-  return true;
+  return std::none_of(scene.materials.begin(), scene.materials.end(), smooth_metal);
 }
 
 bool darker_somewhere(const Film& dark_first, const Film& dark_mean, const Film& bright_first,

@@ -81,8 +81,7 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
     return std::isinf(distance_m) && absorbs(s, seg.medium) && !scattering_medium(s, seg.medium) ? std::nullopt
                                                                                                   : std::optional(out);
   if (by_smooth_interface && stop.seen)  // blocked: by a surface, or by one crossing too many
-    *by_smooth_interface = !stop.seen->index_matched && stop.seen->surface.kind == SurfaceKind::interface &&
-                           stop.seen->surface.roughness == 0.0;
+    *by_smooth_interface = smooth_glass_seen(*stop.seen);
   if (blocker && stop.hit) *blocker = *stop.hit;
   return std::nullopt;
 }

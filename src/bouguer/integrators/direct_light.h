@@ -63,13 +63,20 @@ struct Transmission {
 // With `sigma_mean` (σ̄_s by medium), it also sums the segment's mean scattering optical depth for
 // the MIS weights of the bidirectional estimators (Tungsten's generalised shadow ray with pdfs).
 // With `by_smooth_interface`, it also says whether what blocked it was a smooth interface (glass,
-// a liquid's surface): what next-event estimation through the interfaces may go on through; with
-// `blocker`, where it was blocked.
+// a liquid's surface: smooth_glass_seen): what next-event estimation through the interfaces may go
+// on through; with `blocker`, where it was blocked.
 template <std::size_t N>
 std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVertex& from, const Vec3& wi,
                                             double distance_m, int medium, const SampledWavelengths<N>& w, Rng& rng,
                                             std::uint64_t& rays, std::span<const double> sigma_mean = {},
                                             bool* by_smooth_interface = nullptr, Hit* blocker = nullptr);
+
+// Whether a surface seen so is a smooth interface between media of different indices: what stops a
+// shadow ray that next-event estimation through glass (and the light tracer's connections) may go
+// on through.
+inline bool smooth_glass_seen(const SurfaceSeen& seen) {
+  return !seen.index_matched && seen.surface.kind == SurfaceKind::interface && seen.surface.roughness == 0.0;
+}
 
 // Which strategies next-event estimation combines at a vertex.
 enum class NextEvent : std::uint8_t {

@@ -79,10 +79,8 @@ void splat_towards(const SceneView<N>& v, const PathVertex& at, Towards towards,
     // sees it through: what stops it seeds the solve. A geometric question: it draws nothing.)
     const Vec3 q = v.camera.desc.position_m;
     const InsideSet inside = at.hit ? inside_towards(v.scene, *at.hit, at.inside, normalize(q - at.point)) : at.inside;
-    if (const auto first = first_surface(v.scene, at.point, at.hit, inside, q, rays);
-        first && !first->seen.index_matched && first->seen.surface.kind == SurfaceKind::interface &&
-        first->seen.surface.roughness == 0.0)
-      glass = true, blocker = first->hit;
+    const auto first = first_surface(v.scene, at.point, at.hit, inside, q, rays);
+    if (first && smooth_glass_seen(first->seen)) glass = true, blocker = first->hit;
   }
   splat_through_glass(v, at, glass ? &blocker : nullptr, towards, medium_towards, beta, w, path_r_u, rng, film, rays);
 }
