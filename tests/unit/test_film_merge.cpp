@@ -67,13 +67,14 @@ TEST(FilmMerge, PiecesMergedEqualOneRenderBitForBitForEveryIntegrator) {
       // auto is resolved before any piece is rendered (the command line's trials, the same on
       // every rank: integrators/choose.h); the pieces are then the chosen estimator's.
       if (integrator.type == IntegratorType::automatic) continue;
-      // (the path tracer also with its light paths, whose splats land anywhere)
-      for (const bool light_paths : {false, true}) {
-        if (light_paths && integrator.type != IntegratorType::path) continue;
-        SCOPED_TRACE(fmt::format("{} {}{}", integrator.name, spectral_mode_name(mode), light_paths ? ", light paths" : ""));
-        // (its light paths on the lit tumbler: a point and a spot lamp behind glass)
-        SceneDesc desc = light_paths ? parse_scene(test::lit_tumbler("path"), "tumbler.json")
-                                     : small_example(integrator.type, mode);
+      // (the path tracer also with its light paths, and bdpt, whose splats through glass land
+      // anywhere: on the lit tumbler, a point and a spot lamp behind glass)
+      for (const bool tumbler : {false, true}) {
+        const bool light_paths = tumbler && integrator.type == IntegratorType::path;
+        if (tumbler && !light_paths && integrator.type != IntegratorType::bdpt) continue;
+        SCOPED_TRACE(fmt::format("{} {}{}", integrator.name, spectral_mode_name(mode), tumbler ? ", lit tumbler" : ""));
+        SceneDesc desc = tumbler ? parse_scene(test::lit_tumbler(std::string(integrator.name).c_str()), "tumbler.json")
+                                 : small_example(integrator.type, mode);
         desc.render.spp = 3;
         desc.render.spectral = mode;
         desc.render.light_paths = light_paths;

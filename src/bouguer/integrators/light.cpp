@@ -16,7 +16,7 @@
 // Light path i of pixel slot p is seeded by (seed, p, i): region and sample-range splits give the
 // same splats, whose fixed-point sums (render/film.h) do not depend on the order of arrival.
 #include "bouguer/integrators/integrators.h"
-#include "bouguer/integrators/manifold.h"
+#include "bouguer/integrators/light_prefix.h"
 #include "bouguer/integrators/walk.h"
 
 namespace bouguer {
@@ -32,9 +32,9 @@ enum class LightSplats { all, beyond_next_event };
 
 // The light tracer's visitor of a light subpath: every vertex on a non-specular surface and every
 // medium vertex connected to the camera; at most max_depth surface vertices and kMaxScatterings
-// medium vertices. beyond_next_event: first the path's specular prefix (the lamp's direction, the
-// crossings, whether a vertex reflected), and at its first vertex that is not specular whether
-// next-event estimation makes the path; where it does, the walk stops there.
+// medium vertices. beyond_next_event: first the path's specular prefix (light_prefix.h), and at
+// its first vertex that is not specular whether next-event estimation makes the path; where it
+// does, the walk stops there.
 template <std::size_t N>
 struct SplatToCamera {
   static constexpr bool kReverse = false;
@@ -44,20 +44,17 @@ struct SplatToCamera {
   FilmBuffer& film;
   std::uint64_t& rays;
   LightSplats which = LightSplats::all;
-  std::optional<manifold_detail::DeltaLamp> lamp = std::nullopt;  // beyond_next_event: the path's lamp
+  std::optional<LightPrefix<N>> prefix = std::nullopt;  // beyond_next_event, until it is decided
   int surfaces = 0, scatterings = 0;
-  // The specular prefix (beyond_next_event): its crossings, whether a vertex reflected, its first
-  // vertex (nearest the lamp), its length so far, and the last specular vertex's normal and arriving
-  // direction.
-  bool decided = false, after_specular = false, reflected = false;
-  int crossings = 0;
-  double path_m = 0.0;
-  Vec3 previous = {}, nearest_lamp = {}, specular_normal = {}, specular_wo = {};
 
   bool vertex(const Vertex<N>& x) {
     // (The walk's limits first: where it stops anyway, no decision need be paid for.)
     if (x.kind == VertexKind::medium ? ++scatterings > kMaxScatterings : ++surfaces > v.max_depth) return false;
-    if (which == LightSplats::beyond_next_event && !decided && !beyond_next_event(x)) return false;
+    if (prefix) {
+      const PrefixVerdict verdict = prefix->add(v, x, w, rays);
+      if (verdict == PrefixVerdict::made) return false;
+      if (verdict == PrefixVerdict::beyond) prefix.reset();
+    }
     if (x.kind == VertexKind::medium) {
       const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
       splat_medium_to_camera(v, MediumPoint{x.point, -x.wo, phase, x.medium, x.inside}, x.beta, w, x.r_u, rng, film,
@@ -66,49 +63,6 @@ struct SplatToCamera {
     }
     if (!x.delta) splat_surface_to_camera(v, x.hit, x.event, x.wo, x.beta, w, x.r_u, rng, film, rays);
     return true;
-  }
-
-  // Adds x to the specular prefix; at the first vertex that is not specular, false where
-  // next-event estimation makes the path (its f there read with the light's own direction for the
-  // camera's, which zeroes it on the same side for a surface that only reflects, its shading
-  // normal's or its own), or where that vertex is on a rough interface (whose f, zero where the
-  // half vector of a refraction is not valid, next-event estimation reads with the camera's side,
-  // which a light path does not know there: such light stays the path tracer's to miss).
-  bool beyond_next_event(const Vertex<N>& x) {
-    path_m += length(x.point - previous);
-    previous = x.point;
-    if (after_specular) {
-      const bool same_side = (dot(specular_wo, specular_normal) > 0.0) == (dot(-x.wo, specular_normal) > 0.0);
-      reflected = reflected || same_side;
-      crossings += !same_side;
-    }
-    if (x.kind == VertexKind::surface && x.delta) {
-      if (!after_specular) nearest_lamp = x.point;
-      after_specular = true;
-      specular_normal = x.normal;
-      specular_wo = x.wo;
-      return true;
-    }
-    decided = true;
-    if (reflected) return true;
-    if (x.kind == VertexKind::medium) {
-      const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
-      auto towards = [&](const Vec3& wi, double& pdf) {
-        pdf = phase_value(phase, -x.wo, wi);
-        return SampledSpectrum<N>::constant(static_cast<float>(pdf));
-      };
-      auto medium_towards = [&](const Vec3&) { return x.medium; };
-      return !next_event_makes(v, PathVertex{x.point, nullptr, x.inside}, *lamp, nearest_lamp, path_m, crossings,
-                               towards, medium_towards, w, rays);
-    }
-    if (std::holds_alternative<RoughDielectric>(x.event.bsdf)) return false;
-    auto towards = [&](const Vec3& wi, double& pdf) {
-      pdf = x.event.pdf(x.wo, wi);
-      return x.event.eval(x.wo, wi, TransportMode::radiance);
-    };
-    auto medium_towards = [&](const Vec3& wi) { return x.event.medium_towards(wi); };
-    return !next_event_makes(v, PathVertex{x.point, &x.hit, x.event.inside}, *lamp, nearest_lamp, path_m, crossings,
-                             towards, medium_towards, w, rays);
   }
 };
 static_assert(WalkVisitor<SplatToCamera<kFullBins>, kFullBins> && !TakesMediumPoints<SplatToCamera<kFullBins>> &&
@@ -128,9 +82,9 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
   const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)];
   SplatToCamera<N> splat{v, w, rng, film, rays, which};
   if (which == LightSplats::beyond_next_event) {
-    splat.lamp = manifold_detail::delta_lamp(lamp);
-    if (!splat.lamp) return;
-    splat.previous = splat.lamp->p;
+    const auto delta = manifold_detail::delta_lamp(lamp);
+    if (!delta) return;
+    splat.prefix = LightPrefix<N>{*delta};
   } else if (on_a_surface(lamp)) {
     splat_light_to_camera(v, y.hit, lamp, state.medium, y.beta, w, rng, film, rays);
   }

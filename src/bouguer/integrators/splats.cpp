@@ -18,7 +18,9 @@ namespace {
 // film measures radiance at the lens, and a camera ray carries radiance across the crossings
 // scaled by the squared ratio of the indices (radiance mode; the light path's own weights are
 // importance mode's, without it). No other strategy of the light tracer makes these paths (a
-// connection to a pinhole is its only way to the camera), so they are not weighted. Only the
+// connection to a pinhole is its only way to the camera), so they are not weighted (nor in bdpt,
+// which asks for them only where no other strategy of its makes them:
+// Bdpt::through_glass_to_camera). Only the
 // pinhole: an orthographic camera's direction is a delta, and its paths would need the film
 // point solved too.
 template <std::size_t N, typename Towards, typename MediumTowards>
@@ -59,14 +61,15 @@ void splat_through_glass(const SceneView<N>& v, const PathVertex& at, const Hit*
 // the camera's film position when the straight connection gets through; the light tracer has no
 // other strategy for it, so only its own ratios divide it. Where a smooth refracting interface
 // stops it, or where casters are, the paths through the glass (splat_through_glass): `towards`
-// and `medium_towards` as next-event estimation's (manifold.h).
+// and `medium_towards` as next-event estimation's (manifold.h). CameraPaths::through_glass: those
+// alone (bdpt, whose own connection is the straight one).
 template <std::size_t N, typename Towards, typename MediumTowards>
 void splat_towards(const SceneView<N>& v, const PathVertex& at, Towards towards, MediumTowards medium_towards,
                    const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
-                   Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
+                   Rng& rng, FilmBuffer& film, std::uint64_t& rays, CameraPaths which) {
   bool glass = false;
   Hit blocker;
-  const auto c = v.camera.connect(at.point);
+  const auto c = which == CameraPaths::all ? v.camera.connect(at.point) : std::nullopt;
   double pdf = 0.0;
   const SampledSpectrum<N> value = c ? beta * towards(c->wi, pdf) : SampledSpectrum<N>{};
   if (!value.is_zero()) {
@@ -75,8 +78,9 @@ void splat_towards(const SceneView<N>& v, const PathVertex& at, Towards towards,
       add_splat(film, v.tables, w, c->film_x, c->film_y,
                 value * t->tr * static_cast<float>(c->factor / mean_ratio(v.scene, path_r_u, t->ratios.r_l)));
   } else if (v.manifold && v.scene.smooth_glass && v.camera.desc.type == CameraType::pinhole) {
-    // (Outside the image, or not sent that way, the straight segment may still be glass the camera
-    // sees it through: what stops it seeds the solve. A geometric question: it draws nothing.)
+    // (Outside the image, or not sent that way, or not asked for, the straight segment may still be
+    // glass the camera sees it through: what stops it seeds the solve. A geometric question: it
+    // draws nothing.)
     const Vec3 q = v.camera.desc.position_m;
     const InsideSet inside = at.hit ? inside_towards(v.scene, *at.hit, at.inside, normalize(q - at.point)) : at.inside;
     const auto first = first_surface(v.scene, at.point, at.hit, inside, q, rays);
@@ -90,25 +94,28 @@ void splat_towards(const SceneView<N>& v, const PathVertex& at, Towards towards,
 template <std::size_t N>
 void splat_surface_to_camera(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                              const SampledSpectrum<N>& beta, const SampledWavelengths<N>& w,
-                             const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays) {
+                             const SampledSpectrum<N>& path_r_u, Rng& rng, FilmBuffer& film, std::uint64_t& rays,
+                             CameraPaths which) {
   auto towards = [&](const Vec3& wi, double& pdf) {
     pdf = e.pdf(wo, wi);
     return e.eval(wo, wi, TransportMode::importance);
   };
   auto medium_towards = [&](const Vec3& wi) { return e.medium_towards(wi); };
-  splat_towards(v, PathVertex{hit.point, &hit, e.inside}, towards, medium_towards, beta, w, path_r_u, rng, film, rays);
+  splat_towards(v, PathVertex{hit.point, &hit, e.inside}, towards, medium_towards, beta, w, path_r_u, rng, film, rays,
+                which);
 }
 
 template <std::size_t N>
 void splat_medium_to_camera(const SceneView<N>& v, const MediumPoint& at, const SampledSpectrum<N>& beta,
                             const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
-                            FilmBuffer& film, std::uint64_t& rays) {
+                            FilmBuffer& film, std::uint64_t& rays, CameraPaths which) {
   auto towards = [&](const Vec3& wi, double& pdf) {
     pdf = phase_value(at.phase, at.direction, wi);
     return SampledSpectrum<N>::constant(static_cast<float>(pdf));
   };
   auto medium_towards = [&](const Vec3&) { return at.medium; };
-  splat_towards(v, PathVertex{at.x, nullptr, at.inside}, towards, medium_towards, beta, w, path_r_u, rng, film, rays);
+  splat_towards(v, PathVertex{at.x, nullptr, at.inside}, towards, medium_towards, beta, w, path_r_u, rng, film, rays,
+                which);
 }
 
 template <std::size_t N>
@@ -122,15 +129,15 @@ void splat_light_to_camera(const SceneView<N>& v, const Hit& at, const Light& li
   };
   auto medium_towards = [&](const Vec3&) { return medium; };
   splat_towards(v, PathVertex{at.point, &at}, towards, medium_towards, beta, w, SampledSpectrum<N>::constant(1.0f),
-                rng, film, rays);
+                rng, film, rays, CameraPaths::all);
 }
 
 #define BOUGUER_SPLATS_INSTANTIATE(N) \
   template void splat_surface_to_camera(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
       const SampledSpectrum<N>&, const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, \
-      std::uint64_t&); \
+      std::uint64_t&, CameraPaths); \
   template void splat_medium_to_camera(const SceneView<N>&, const MediumPoint&, const SampledSpectrum<N>&, \
-      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&); \
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, FilmBuffer&, std::uint64_t&, CameraPaths); \
   template void splat_light_to_camera(const SceneView<N>&, const Hit&, const Light&, int, \
       const SampledSpectrum<N>&, const SampledWavelengths<N>&, Rng&, FilmBuffer&, std::uint64_t&);
 BOUGUER_SPLATS_INSTANTIATE(kFullBins)

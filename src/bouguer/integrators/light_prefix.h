@@ -1,0 +1,80 @@
+#pragma once
+// A light path's specular prefix: from a point or spot lamp to its first vertex that is not
+// specular, and whether next-event estimation at that vertex makes the path (manifold.h:
+// next_event_makes). Two strategies that splat light through glass to the camera ask it, each to
+// count only what its estimator's other strategies do not make: the path tracer's light paths
+// (light.cpp, render.light_paths) and bdpt's light through glass to the camera
+// (bidirectional.h: Bdpt::through_glass_to_camera).
+#include <cstddef>
+#include <cstdint>
+#include <variant>
+
+#include "bouguer/integrators/manifold.h"
+#include "bouguer/integrators/walk.h"
+
+namespace bouguer {
+
+// What the prefix says of a light path, vertex by vertex.
+enum class PrefixVerdict {
+  specular,        // a specular vertex: the prefix goes on
+  made,            // next-event estimation at the first non-specular vertex makes the path (or it
+                   // is left out: below)
+  beyond,          // it does not: the path is the light path's own
+};
+
+// The prefix of a light path from lamp `lamp`: feed it the path's vertices in order (not the
+// lamp's own) until it says made or beyond. At the first vertex that is not specular: no crossing
+// before it, made (the straight shadow ray's); a reflection anywhere before it, beyond (next-event
+// estimation solves refractions only); otherwise as next_event_makes answers, with f read with the
+// light's own direction for the camera's, which zeroes it on the same side for a surface that only
+// reflects, its shading normal's or its own. A vertex on a rough interface counts as made: its f,
+// zero where the half vector of a refraction is not valid, next-event estimation reads with the
+// camera's side, which a light path does not know there (such light stays missing, said in
+// rendering.md).
+template <std::size_t N>
+struct LightPrefix {
+  manifold_detail::DeltaLamp lamp;
+  bool after_specular = false, reflected = false;
+  int crossings = 0;
+  double path_m = 0.0;
+  Vec3 previous = lamp.p, nearest_lamp = {}, specular_normal = {}, specular_wo = {};
+
+  PrefixVerdict add(const SceneView<N>& v, const Vertex<N>& x, const SampledWavelengths<N>& w, std::uint64_t& rays) {
+    path_m += length(x.point - previous);
+    previous = x.point;
+    if (after_specular) {
+      const bool same_side = (dot(specular_wo, specular_normal) > 0.0) == (dot(-x.wo, specular_normal) > 0.0);
+      reflected = reflected || same_side;
+      crossings += !same_side;
+    }
+    if (x.kind == VertexKind::surface && x.delta) {
+      if (!after_specular) nearest_lamp = x.point;
+      after_specular = true;
+      specular_normal = x.normal;
+      specular_wo = x.wo;
+      return PrefixVerdict::specular;
+    }
+    if (reflected) return PrefixVerdict::beyond;
+    auto verdict = [](bool made) { return made ? PrefixVerdict::made : PrefixVerdict::beyond; };
+    if (x.kind == VertexKind::medium) {
+      const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
+      auto towards = [&](const Vec3& wi, double& pdf) {
+        pdf = phase_value(phase, -x.wo, wi);
+        return SampledSpectrum<N>::constant(static_cast<float>(pdf));
+      };
+      auto medium_towards = [&](const Vec3&) { return x.medium; };
+      return verdict(next_event_makes(v, PathVertex{x.point, nullptr, x.inside}, lamp, nearest_lamp, path_m,
+                                      crossings, towards, medium_towards, w, rays));
+    }
+    if (std::holds_alternative<RoughDielectric>(x.event.bsdf)) return PrefixVerdict::made;
+    auto towards = [&](const Vec3& wi, double& pdf) {
+      pdf = x.event.pdf(x.wo, wi);
+      return x.event.eval(x.wo, wi, TransportMode::radiance);
+    };
+    auto medium_towards = [&](const Vec3& wi) { return x.event.medium_towards(wi); };
+    return verdict(next_event_makes(v, PathVertex{x.point, &x.hit, x.event.inside}, lamp, nearest_lamp, path_m,
+                                    crossings, towards, medium_towards, w, rays));
+  }
+};
+
+}  // namespace bouguer
