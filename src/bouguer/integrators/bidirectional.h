@@ -149,12 +149,8 @@ class Bdpt {
   double pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<N>& next, double tau) const;
   double direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) const;
   SampledSpectrum<N> f(const Vertex<N>& x, const Vec3& wi, TransportMode mode) const;
-  int medium_towards(const Vertex<N>& x, const Vec3& wi) const {
-    return x.kind == VertexKind::surface ? x.event.medium_towards(wi) : x.medium;
-  }
-  PathVertex path_vertex(const Vertex<N>& x) const {
-    return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit, x.inside};
-  }
+  int medium_towards(const Vertex<N>& x, const Vec3& wi) const { return vertex_medium_towards(x, wi); }
+  PathVertex path_vertex(const Vertex<N>& x) const { return vertex_at(x); }
 
   // The MIS (below mis_weight): fold_mis(light, camera) once the subpaths are made, then the
   // weight of any strategy over them in O(1). `sampled` stands for light[0] (s = 1) or
@@ -346,10 +342,7 @@ double Bdpt<N>::pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<
 // f·|cos θ| (the phase function in a medium) at x towards wi, x reached along x.wo.
 template <std::size_t N>
 SampledSpectrum<N> Bdpt<N>::f(const Vertex<N>& x, const Vec3& wi, TransportMode mode) const {
-  if (x.kind == VertexKind::medium)
-    return SampledSpectrum<N>::constant(
-        static_cast<float>(phase_value(scattering_medium(s_, x.medium)->phase, -x.wo, wi)));
-  return x.event.eval(x.wo, wi, mode);
+  return vertex_f(s_, x, x.wo, wi, mode);
 }
 
 // The power heuristic over every strategy that could have made the same path, by Georgiev's
@@ -466,9 +459,7 @@ double Bdpt<N>::merge_weight(const std::vector<Vertex<N>>& camera, int t, const 
 // `reverse`: x reached along wi, sampling x.wo.
 template <std::size_t N>
 double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) const {
-  const Vec3 a = reverse ? wi : x.wo, b = reverse ? x.wo : wi;
-  if (x.kind == VertexKind::medium) return phase_value(scattering_medium(s_, x.medium)->phase, -a, b);
-  return x.event.pdf(a, b);
+  return reverse ? vertex_pdf(s_, x, wi, x.wo) : vertex_pdf(s_, x, x.wo, wi);
 }
 
 // The paths this makes: the lens, the camera subpath up to a non-specular vertex x whose

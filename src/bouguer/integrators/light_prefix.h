@@ -55,25 +55,16 @@ struct LightPrefix {
       return PrefixVerdict::specular;
     }
     if (reflected) return PrefixVerdict::beyond;
-    auto verdict = [](bool made) { return made ? PrefixVerdict::made : PrefixVerdict::beyond; };
-    if (x.kind == VertexKind::medium) {
-      const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
-      auto towards = [&](const Vec3& wi, double& pdf) {
-        pdf = phase_value(phase, -x.wo, wi);
-        return SampledSpectrum<N>::constant(static_cast<float>(pdf));
-      };
-      auto medium_towards = [&](const Vec3&) { return x.medium; };
-      return verdict(next_event_makes(v, PathVertex{x.point, nullptr, x.inside}, lamp, nearest_lamp, path_m,
-                                      crossings, towards, medium_towards, w, rays));
-    }
-    if (std::holds_alternative<RoughDielectric>(x.event.bsdf)) return PrefixVerdict::made;
+    if (x.kind == VertexKind::surface && std::holds_alternative<RoughDielectric>(x.event.bsdf))
+      return PrefixVerdict::made;
     auto towards = [&](const Vec3& wi, double& pdf) {
-      pdf = x.event.pdf(x.wo, wi);
-      return x.event.eval(x.wo, wi, TransportMode::radiance);
+      pdf = vertex_pdf(v.scene, x, x.wo, wi);
+      return vertex_f(v.scene, x, x.wo, wi, TransportMode::radiance);
     };
-    auto medium_towards = [&](const Vec3& wi) { return x.event.medium_towards(wi); };
-    return verdict(next_event_makes(v, PathVertex{x.point, &x.hit, x.event.inside}, lamp, nearest_lamp, path_m,
-                                    crossings, towards, medium_towards, w, rays));
+    auto medium_towards = [&](const Vec3& wi) { return vertex_medium_towards(x, wi); };
+    return next_event_makes(v, vertex_at(x), lamp, nearest_lamp, path_m, crossings, towards, medium_towards, w, rays)
+               ? PrefixVerdict::made
+               : PrefixVerdict::beyond;
   }
 };
 

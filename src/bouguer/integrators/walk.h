@@ -61,6 +61,31 @@ struct Vertex : VertexCore<N> {
   SurfaceEvent<N> event{Frame(Vec3{0.0, 0.0, 1.0}), DiffuseReflection<N>{}};
 };
 
+// A vertex as a connection from it sees it (bdpt's strategies, the light paths' test of next-event
+// estimation): f·|cos θ| towards wi (the phase function at a medium vertex) with x reached along
+// wo (x.wo: the walk's), the density of sampling wi there (solid angle), the medium wi leaves
+// into, and the vertex as a connection starts from it.
+template <std::size_t N>
+SampledSpectrum<N> vertex_f(const RenderScene& s, const Vertex<N>& x, const Vec3& wo, const Vec3& wi,
+                            TransportMode mode) {
+  if (x.kind == VertexKind::medium)
+    return SampledSpectrum<N>::constant(static_cast<float>(phase_value(scattering_medium(s, x.medium)->phase, -wo, wi)));
+  return x.event.eval(wo, wi, mode);
+}
+template <std::size_t N>
+double vertex_pdf(const RenderScene& s, const Vertex<N>& x, const Vec3& wo, const Vec3& wi) {
+  if (x.kind == VertexKind::medium) return phase_value(scattering_medium(s, x.medium)->phase, -wo, wi);
+  return x.event.pdf(wo, wi);
+}
+template <std::size_t N>
+int vertex_medium_towards(const Vertex<N>& x, const Vec3& wi) {
+  return x.kind == VertexKind::surface ? x.event.medium_towards(wi) : x.medium;
+}
+template <std::size_t N>
+PathVertex vertex_at(const Vertex<N>& x) {
+  return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit, x.inside};
+}
+
 // What a walk needs besides the scene: the mean σ_s of every medium (0 for those that do not
 // scatter) over the wavelengths the sample began with, which the MIS densities use.
 struct WalkMedia {
