@@ -297,6 +297,7 @@ int run_render(const RenderCli& o) {
                           {"score", t.score},
                           {"seconds", t.seconds},
                           {"complete", t.complete},
+                          {"darker", t.darker},
                           {"light_paths", t.light_paths}});
       jv["auto"] = {{"chosen", integrator_info(choice->chosen).name},
                     {"light_paths", choice->light_paths},
@@ -343,7 +344,10 @@ int run_render(const RenderCli& o) {
         for (const EstimatorTrial& t : choice->trials)
           rows += fmt::format("{}{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00²·cost {:.3g}{}", rows.empty() ? "" : "; ",
                               integrator_info(t.type).name, t.light_paths ? " with light paths" : "", t.error_de00,
-                              t.cost, t.score, t.complete ? "" : " (misses light here: not chosen)");
+                              t.cost, t.score,
+                              t.complete ? ""
+                              : t.darker ? " (darker than another in some block of its trial: not chosen)"
+                                         : " (misses light here: not chosen)");
         fmt::print("  auto: {}{} (trials of {} spp: {})\n", integrator_info(choice->chosen).name, with,
                    choice->trial_spp, rows);
       }

@@ -196,6 +196,7 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
     const EstimatorChoice c = choose(text);
     ASSERT_EQ(c.trials.size(), 3u);
     EXPECT_FALSE(c.trials[0].complete);
+    EXPECT_FALSE(c.trials[0].darker);  // (it misses light: not the darkness test's)
     EXPECT_FALSE(c.trials[0].light_paths);
     EXPECT_EQ(c.trials[0].rays, 0u);  // not trialled
     EXPECT_NE(c.chosen, IntegratorType::path);

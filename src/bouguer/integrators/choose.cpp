@@ -220,7 +220,7 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
       const EstimatorTrial& u = choice.trials[j];
       if (i == j || t.type == IntegratorType::vcm || u.type == IntegratorType::vcm || !t.complete || !u.complete)
         continue;
-      if (darker_blocks(blocks[i], blocks[j])) t.complete = false;
+      if (darker_blocks(blocks[i], blocks[j])) t.complete = false, t.darker = true;
     }
   std::size_t best = choice.trials.size();
   for (std::size_t i = 0; i < choice.trials.size(); ++i) {
