@@ -63,7 +63,7 @@ ESTIMATORS = ("path", "bdpt", "vcm")
 def render(binary, scene, estimator, spp, seed, resolution, threads, out):
     stats = out + ".stats.json"
     if estimator == "path+light_paths":
-        estimator, scene = "path", scene.replace(".json", "-light-paths.json")
+        estimator, scene = "path", os.path.splitext(scene)[0] + "-light-paths.json"
     subprocess.run([binary, "render", scene, "--integrator", estimator, "--spp", str(spp), "--seed", str(seed),
                     "--resolution", resolution, "--threads", str(threads), "--quiet", "-o", out,
                     "--stats-json", stats], check=True)
@@ -98,7 +98,7 @@ def bench_scene(name, builds, args, tmp):
     json.dump(scenes.scene(name), open(path, "w"))
     with_light_paths = scenes.scene(name)
     with_light_paths.setdefault("render", {})["light_paths"] = True
-    json.dump(with_light_paths, open(path.replace(".json", "-light-paths.json"), "w"))
+    json.dump(with_light_paths, open(os.path.splitext(path)[0] + "-light-paths.json", "w"))
     estimators = ESTIMATORS + ((ref_estimator,) if ref_estimator not in ESTIMATORS else ())
     new = builds[0][1]
     reference = os.path.join(tmp, name + "-reference.pfm")

@@ -337,10 +337,12 @@ TEST(Scattering, ZeroScatteringRendersAsTheAbsorbingMedium) {
 // scattering and absorbing medium (index 1) under a grey sky, lit by an area lamp above. Each
 // channel's image mean of hero's pixels less full's within 4 standard errors of it (from the
 // pixels' differences: every pixel's has mean 0, and the pixels are independent), those under
-// 1.5 % of the mean: a hero-mode bias in the spectral MIS of chromatic scattering, a colour shift
-// of more than about 1 %, would show. Measured at 4096 spp: +0.16 %, +0.04 % and +0.21 % of the
-// means (red, green, blue), 4 standard errors 0.45 %, 0.45 % and 1.3 %. (It compared the images
-// by mean ΔE00 below 0.5 at 16384 spp, whose noise floor was 0.25, in four times the time.)
+// 1.5 % of the mean: a hero-mode bias in the spectral MIS of chromatic scattering that shifts the
+// ball's colour, by more than about 0.5 % in red and green or 1.5 % in blue, would show (one that
+// shifted it one way at the centre and the other at the rim, keeping the mean, would not).
+// Measured at 4096 spp: +0.16 %, +0.04 % and +0.21 % of the means (red, green, blue), 4 standard
+// errors 0.45 %, 0.45 % and 1.3 %. (It compared the images by mean ΔE00 below 0.5 at 16384 spp,
+// whose noise floor was 0.25, in four times the time.)
 TEST(Scattering, FullAndHeroConvergeOnAChromaticScatteringScene) {
   const std::string json = fmt::format(R"({{
     "camera": {{"position": [0, 0.03, 0.12], "look_at": [0, 0.0, 0], "fov_deg": 16, "resolution": [8, 8]}},

@@ -492,14 +492,15 @@ TEST(LightTracer, ConvergesToThePathTracerInADiffuseRoom) {
 
 // The light tracer against the path tracer on a floor beside a red glass ball (a mesh) under a
 // disk lamp, over the pixels that see the floor (at their corners and centre): around the ball
-// (its shadow, which light through the glass tints; within 2 pixels of the pixels that see the
-// ball) and the rest, each region's mean in each channel from 8 seeds of each estimator, within 4
-// standard errors of the difference, those under 2 % of the path tracer's mean: the splats'
-// normalisation, the importance-mode BSDF, or the light through the glass into the shadow carried
-// wrong by a per cent would show. Measured: standard errors 0.05-0.2 % of the means, the light
-// tracer 1.0005-1.0011 of the path tracer around the ball and 0.9993-0.9994 elsewhere. (It
-// compared the two images by mean ΔE00 below 0.5, at 4096 and 16 384 spp: 0.256, for 3.5 times
-// the time.)
+// (its shadow, which light through the glass tints; in the bounding box of the pixels that see the
+// ball grown by 2 pixels) and the rest, each region's mean in each channel from 8 seeds of each
+// estimator, within 4 standard errors of the difference, those under 2 % of the path tracer's
+// mean: the splats' normalisation or the importance-mode BSDF wrong by a per cent would show, and
+// the light through the glass into the shadow wrong by more than its share of the region allows
+// (an error that moved light within a region, keeping its mean, would not). Measured: standard
+// errors 0.05-0.2 % of the means, the light tracer 1.0005-1.0011 of the path tracer around the
+// ball and 0.9993-0.9994 elsewhere. (It compared the two images by mean ΔE00 below 0.5, at 4096
+// and 16 384 spp: 0.256, for 3.5 times the time.)
 TEST(LightTracer, ConvergesToThePathTracerOnACausticFloor) {
   SceneDesc desc = parse_scene(caustic_scene("path", 128, 1), "caustic.json");
   const RenderScene scene = compile(desc);

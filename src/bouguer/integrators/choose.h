@@ -35,7 +35,7 @@ struct EstimatorTrial {
   double cost = 0.0;     // rays × kCostPerRay
   double score = 0.0;    // error² × cost: the cost of a given noise (lower is better)
   double seconds = 0.0;  // measured, reported; the choice does not read it
-  bool complete = true;  // false: not chosen, as it misses light (below)
+  bool complete = true;  // false: not chosen, for one of two reasons (below)
   // Why not complete: false, it misses light in this scene (path_misses_light: no trial); true,
   // its trial was darker than another unbiased candidate's in some block (darker_somewhere), which
   // a heavy-tailed estimator's short trial can also be.
