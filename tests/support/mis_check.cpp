@@ -138,8 +138,8 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
         lens.point = qs->point + c->wi * c->distance_m;
         lens.pdf_fwd = 1.0;
         sampled = &lens;
-        const auto tr = transmission(view, bdpt.path_vertex(*qs), c->wi, c->distance_m,
-                                     bdpt.medium_towards(*qs, c->wi), w, rng, rays, media.sigma_mean);
+        const auto tr = transmission(view, vertex_at(*qs), c->wi, c->distance_m,
+                                     vertex_medium_towards(*qs, c->wi), w, rng, rays, media.sigma_mean);
         if (!tr) continue;
         tau = tr->tau;
         if (tau > 0.0) ++out.lens_through_media;
@@ -148,7 +148,7 @@ void mis_check(const RenderScene& scene, const RenderSettings& settings, int x, 
         const double length_m = std::sqrt(dot(d, d));
         if (!(length_m > 0.0)) continue;
         const Vec3 wi = d / length_m;
-        const auto tr = transmission(view, bdpt.path_vertex(pt), wi, length_m, bdpt.medium_towards(pt, wi), w, rng,
+        const auto tr = transmission(view, vertex_at(pt), wi, length_m, vertex_medium_towards(pt, wi), w, rng,
                                      rays, media.sigma_mean);
         if (!tr) continue;
         tau = tr->tau;

@@ -149,8 +149,6 @@ class Bdpt {
   double pdf_at(const Vertex<N>& at, const Vertex<N>* prev, const Vertex<N>& next, double tau) const;
   double direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) const;
   SampledSpectrum<N> f(const Vertex<N>& x, const Vec3& wi, TransportMode mode) const;
-  int medium_towards(const Vertex<N>& x, const Vec3& wi) const { return vertex_medium_towards(x, wi); }
-  PathVertex path_vertex(const Vertex<N>& x) const { return vertex_at(x); }
 
   // The MIS (below mis_weight): fold_mis(light, camera) once the subpaths are made, then the
   // weight of any strategy over them in O(1). `sampled` stands for light[0] (s = 1) or
@@ -493,12 +491,12 @@ SampledSpectrum<N> Bdpt<N>::through_glass(const std::vector<Vertex<N>>& camera, 
 
 template <std::size_t N>
 SampledSpectrum<N> Bdpt<N>::through_glass_at(const Vertex<N>& x, const SampledSpectrum<N>& keep) {
-  const PathVertex at = path_vertex(x);
+  const PathVertex at = vertex_at(x);
   auto towards = [&](const Vec3& wi, double& pdf) {
     pdf = direction_pdf(x, wi, false);
     return f(x, wi, TransportMode::radiance);
   };
-  auto leaves_into = [&](const Vec3& wi) { return medium_towards(x, wi); };
+  auto leaves_into = [&](const Vec3& wi) { return vertex_medium_towards(x, wi); };
   SampledSpectrum<N> sum;
   if (!s_.casters.empty()) {  // (exact glass spheres: every delta light, no area light)
     Rng side(rng_.next_u32(), kManifoldStream);
@@ -558,12 +556,8 @@ void Bdpt<N>::through_glass_to_camera(std::span<const Vertex<N>> light, FilmBuff
     if (!specular && !before_specular) return;  // two non-specular neighbours: other strategies
     before_specular = specular;
     if (specular) continue;
-    const SampledSpectrum<N> beta = x.beta * (x.dispersed ? keep : SampledSpectrum<N>::constant(1.0f));
-    if (x.kind == VertexKind::medium)
-      splat_medium_to_camera(v_, MediumPoint{x.point, -x.wo, scattering_medium(s_, x.medium)->phase, x.medium, x.inside},
-                             beta, w_, x.r_u, rng_, film, rays_, CameraPaths::through_glass);
-    else
-      splat_surface_to_camera(v_, x.hit, x.event, x.wo, beta, w_, x.r_u, rng_, film, rays_, CameraPaths::through_glass);
+    splat_vertex_to_camera(v_, x, x.beta * (x.dispersed ? keep : SampledSpectrum<N>::constant(1.0f)), w_, rng_, film,
+                           rays_, CameraPaths::through_glass);
   }
 }
 
@@ -588,7 +582,7 @@ SampledSpectrum<N> Bdpt<N>::connect(std::span<const Vertex<N>> light, const std:
     if (!c) return {};
     const SampledSpectrum<N> fq = f(qs, c->wi, TransportMode::importance);
     if (fq.is_zero()) return {};
-    const auto tr = transmission(v_, path_vertex(qs), c->wi, c->distance_m, medium_towards(qs, c->wi), w_, rng_,
+    const auto tr = transmission(v_, vertex_at(qs), c->wi, c->distance_m, vertex_medium_towards(qs, c->wi), w_, rng_,
                                  rays_, media_.sigma_mean);
     if (!tr) return {};
     SampledSpectrum<N> l = qs.beta * fq * tr->tr * static_cast<float>(c->factor) * mask(qs.dispersed);
@@ -610,7 +604,7 @@ SampledSpectrum<N> Bdpt<N>::connect(std::span<const Vertex<N>> light, const std:
     if (!li || li->factor == 0.0) return {};
     const SampledSpectrum<N> fp = f(pt, li->wi, TransportMode::radiance);
     if (fp.is_zero()) return {};
-    const auto tr = transmission(v_, path_vertex(pt), li->wi, li->distance_m, medium_towards(pt, li->wi), w_, rng_,
+    const auto tr = transmission(v_, vertex_at(pt), li->wi, li->distance_m, vertex_medium_towards(pt, li->wi), w_, rng_,
                                  rays_, media_.sigma_mean);
     if (!tr) return {};
     const SampledSpectrum<N> le = sample_radiance(v_, *li, w_);
@@ -639,7 +633,7 @@ SampledSpectrum<N> Bdpt<N>::connect(std::span<const Vertex<N>> light, const std:
   if (fp.is_zero()) return {};
   const SampledSpectrum<N> fq = f(qs, -wi, TransportMode::importance);
   if (fq.is_zero()) return {};
-  const auto tr = transmission(v_, path_vertex(pt), wi, distance, medium_towards(pt, wi), w_, rng_, rays_,
+  const auto tr = transmission(v_, vertex_at(pt), wi, distance, vertex_medium_towards(pt, wi), w_, rng_, rays_,
                                media_.sigma_mean);
   if (!tr) return {};
   SampledSpectrum<N> l =

@@ -43,7 +43,6 @@ struct SplatToCamera {
   Rng& rng;
   FilmBuffer& film;
   std::uint64_t& rays;
-  LightSplats which = LightSplats::all;
   std::optional<LightPrefix<N>> prefix = std::nullopt;  // beyond_next_event, until it is decided
   int surfaces = 0, scatterings = 0;
 
@@ -55,13 +54,7 @@ struct SplatToCamera {
       if (verdict == PrefixVerdict::made) return false;
       if (verdict == PrefixVerdict::beyond) prefix.reset();
     }
-    if (x.kind == VertexKind::medium) {
-      const PhaseFunction& phase = scattering_medium(v.scene, x.medium)->phase;
-      splat_medium_to_camera(v, MediumPoint{x.point, -x.wo, phase, x.medium, x.inside}, x.beta, w, x.r_u, rng, film,
-                             rays);
-      return true;
-    }
-    if (!x.delta) splat_surface_to_camera(v, x.hit, x.event, x.wo, x.beta, w, x.r_u, rng, film, rays);
+    splat_vertex_to_camera(v, x, x.beta, w, rng, film, rays);
     return true;
   }
 };
@@ -80,7 +73,7 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
     return;
   state.dispersion_u = dispersion_u;
   const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)];
-  SplatToCamera<N> splat{v, w, rng, film, rays, which};
+  SplatToCamera<N> splat{v, w, rng, film, rays};
   if (which == LightSplats::beyond_next_event) {
     const auto delta = manifold_detail::delta_lamp(lamp);
     if (!delta) return;

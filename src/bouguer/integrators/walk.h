@@ -86,6 +86,20 @@ PathVertex vertex_at(const Vertex<N>& x) {
   return PathVertex{x.point, x.kind == VertexKind::medium ? nullptr : &x.hit, x.inside};
 }
 
+// A light path's vertex splatted to the camera (splats.h) with throughput `beta`: a medium vertex
+// through its phase function, a surface that is not specular through its BSDF; `which` of its
+// paths to the camera.
+template <std::size_t N>
+void splat_vertex_to_camera(const SceneView<N>& v, const Vertex<N>& x, const SampledSpectrum<N>& beta,
+                            const SampledWavelengths<N>& w, Rng& rng, FilmBuffer& film, std::uint64_t& rays,
+                            CameraPaths which = CameraPaths::all) {
+  if (x.kind == VertexKind::medium)
+    splat_medium_to_camera(v, MediumPoint{x.point, -x.wo, scattering_medium(v.scene, x.medium)->phase, x.medium, x.inside},
+                           beta, w, x.r_u, rng, film, rays, which);
+  else if (x.kind == VertexKind::surface && !x.delta)
+    splat_surface_to_camera(v, x.hit, x.event, x.wo, beta, w, x.r_u, rng, film, rays, which);
+}
+
 // What a walk needs besides the scene: the mean σ_s of every medium (0 for those that do not
 // scatter) over the wavelengths the sample began with, which the MIS densities use.
 struct WalkMedia {
