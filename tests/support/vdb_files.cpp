@@ -71,3 +71,13 @@ std::vector<double> openvdb_box_samples(const std::filesystem::path& path, const
 }
 
 }  // namespace bouguer::test
+
+#ifdef BOUGUER_TEST_VDB_MODULE_BUILD
+// The module's one exported symbol (support/vdb_files.h: VdbFilesApi).
+extern "C" const bouguer::test::VdbFilesApi* bouguer_test_vdb_files_api() {
+  static const bouguer::test::VdbFilesApi api{1, &bouguer::test::write_vdb_file,
+                                              &bouguer::test::write_vdb_file_with_instance,
+                                              &bouguer::test::openvdb_box_samples};
+  return &api;
+}
+#endif

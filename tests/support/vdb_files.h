@@ -1,6 +1,10 @@
 #pragma once
 // Small OpenVDB files written by the tests themselves (tests/support/vdb_files.cpp, the tests'
 // only OpenVDB user besides io/vdb.cpp), and OpenVDB's own trilinear sampler as a reference.
+// The tests reach them through a module loaded on first use (libbouguer_test_vdb.so,
+// support/vdb_files_module.cpp), as the program reaches OpenVDB (io/vdb_module.h): linked into
+// bouguer_tests, OpenVDB's symbols cost each of the suite's ~500 test processes about 50 ms of
+// dynamic relocation at its start (0.06 s against 0.01 s), most of them in tests that write no grid.
 #include <array>
 #include <filesystem>
 #include <functional>
@@ -31,5 +35,14 @@ void write_vdb_file_with_instance(const std::filesystem::path& path, const VdbTe
 // OpenVDB's BoxSampler (trilinear) of the file's grid at world points.
 std::vector<double> openvdb_box_samples(const std::filesystem::path& path, const std::string& grid,
                                         const std::vector<Vec3>& points_m);
+
+// What libbouguer_test_vdb.so exports (its entry point bouguer_test_vdb_files_api): the three
+// functions above, as vdb_files.cpp defines them.
+struct VdbFilesApi {
+  int version = 1;
+  void (*write)(const std::filesystem::path&, const std::vector<VdbTestGrid>&);
+  void (*write_with_instance)(const std::filesystem::path&, const VdbTestGrid&, const std::string&);
+  std::vector<double> (*box_samples)(const std::filesystem::path&, const std::string&, const std::vector<Vec3>&);
+};
 
 }  // namespace bouguer::test
