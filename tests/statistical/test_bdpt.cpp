@@ -170,7 +170,10 @@ TEST(VertexMergingLong, ScatteringWhiteFurnaceHomogeneousHero) {
   }
 }
 
-TEST(Bidirectional, ScatteringWhiteFurnaceWithADensityField) {
+// Through an exponential density (the light subpaths' distances drawn by the field's majorant):
+// about 6 s on an idle core, `long`; the path tracer's furnace through the same field
+// (Scattering.WhiteFurnaceWithADensityField) and bdpt's homogeneous one stay in the suite.
+TEST(BidirectionalLong, ScatteringWhiteFurnaceWithADensityField) {
   expect_bidirectional_furnace(
       R"(, "density": {"field": "exponential", "axis": [0, 1, 0], "value": 1, "scale_length": "10 mm"})",
       "exponential density");
@@ -282,8 +285,11 @@ test::Estimate liquid_estimate(SceneDesc desc, IntegratorType integrator, int sp
 // strategies). Measured: 1.01 ± 0.05 of the path tracer at 1024 spp; against the ground truth
 // (the path tracer with its light paths, below), 0.992 ± 0.014 from 48 seeds of 2048 spp; the
 // light through glass to the camera adds 0.0252 ± 0.0003 of it (32 seeds, each against itself
-// without), where bdpt had read 0.951 ± 0.014 and the path tracer alone reads 0.935.
-TEST(Bidirectional, LightsALiquidInGlassByItsMediumConnections) {
+// without), where bdpt had read 0.951 ± 0.014 and the path tracer alone reads 0.935. About 8 s on an
+// idle core: `long` (the suite keeps bdpt's next-event estimation through glass against the path
+// tracer, Bidirectional.WhatIsSeenAndLitThroughGlassIsThePathTracers, and the tumbler's images at
+// any thread count).
+TEST(BidirectionalLong, LightsALiquidInGlassByItsMediumConnections) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("bdpt"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
   const double p = test::channel_estimate(path, 1, kLiquidX0, kLiquidY0, kLiquidX1, kLiquidY1).mean;
@@ -420,7 +426,9 @@ test::Estimate ground_truth_estimate(SceneDesc desc, int spp) {
 // ground truth is above the path tracer alone by more than 4 of its own standard errors (the light
 // reflected inside the glass before it scatters: 6.5 %, 14 of them), which vcm's error could not tell.
 // Measured: ground truth 0.06309 ± 0.00030, the path tracer 0.05898, vcm 0.966 ± 0.025 of it.
-TEST(VertexMerging, LightsALiquidInGlassAndConverges) {
+// About 17 s on an idle core, most of it the ground truth: `long` (the suite keeps vcm's regression
+// on a liquid behind glass, EstimatorRegression.VcmMatchesItsReferenceInALiquidBehindGlass).
+TEST(VertexMergingLong, LightsALiquidInGlassAndConverges) {
   const SceneDesc desc = parse_scene(test::lit_tumbler("vcm"), "tumbler.json");
   const Film path = render(desc, IntegratorType::path, SpectralMode::full, 256, 1);
   const double p = test::channel_estimate(path, 1, kLiquidX0, kLiquidY0, kLiquidX1, kLiquidY1).mean;

@@ -4,8 +4,8 @@
 // independent; the light tracer's splats spread one path over pixels, so its error is taken from
 // independent seeds), within 4 of them, and requires those to be small enough to see the bias it
 // is there for.
-#include <gtest/gtest.h>
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
@@ -24,7 +24,8 @@ constexpr int kSeeds = 8;  // (4 standard errors from 7 degrees of freedom: a 0.
 
 // Each channel's image mean, from kSeeds seeds of `spp` samples each (the standard error from
 // their spread: the image's own variation from pixel to pixel is not noise).
-std::array<test::Estimate, 3> image_means(SceneDesc desc, IntegratorType integrator, int spp, bool light_paths = false) {
+std::array<test::Estimate, 3> image_means(SceneDesc desc, IntegratorType integrator, int spp,
+                                          bool light_paths = false) {
   desc.render.integrator = integrator;
   desc.render.spp = spp;
   desc.render.light_paths = light_paths;
@@ -111,7 +112,8 @@ std::string glass_over_floor(const char* shape, const char* translate) {
 
 // Four ways the camera sees through glass, each lit where the path tracer's image is complete (the
 // lamp's light refracts at most, through faces next-event estimation solves) and each a bias the
-// connection could have:
+// connection could have (the first two here, the last two, whose light tracers need more samples,
+// in LightTracerLong below):
 // - a floor through a 4 mm slab of coloured glass (a chain of two faces): Fresnel left out at its
 //   two crossings would be 8 % bright, the glass's absorption left out 2-15 %;
 // - a floor at the bottom of a pool of water (one flat face between the camera in vacuum and the
@@ -127,8 +129,7 @@ TEST(LightTracer, SeesThroughGlassAsThePathTracer) {
   const char* above = R"({"position": [0, 1.5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov_deg": 8,
                           "resolution": [16, 16]})";
   expect_light_tracer_sees_as_path(
-      scene(above,
-            glass_over_floor(R"({"type": "box", "size": [0.2, 0.004, 0.2]})", "[0, 1, 0]").c_str(),
+      scene(above, glass_over_floor(R"({"type": "box", "size": [0.2, 0.004, 0.2]})", "[0, 1, 0]").c_str(),
             R"({"type": "spot", "position": [0.3, 0.5, 0.02], "look_at": [0, 0, 0], "cone_deg": 10,
                 "falloff_deg": 1, "spectrum": "D65", "scale": 1})"),
       "floor through a glass slab", 32, 128, 0.03);
@@ -142,6 +143,11 @@ TEST(LightTracer, SeesThroughGlassAsThePathTracer) {
             R"({"type": "spot", "position": [-0.2, 0.4, 0], "look_at": [0, 0, 0], "cone_deg": 12, "falloff_deg": 1,
                 "spectrum": "D65", "scale": 1})"),
       "floor under water", 32, 256, 0.03);
+}
+
+// The last two of the four: through an exact ball and a smooth-shaded tumbler. About 11 s on an
+// idle core (the ball's light tracer is 512 spp): `long`.
+TEST(LightTracerLong, SeesThroughGlassAsThePathTracer) {
   expect_light_tracer_sees_as_path(
       scene(R"({"position": [0, 0.3, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov_deg": 4,
                 "resolution": [16, 16]})",
@@ -179,50 +185,58 @@ TEST(LightTracer, SeesThroughGlassAsThePathTracer) {
 // estimation solves there, counted again, would double the light they carry; what it does not
 // (the ball's and the glass's reflections inside) is a few per cent. (The tumbler's glass and
 // haze have index 1.2, so the camera's own reflections in its wall, which the light tracer leaves
-// out, are under 1 %.)
-TEST(PathTracerLightPaths, CompleteWhatNextEventEstimationMakes) {
-  auto expect_complete = [](const std::string& json, const char* what, int path_spp, int light_spp, double cap,
-                            bool dark_without) {
-    const SceneDesc desc = parse_scene(json, "light_paths.json");
-    const auto light = image_means(desc, IntegratorType::light, light_spp);
-    const auto with = image_means(desc, IntegratorType::path, path_spp, true);
-    const auto bare = image_means(desc, IntegratorType::path, 8);
-    for (int c = 0; c < 3; ++c) {
-      const test::Estimate &l = light[c], &p = with[c], &b = bare[c];
-      const double se = std::hypot(p.standard_error, l.standard_error);
-      std::printf("%s, ch %d: light tracer %.5f ± %.5f, path with light paths %.5f ± %.5f, without %.5f ± %.5f\n",
-                  what, c, l.mean, l.standard_error, p.mean, p.standard_error, b.mean, b.standard_error);
-      EXPECT_LT(std::abs(p.mean - l.mean), 4.0 * se) << what << " ch " << c;
-      EXPECT_LT(4.0 * se, cap * l.mean) << what << " ch " << c << ": too noisy";
-      if (dark_without) {
-        EXPECT_GT(l.mean - b.mean, 6.0 * std::hypot(l.standard_error, b.standard_error)) << what << " ch " << c;
-      }
+// out, are under 1 %.) The mirror and the slab here; the block, the ball and the tumbler, whose
+// light tracers need more samples, in PathTracerLightPathsLong.
+void expect_light_paths_complete(const std::string& json, const char* what, int path_spp, int light_spp, double cap,
+                                 bool dark_without) {
+  const SceneDesc desc = parse_scene(json, "light_paths.json");
+  const auto light = image_means(desc, IntegratorType::light, light_spp);
+  const auto with = image_means(desc, IntegratorType::path, path_spp, true);
+  const auto bare = image_means(desc, IntegratorType::path, 8);
+  for (int c = 0; c < 3; ++c) {
+    const test::Estimate &l = light[c], &p = with[c], &b = bare[c];
+    const double se = std::hypot(p.standard_error, l.standard_error);
+    std::printf("%s, ch %d: light tracer %.5f ± %.5f, path with light paths %.5f ± %.5f, without %.5f ± %.5f\n", what,
+                c, l.mean, l.standard_error, p.mean, p.standard_error, b.mean, b.standard_error);
+    EXPECT_LT(std::abs(p.mean - l.mean), 4.0 * se) << what << " ch " << c;
+    EXPECT_LT(4.0 * se, cap * l.mean) << what << " ch " << c << ": too noisy";
+    if (dark_without) {
+      EXPECT_GT(l.mean - b.mean, 6.0 * std::hypot(l.standard_error, b.standard_error)) << what << " ch " << c;
     }
-  };
-  expect_complete(scene(kMirrorCamera, kFloorBesideMirror,
-                        R"({"type": "point", "position": [0.1, 0.3, 0.05], "spectrum": "D65", "scale": 0.1})"),
-                  "floor lit by a lamp and its mirror", 128, 512, 0.04, true);
-  expect_complete(
+  }
+}
+
+TEST(PathTracerLightPaths, CompleteWhatNextEventEstimationMakes) {
+  expect_light_paths_complete(
+      scene(kMirrorCamera, kFloorBesideMirror,
+            R"({"type": "point", "position": [0.1, 0.3, 0.05], "spectrum": "D65", "scale": 0.1})"),
+      "floor lit by a lamp and its mirror", 128, 512, 0.04, true);
+  expect_light_paths_complete(
       scene(R"({"position": [0, 0.6, 0.6], "look_at": [0, 0, 0], "fov_deg": 10, "resolution": [16, 16]})",
             glass_over_floor(R"({"type": "box", "size": [0.3, 0.004, 0.3]})", "[0, 0.3, -0.1]").c_str(),
             R"({"type": "point", "position": [0, 0.8, -0.1], "spectrum": "D65", "scale": 1})"),
       "floor lit through a glass slab", 64, 512, 0.08, false);
-  expect_complete(
+}
+
+// The last three of the five (the glass block, the ball and the tumbler): about 14 s on an idle
+// core, the block's light tracer 2048 spp: `long`.
+TEST(PathTracerLightPathsLong, CompleteWhatNextEventEstimationMakes) {
+  expect_light_paths_complete(
       scene(R"({"position": [0, 0.5, 0.5], "look_at": [0.06, 0, 0], "fov_deg": 10, "resolution": [16, 16]})",
             glass_over_floor(R"({"type": "box", "size": [0.1, 0.04, 0.1]})", "[0, 0.08, -0.1]").c_str(),
             R"({"type": "point", "position": [0, 0.3, -0.1], "spectrum": "D65", "scale": 1})"),
       "floor lit through a glass block", 128, 2048, 0.04, true);
-  expect_complete(
+  expect_light_paths_complete(
       scene(R"({"position": [0, 0.04, 0.25], "look_at": [0, 0, -0.03], "fov_deg": 6, "resolution": [16, 16]})",
             glass_over_floor(R"({"type": "sphere", "radius": 0.02})", "[0, 0.05, 0]").c_str(),
             R"({"type": "spot", "position": [0.05, 0.4, 0.02], "look_at": [0, 0.05, 0], "cone_deg": 8,
                 "falloff_deg": 1, "spectrum": "D65", "scale": 1})"),
       "floor lit through a glass ball", 64, 512, 0.08, false);
-  expect_complete(scene(kTumblerCamera, kHazeTumbler,
-                        R"({"type": "spot", "position": ["300 mm", "50 mm", 0], "look_at": [0, "40 mm", 0],
+  expect_light_paths_complete(scene(kTumblerCamera, kHazeTumbler,
+                                    R"({"type": "spot", "position": ["300 mm", "50 mm", 0], "look_at": [0, "40 mm", 0],
                             "cone_deg": 6, "falloff_deg": 1, "spectrum": "D65", "scale": 1})",
-                        kHazeMedia),
-                  "haze lit through a smooth-shaded tumbler", 128, 512, 0.08, false);
+                                    kHazeMedia),
+                              "haze lit through a smooth-shaded tumbler", 128, 512, 0.08, false);
 }
 
 // bdpt's light through glass to the camera (Bdpt::through_glass_to_camera) against the light
@@ -245,37 +259,24 @@ TEST(PathTracerLightPaths, CompleteWhatNextEventEstimationMakes) {
 // - A thin chromatic haze (index 1, optical depth 0.4 to 0.2 across) seen through a pane and lit
 //   only by a spot's beam off a mirror, in hero mode: a medium vertex's splats and their
 //   spectral-MIS ratios (without the strategy, 0.12 of the image).
-// Measured (green, 8 seeds): 0.999, 0.997 and 0.994 of the light tracer.
+// Measured (green, 8 seeds): 0.999, 0.997 and 0.994 of the light tracer. The first and the third
+// here, the card in BidirectionalLong.
+void expect_bdpt_complete(const std::string& json, const char* what, int bdpt_spp, int light_spp, double cap,
+                          SpectralMode mode = SpectralMode::full) {
+  SceneDesc desc = parse_scene(json, "bdpt_through_glass.json");
+  desc.render.spectral = mode;
+  expect_agree(what, "light tracer", image_means(desc, IntegratorType::light, light_spp), "bdpt",
+               image_means(desc, IntegratorType::bdpt, bdpt_spp), cap);
+}
+
 TEST(Bidirectional, CompletesThroughGlassWhatItsNextEventEstimationLeaves) {
-  auto expect_complete = [](const std::string& json, const char* what, int bdpt_spp, int light_spp, double cap,
-                            SpectralMode mode = SpectralMode::full) {
-    SceneDesc desc = parse_scene(json, "bdpt_through_glass.json");
-    desc.render.spectral = mode;
-    expect_agree(what, "light tracer", image_means(desc, IntegratorType::light, light_spp), "bdpt",
-                 image_means(desc, IntegratorType::bdpt, bdpt_spp), cap);
-  };
   const std::string slab = fmt::format(R"({}, {{"name": "slab", "shape": {{"type": "box", "size": [0.2, 0.004, 0.4]}},
                                          "transform": [{{"translate": [-0.1, 0.2, 0.12]}}], "inside": "glass"}})",
                                        kFloorBesideMirror);
-  expect_complete(scene(kMirrorCamera, slab.c_str(),
-                        R"({"type": "point", "position": [-0.1, 0.3, 0.05], "spectrum": "D65", "scale": 0.1})"),
-                  "floor behind a slab lit by a lamp and its mirror", 128, 128, 0.06);
-  expect_complete(scene(R"({"position": [0, 0.5, 0.3], "look_at": [0, 0, 0], "fov_deg": 24, "resolution": [16, 16]})",
-                        R"({"name": "floor", "shape": {"type": "quad", "size": [2, 2]},
-                            "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
-                            "material": {"type": "diffuse", "reflectance": 0.5}},
-                           {"name": "card", "shape": {"type": "quad", "size": [0.3, 0.15]},
-                            "transform": [{"rotate_deg": [90, [0, 1, 0]]}, {"translate": [-0.08, 0.1, 0]}],
-                            "material": {"type": "diffuse", "reflectance": 0.9}},
-                           {"name": "mirror", "shape": {"type": "quad", "size": [0.4, 0.4]},
-                            "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.5, 0]}],
-                            "material": {"type": "conductor", "n": 0.15, "k": 3.5}},
-                           {"name": "slab", "shape": {"type": "box", "size": [0.6, 0.004, 0.6]},
-                            "transform": [{"translate": [0, 0.2, 0.12]}], "inside": "glass"})",
-                        R"({"type": "spot", "position": [0.1, 0.3, 0.05], "look_at": [0.05, 0.5, 0], "cone_deg": 30,
-                            "falloff_deg": 2, "spectrum": "D65", "scale": 1})"),
-                  "floor and card behind a slab lit by a mirror", 96, 96, 0.06);
-  expect_complete(
+  expect_bdpt_complete(scene(kMirrorCamera, slab.c_str(),
+                             R"({"type": "point", "position": [-0.1, 0.3, 0.05], "spectrum": "D65", "scale": 0.1})"),
+                       "floor behind a slab lit by a lamp and its mirror", 128, 128, 0.06);
+  expect_bdpt_complete(
       scene(R"({"position": [0, 0.1, 0.5], "look_at": [0, 0.1, 0], "fov_deg": 12, "resolution": [16, 16]})",
             R"({"name": "haze", "shape": {"type": "box", "size": [0.1, 0.1, 0.1]},
                 "transform": [{"translate": [0, 0.1, 0]}], "inside": "haze"},
@@ -289,6 +290,26 @@ TEST(Bidirectional, CompletesThroughGlassWhatItsNextEventEstimationLeaves) {
             R"(, "haze": {"ior": 1.0, "scattering": {"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
                          "value": [4, 2], "phase": {"type": "henyey_greenstein", "g": 0.0}}})"),
       "thin haze behind a pane lit by a mirror (hero)", 64, 64, 0.1, SpectralMode::hero);
+}
+
+// The second of the three, the floor and the card (about 7 s on an idle core): `long`.
+TEST(BidirectionalLong, CompletesThroughGlassWhatItsNextEventEstimationLeaves) {
+  expect_bdpt_complete(
+      scene(R"({"position": [0, 0.5, 0.3], "look_at": [0, 0, 0], "fov_deg": 24, "resolution": [16, 16]})",
+            R"({"name": "floor", "shape": {"type": "quad", "size": [2, 2]},
+                            "transform": [{"rotate_deg": [-90, [1, 0, 0]]}],
+                            "material": {"type": "diffuse", "reflectance": 0.5}},
+                           {"name": "card", "shape": {"type": "quad", "size": [0.3, 0.15]},
+                            "transform": [{"rotate_deg": [90, [0, 1, 0]]}, {"translate": [-0.08, 0.1, 0]}],
+                            "material": {"type": "diffuse", "reflectance": 0.9}},
+                           {"name": "mirror", "shape": {"type": "quad", "size": [0.4, 0.4]},
+                            "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0, 0.5, 0]}],
+                            "material": {"type": "conductor", "n": 0.15, "k": 3.5}},
+                           {"name": "slab", "shape": {"type": "box", "size": [0.6, 0.004, 0.6]},
+                            "transform": [{"translate": [0, 0.2, 0.12]}], "inside": "glass"})",
+            R"({"type": "spot", "position": [0.1, 0.3, 0.05], "look_at": [0.05, 0.5, 0], "cone_deg": 30,
+                            "falloff_deg": 2, "spectrum": "D65", "scale": 1})"),
+      "floor and card behind a slab lit by a mirror", 96, 96, 0.06);
 }
 
 // The same seed gives the same image at 1 and 2 threads with the light paths (their splats are
