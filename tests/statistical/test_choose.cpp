@@ -209,7 +209,7 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
 // above it and by the lamp's image in a smooth mirror 0.05 m above the lamp (the mirror's light a
 // third of the lamp's own under it, more than it further out). The path tracer reaches the
 // mirror's light only where a direction it draws off the floor meets the 2 mm lamp in the mirror
-// (about one sample in 10 000), and nothing in the scene tells path_misses_light so (no delta
+// (at most one sample in 15 000, fewer further out), and nothing in the scene tells path_misses_light so (no delta
 // lamp); bdpt carries it by light tracing (lamp, mirror, floor, camera). So the path tracer's
 // trial, the least noisy of the three (its score the lowest: without the darkness test it would be
 // chosen), is darker than bdpt's over the floor: left out, `darker` set, not chosen. With a rough

@@ -185,8 +185,8 @@ TEST(LightTracerLong, SeesThroughGlassAsThePathTracer) {
 // estimation solves there, counted again, would double the light they carry; what it does not
 // (the ball's and the glass's reflections inside) is a few per cent. (The tumbler's glass and
 // haze have index 1.2, so the camera's own reflections in its wall, which the light tracer leaves
-// out, are under 1 %.) The mirror and the slab here; the block, the ball and the tumbler, whose
-// light tracers need more samples, in PathTracerLightPathsLong.
+// out, are under 1 %.) The mirror and the slab here; the block (its light tracer 2048 spp), the
+// ball and the tumbler in PathTracerLightPathsLong.
 void expect_light_paths_complete(const std::string& json, const char* what, int path_spp, int light_spp, double cap,
                                  bool dark_without) {
   const SceneDesc desc = parse_scene(json, "light_paths.json");

@@ -74,6 +74,9 @@ std::vector<double> openvdb_box_samples(const std::filesystem::path& path, const
 
 #ifdef BOUGUER_TEST_VDB_MODULE_BUILD
 // The module's one exported symbol (support/vdb_files.h: VdbFilesApi).
+// (bouguer_tests exports none of its own symbols, so the module's functions bind to themselves, not
+// to the loader's functions of the same names: linking the tests with -rdynamic would change that.
+// Hidden visibility for the module crashes OpenVDB, whose headers' statics must be its library's.)
 extern "C" const bouguer::test::VdbFilesApi* bouguer_test_vdb_files_api() {
   static const bouguer::test::VdbFilesApi api{1, &bouguer::test::write_vdb_file,
                                               &bouguer::test::write_vdb_file_with_instance,

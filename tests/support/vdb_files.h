@@ -1,9 +1,9 @@
 #pragma once
 // Small OpenVDB files written by the tests themselves (tests/support/vdb_files.cpp, the tests'
-// only OpenVDB user besides io/vdb.cpp), and OpenVDB's own trilinear sampler as a reference.
+// only OpenVDB user besides the program's io/vdb_module.cpp), and OpenVDB's own trilinear sampler as a reference.
 // The tests reach them through a module loaded on first use (libbouguer_test_vdb.so,
 // support/vdb_files_module.cpp), as the program reaches OpenVDB (io/vdb_module.h): linked into
-// bouguer_tests, OpenVDB's symbols cost each of the suite's ~500 test processes about 50 ms of
+// bouguer_tests, OpenVDB's symbols cost each of the suite's ~490 test processes about 50 ms of
 // dynamic relocation at its start (0.06 s against 0.01 s), most of them in tests that write no grid.
 #include <array>
 #include <filesystem>

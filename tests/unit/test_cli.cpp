@@ -1,6 +1,8 @@
 // The bouguer command, run as a user runs it.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <nlohmann/json.hpp>
 
 #include "support/test_support.h"
@@ -28,6 +30,13 @@ TEST(Cli, StartsWithoutTheLibrariesItLoadsOnFirstUse) {
   EXPECT_NE(r.out.find("libc.so"), std::string::npos) << r.out;
   for (const char* library : {"libOpenImageIO", "libopenvdb", "libmpi"})
     EXPECT_EQ(r.out.find(library), std::string::npos) << library << " is linked into the program";
+  // Nor into this test program, whose ~490 processes in the suite would each pay OpenVDB's
+  // relocations at their start (support/vdb_files.h).
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const auto t = test::run_program("/usr/bin/env", {"LD_TRACE_LOADED_OBJECTS=1", self});
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_NE(t.out.find("libc.so"), std::string::npos) << t.out;
+  EXPECT_EQ(t.out.find("libopenvdb"), std::string::npos) << "libopenvdb is linked into the tests";
 }
 
 TEST(Cli, ColorJsonForD65) {

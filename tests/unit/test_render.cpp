@@ -417,7 +417,7 @@ std::string scene_test_name(const ::testing::TestParamInfo<std::string>& p) {
 
 // The red pyramid in the suite; the other two, which would catch little the first does not (the
 // same transport through other shapes and absorption spectra), in `make test-long`: an
-// instantiation whose name ends in "Long" is labelled `long` (tests/CMakeLists.txt).
+// instantiation whose prefix ends in "Long" is labelled `long` (tests/CMakeLists.txt).
 INSTANTIATE_TEST_SUITE_P(PathTracer, PathVersusWhitted, ::testing::Values("pyramid-red-glass"), scene_test_name);
 INSTANTIATE_TEST_SUITE_P(PathTracerLong, PathVersusWhitted,
                          ::testing::Values("pyramid-light-blue-glass", "truncated-cube-red-glass"), scene_test_name);
