@@ -45,7 +45,7 @@ table=$(
     j=$out/$name-auto.json
     "$build/bouguer" render "scenes/showcase/$name.json" --integrator auto --spectral full --spp 64 --seed 1 \
       --resolution 64x48 --threads 2 -o "$out/$name-auto.pfm" --stats-json "$j" --quiet
-    echo "| $name | $(field "$j" "d['auto']['chosen']") | $(field "$j" "' | '.join('%.2f, %.3g%s' % (t['error_delta_e00'], t['cost'], '' if t['complete'] else ' (misses light)') for t in d['auto']['trials'])") |"
+    echo "| $name | $(field "$j" "d['auto']['chosen']") | $(field "$j" "' | '.join('%.2f, %.3g%s' % (t['error_delta_e00'], t['cost'], '' if t['complete'] else ' (darker)' if t['darker'] else ' (misses light)') for t in d['auto']['trials'])") |"
   done
 )
 echo "$table"
