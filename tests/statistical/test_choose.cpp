@@ -35,6 +35,14 @@ Chosen render_auto(const std::string& text, int threads) {
   return c;
 }
 
+// auto's choice for the scene text, its trials sized for the scene's samples (auto_trial_spp).
+EstimatorChoice choose_text(const std::string& text) {
+  const SceneDesc desc = parse_scene(text, "auto.json");
+  RenderControl control;
+  RenderStats stats;
+  return choose_estimator(compile(desc), desc.render, auto_trial_spp(desc.render.spp), false, nullptr, control, stats);
+}
+
 Film render_with(const std::string& text, IntegratorType type) {
   SceneDesc desc = parse_scene(text, "named.json");
   desc.render.integrator = type;
@@ -169,13 +177,7 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   EXPECT_TRUE(misses(scene(block, true)));
   EXPECT_FALSE(misses(scene(ball, true)));
   EXPECT_TRUE(misses(scene(ball, false)));
-  auto choose = [](const std::string& text) {
-    const SceneDesc desc = parse_scene(text, "a.json");
-    RenderControl control;
-    RenderStats stats;
-    return choose_estimator(compile(desc), desc.render, auto_trial_spp(64), false, nullptr, control, stats);
-  };
-  const EstimatorChoice with = choose(scene(block, true));
+  const EstimatorChoice with = choose_text(scene(block, true));
   ASSERT_EQ(with.trials.size(), 3u);
   EXPECT_TRUE(with.trials[0].complete);
   EXPECT_TRUE(with.trials[0].light_paths);
@@ -194,7 +196,7 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   // (and with `manifold` off, which turns their connections through glass off)
   for (const std::string& text : {scene(block, true, orthographic), scene(block, true, R"("fov_deg": 45)", distant),
                                   scene(block, false)}) {
-    const EstimatorChoice c = choose(text);
+    const EstimatorChoice c = choose_text(text);
     ASSERT_EQ(c.trials.size(), 3u);
     EXPECT_FALSE(c.trials[0].complete);
     EXPECT_FALSE(c.trials[0].darker);  // (it misses light: not the darkness test's)
@@ -209,14 +211,14 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
 // above it and by the lamp's image in a smooth mirror 0.05 m above the lamp (the mirror's light a
 // third of the lamp's own under it, more than it further out). The path tracer reaches the
 // mirror's light only where a direction it draws off the floor meets the 2 mm lamp in the mirror
-// (at most one sample in 15 000, fewer further out), and nothing in the scene tells path_misses_light so (no delta
-// lamp); bdpt carries it by light tracing (lamp, mirror, floor, camera). So the path tracer's
+// (at most one sample in 15 000, fewer further out), and nothing in the scene tells
+// path_misses_light so (no delta lamp); bdpt carries it by light tracing (lamp, mirror, floor, camera). So the path tracer's
 // trial, the least noisy of the three (its score the lowest: without the darkness test it would be
 // chosen), is darker than bdpt's over the floor: left out, `darker` set, not chosen. With a rough
 // mirror (roughness 0.3: next-event estimation from the mirror finds the lamp) it is a candidate
-// again. Trials of
-// 16 spp (a render of 256): at 4, bdpt's blocks were too noisy for the test's five standard errors
-// in 3 seeds of 10; at 16 it found the gap in 12 seeds of 12, and none with the rough mirror.
+// again. Trials of 16 spp (a render of 256): at 4, bdpt's blocks were too noisy for the test's
+// five standard errors in 3 seeds of 10; at 16 it found the gap in 12 seeds of 12, and none with
+// the rough mirror.
 TEST(Choose, APathTracerWhoseTrialMissesAMirrorsLightIsLeftOut) {
   auto scene = [](const char* mirror) {
     return fmt::format(R"({{
@@ -236,13 +238,7 @@ TEST(Choose, APathTracerWhoseTrialMissesAMirrorsLightIsLeftOut) {
     }})",
                        mirror);
   };
-  auto choose = [](const std::string& text) {
-    const SceneDesc desc = parse_scene(text, "mirror.json");
-    RenderControl control;
-    RenderStats stats;
-    return choose_estimator(compile(desc), desc.render, auto_trial_spp(256), false, nullptr, control, stats);
-  };
-  const EstimatorChoice smooth = choose(scene(""));
+  const EstimatorChoice smooth = choose_text(scene(""));
   std::printf("smooth mirror: %s\n", summary(smooth).c_str());
   ASSERT_EQ(smooth.trials.size(), 3u);
   EXPECT_EQ(smooth.trials[0].type, IntegratorType::path);
@@ -252,7 +248,7 @@ TEST(Choose, APathTracerWhoseTrialMissesAMirrorsLightIsLeftOut) {
   EXPECT_FALSE(smooth.trials[1].darker);
   EXPECT_LT(smooth.trials[0].score, std::min(smooth.trials[1].score, smooth.trials[2].score));
   EXPECT_NE(smooth.chosen, IntegratorType::path);
-  const EstimatorChoice rough = choose(scene(R"(, "roughness": 0.3)"));
+  const EstimatorChoice rough = choose_text(scene(R"(, "roughness": 0.3)"));
   std::printf("rough mirror: %s\n", summary(rough).c_str());
   ASSERT_EQ(rough.trials.size(), 3u);
   EXPECT_FALSE(rough.trials[0].darker);
