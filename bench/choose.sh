@@ -39,13 +39,15 @@ table=$(
   echo
   echo "What \`--integrator auto\` chooses (64x48, 64 spp, seed 1, two threads; each trial 4 spp):"
   echo
-  echo "| scene | chosen | path ΔE00, cost | bdpt ΔE00, cost | vcm ΔE00, cost |"
+  echo "Each trial: its own ΔE00 (at 4 spp), its cost, and its ΔE00 predicted at the cost of 64 spp of the cheapest (the score) with the samples that buys."
+  echo
+  echo "| scene | chosen | path ΔE00, cost, score | bdpt ΔE00, cost, score | vcm ΔE00, cost, score |"
   echo "|---|---|---|---|---|"
   for name in $scenes; do
     j=$out/$name-auto.json
     "$build/bouguer" render "scenes/showcase/$name.json" --integrator auto --spectral full --spp 64 --seed 1 \
       --resolution 64x48 --threads 2 -o "$out/$name-auto.pfm" --stats-json "$j" --quiet
-    echo "| $name | $(field "$j" "d['auto']['chosen']") | $(field "$j" "' | '.join('%.2f, %.3g%s' % (t['error_delta_e00'], t['cost'], '' if t['complete'] else ' (darker)' if t['darker'] else ' (misses light)') for t in d['auto']['trials'])") |"
+    echo "| $name | $(field "$j" "d['auto']['chosen']") | $(field "$j" "' | '.join('%.2f, %.3g, %.2f at %.0f spp%s' % (t['error_delta_e00'], t['cost'], t['score'], t['samples_at_equal_cost'], '' if t['complete'] else ' (darker)' if t['darker'] else ' (misses light)') for t in d['auto']['trials'])") |"
   done
 )
 echo "$table"

@@ -371,8 +371,10 @@ py::object render(Scene& scene, const RenderArgs& a) {
     const py::gil_scoped_release release;
     RenderControl control;
     control.threads = a.threads;
-    const int trial_spp = auto_trial_spp(settings.spp, a.time_s && !a.spp);  // as the command line's
-    choice.emplace(choose_estimator(compiled, settings, trial_spp, keep_spectra, &scene.desc.display, control, stats));
+    const bool seconds_only = a.time_s && !a.spp;  // as the command line's
+    choice.emplace(choose_estimator(compiled, settings, auto_trial_spp(settings.spp, seconds_only),
+                                    auto_render_spp(settings.spp, seconds_only), keep_spectra, &scene.desc.display,
+                                    control, stats));
   }
   RenderSettings chosen = settings;
   if (choice) chosen.integrator = choice->chosen, chosen.light_paths = chosen.light_paths || choice->light_paths;

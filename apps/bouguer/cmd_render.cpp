@@ -196,8 +196,10 @@ int run_render(const RenderCli& o) {
     control.threads = o.threads;
     // A budget of seconds without --spp: trials as for 64 spp, not for the 2^20 that stand for "as
     // many as the budget allows".
-    const int trial_spp = auto_trial_spp(settings.spp, o.time_s > 0.0 && !o.overrides.spp);
-    choice.emplace(choose_estimator(scene, settings, trial_spp, keep_spectra, &desc.display, control, stats));
+    const bool seconds_only = o.time_s > 0.0 && !o.overrides.spp;
+    choice.emplace(choose_estimator(scene, settings, auto_trial_spp(settings.spp, seconds_only),
+                                    auto_render_spp(settings.spp, seconds_only), keep_spectra, &desc.display, control,
+                                    stats));
     if (settings.light_paths && choice->chosen != IntegratorType::path)
       fmt::print(stderr, "bouguer: warning: light_paths: auto chose {}, which renders without them\n",
                  integrator_info(choice->chosen).name);
@@ -294,6 +296,7 @@ int run_render(const RenderCli& o) {
                           {"error_delta_e00", t.error_de00},
                           {"rays", t.rays},
                           {"cost", t.cost},
+                          {"samples_at_equal_cost", t.samples_at_equal_cost},
                           {"score", t.score},
                           {"seconds", t.seconds},
                           {"complete", t.complete},
@@ -302,6 +305,7 @@ int run_render(const RenderCli& o) {
       jv["auto"] = {{"chosen", integrator_info(choice->chosen).name},
                     {"light_paths", choice->light_paths},
                     {"trial_spp", choice->trial_spp},
+                    {"render_spp", choice->render_spp},
                     {"trials", trials}};
     }
     if (guide)
@@ -342,14 +346,14 @@ int run_render(const RenderCli& o) {
       else {
         std::string rows;
         for (const EstimatorTrial& t : choice->trials)
-          rows += fmt::format("{}{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00²·cost {:.3g}{}", rows.empty() ? "" : "; ",
+          rows += fmt::format("{}{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00 {:.3g} at {:.3g} spp{}", rows.empty() ? "" : "; ",
                               integrator_info(t.type).name, t.light_paths ? " with light paths" : "", t.error_de00,
-                              t.cost, t.score,
+                              t.cost, t.score, t.samples_at_equal_cost,
                               t.complete ? ""
                               : t.darker ? " (darker than another in some block of its trial: not chosen)"
                                          : " (misses light here: not chosen)");
-        fmt::print("  auto: {}{} (trials of {} spp: {})\n", integrator_info(choice->chosen).name, with,
-                   choice->trial_spp, rows);
+        fmt::print("  auto: {}{} (trials of {} spp, errors compared at the cost of {} spp of the cheapest: {})\n",
+                   integrator_info(choice->chosen).name, with, choice->trial_spp, choice->render_spp, rows);
       }
     }
     if (stats.iterations > 0)

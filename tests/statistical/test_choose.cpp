@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cstring>
 
 #include "bouguer/integrators/choose.h"
@@ -29,7 +28,7 @@ Chosen render_auto(const std::string& text, int threads) {
   RenderControl control;
   control.threads = threads;
   RenderStats stats;
-  Chosen c{choose_estimator(scene, desc.render, auto_trial_spp(desc.render.spp), false, nullptr, control, stats),
+  Chosen c{choose_estimator(scene, desc.render, auto_trial_spp(desc.render.spp), desc.render.spp, false, nullptr, control, stats),
            Film(1, 1)};
   c.image = render(scene, desc.render, control, stats);
   return c;
@@ -40,7 +39,7 @@ EstimatorChoice choose_text(const std::string& text) {
   const SceneDesc desc = parse_scene(text, "auto.json");
   RenderControl control;
   RenderStats stats;
-  return choose_estimator(compile(desc), desc.render, auto_trial_spp(desc.render.spp), false, nullptr, control, stats);
+  return choose_estimator(compile(desc), desc.render, auto_trial_spp(desc.render.spp), desc.render.spp, false, nullptr, control, stats);
 }
 
 Film render_with(const std::string& text, IntegratorType type) {
@@ -61,8 +60,9 @@ bool same_pixels(const Film& a, const Film& b) {
 std::string summary(const EstimatorChoice& c) {
   std::string s = fmt::format("chosen {}:", integrator_info(c.chosen).name);
   for (const EstimatorTrial& t : c.trials)
-    s += fmt::format(" {} (ΔE00 {:.3g}, rays {}, score {:.3g}{})", integrator_info(t.type).name, t.error_de00, t.rays,
-                     t.score, t.complete ? "" : t.darker ? ", darker" : ", misses light");
+    s += fmt::format(" {} (ΔE00 {:.3g}, rays {}, score {:.3g} at {:.3g} spp{})", integrator_info(t.type).name,
+                     t.error_de00, t.rays, t.score, t.samples_at_equal_cost,
+                     t.complete ? "" : t.darker ? ", darker" : ", misses light");
   return s;
 }
 
@@ -187,7 +187,7 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   const SceneDesc few = parse_scene(scene(block, true), "a.json");
   RenderControl control;
   RenderStats stats;
-  const EstimatorChoice quick = choose_estimator(compile(few), few.render, 0, false, nullptr, control, stats);
+  const EstimatorChoice quick = choose_estimator(compile(few), few.render, 0, few.render.spp, false, nullptr, control, stats);
   EXPECT_TRUE(quick.trials.empty());
   EXPECT_EQ(quick.chosen, IntegratorType::path);
   EXPECT_TRUE(quick.light_paths);
@@ -207,14 +207,44 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   }
 }
 
+// The lit tumbler (support/test_scenes.h: a thin scattering liquid in glass under a point and a
+// spot lamp) at 48 × 48 and 256 spp (trials of 16). The liquid is lit only through the glass: the
+// path tracer carries that light smoothly, by its connections through the walls and its light
+// paths; vcm by merges in the liquid, rare and large samples that most of a short trial's pixels
+// meet in neither half. Measured at 64 × 64 against the path tracer with its light paths at 2048
+// spp (docs/performance.md, "Choosing the estimator"), vcm at 64 spp reads ΔE00 6.8, the path
+// tracer 3.6 at the same cost (14 spp): it is the right choice. A pixel's own half gap read vcm's
+// trial as converged where it had no merge, and auto chose vcm here in 4 seeds of 4 (8 of 8 at
+// 64 × 64 and 64 spp); the block's mean square of the gaps, read at the render's noise and vcm's
+// slower rate, chooses the path tracer in 8 seeds of 8 (seeds 0–7: its error 0.54–0.80 of vcm's).
+TEST(Choose, ThePathTracerWithItsLightPathsForALiquidLitThroughGlass) {
+  SceneDesc desc = parse_scene(test::lit_tumbler("auto"), "tumbler.json");
+  desc.camera.width_px = desc.camera.height_px = 48;
+  desc.render.spp = 256;
+  RenderControl control;
+  control.threads = 2;
+  RenderStats stats;
+  const EstimatorChoice c = choose_estimator(compile(desc), desc.render, auto_trial_spp(desc.render.spp),
+                                             desc.render.spp, false, nullptr, control, stats);
+  std::printf("%s\n", summary(c).c_str());
+  ASSERT_EQ(c.trials.size(), 3u);
+  EXPECT_EQ(c.chosen, IntegratorType::path);
+  EXPECT_TRUE(c.light_paths);
+  EXPECT_EQ(c.trials[2].type, IntegratorType::vcm);
+  EXPECT_LT(c.trials[2].cost, c.trials[0].cost / 3);  // vcm's trial is the cheapest by far ...
+  EXPECT_GT(c.trials[2].score, 1.2 * c.trials[0].score);  // ... and still loses at equal cost
+  EXPECT_DOUBLE_EQ(c.trials[2].samples_at_equal_cost, 256.0);
+}
+
 // The darkness test in a render (choose_estimator): a floor lit by a small spherical lamp 0.15 m
 // above it and by the lamp's image in a smooth mirror 0.05 m above the lamp (the mirror's light a
 // third of the lamp's own under it, more than it further out). The path tracer reaches the
 // mirror's light only where a direction it draws off the floor meets the 2 mm lamp in the mirror
 // (at most one sample in 15 000, fewer further out), and nothing in the scene tells
 // path_misses_light so (no delta lamp); bdpt carries it by light tracing (lamp, mirror, floor, camera). So the path tracer's
-// trial, the least noisy of the three (its score the lowest: without the darkness test it would be
-// chosen), is darker than bdpt's over the floor: left out, `darker` set, not chosen. With a rough
+// trial is darker than bdpt's over the floor: left out, `darker` set, not chosen. (Its score is not
+// the lowest either: the few samples that found the lamp in the mirror count in its blocks' mean
+// squares. Before those, its trial read as the least noisy of the three.) With a rough
 // mirror (roughness 0.3: next-event estimation from the mirror finds the lamp) it is a candidate
 // again. Trials of 16 spp (a render of 256): at 4, bdpt's blocks were too noisy for the test's
 // five standard errors in 3 seeds of 10; at 16 it found the gap in 12 seeds of 12, and none with
@@ -246,7 +276,6 @@ TEST(Choose, APathTracerWhoseTrialMissesAMirrorsLightIsLeftOut) {
   EXPECT_TRUE(smooth.trials[0].darker);
   EXPECT_FALSE(smooth.trials[0].complete);
   EXPECT_FALSE(smooth.trials[1].darker);
-  EXPECT_LT(smooth.trials[0].score, std::min(smooth.trials[1].score, smooth.trials[2].score));
   EXPECT_NE(smooth.chosen, IntegratorType::path);
   const EstimatorChoice rough = choose_text(scene(R"(, "roughness": 0.3)"));
   std::printf("rough mirror: %s\n", summary(rough).c_str());

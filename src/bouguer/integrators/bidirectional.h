@@ -58,6 +58,10 @@ struct Merging {
   double eta_surface = 0.0, eta_medium = 0.0;
 };
 
+// vcm's radius shrinks as r_i = r_1·i^((α−1)/2) (progressive photon mapping), so the variance of
+// its merges' mean over n iterations falls as n^−α, not n^−1.
+constexpr double kVcmAlpha = 0.75;
+
 // vcm.cpp's merging: its first radius (the scene's, or two pixel footprints), and the η of an
 // iteration with radius r over `light_paths` light subpaths, or of iteration `iteration`.
 double vcm_initial_radius(const RenderScene& scene, const RenderSettings& settings);

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "bouguer/core/error.h"
+#include "bouguer/integrators/bidirectional.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/render/adaptive.h"
 #include "bouguer/scene/display_white.h"
@@ -67,6 +70,43 @@ bool darker_blocks(const Blocks& dark, const Blocks& bright) {
   return false;
 }
 
+// A trial's mean pixel error, ΔE00 on the display colour, predicted for a render whose mean has
+// `scale` times the standard deviation of the trial's (√(2k / n) for n samples). Each pixel's
+// standard deviation per channel is the root mean square of its block's half gaps (M − A: the
+// mean's deviation, as |A − B|/2 estimates it), not its own gap: where an estimator's light comes
+// as rare large samples (vcm's merges in a thin medium behind glass), most of a trial's pixels have
+// none in either half, their halves agree, and a pixel's own gap reads them as converged; the
+// block's mean square counts the rare samples at their weight. The error of a pixel is the mean of
+// the colour distances from its mean to the mean moved one standard deviation up and down (down
+// stops at black); it is read at the render's noise, not the trial's, since the distance is not
+// linear in the deviation: far from linear at a trial's noise, so the trial's own ΔE00 scaled by
+// √(2k / n) would misjudge the render's.
+double predicted_error_de00(const Film& a, const Film& m, double scale, const DisplayTransform& shown) {
+  const int nx = (m.width + kBlockPx - 1) / kBlockPx, ny = (m.height + kBlockPx - 1) / kBlockPx;
+  std::vector<Vec3> square(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), Vec3{});
+  std::vector<double> count(square.size(), 0.0);
+  const auto block = [&](int x, int y) {
+    return static_cast<std::size_t>(y / kBlockPx) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x / kBlockPx);
+  };
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) {
+      const Vec3 gap = rgb_of(m, x, y) - rgb_of(a, x, y);
+      square[block(x, y)] += Vec3{gap.x * gap.x, gap.y * gap.y, gap.z * gap.z};
+      count[block(x, y)] += 1.0;
+    }
+  double error = 0.0;
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) {
+      const Vec3 s = square[block(x, y)] / count[block(x, y)];
+      const Vec3 sd = scale * Vec3{std::sqrt(s.x), std::sqrt(s.y), std::sqrt(s.z)};
+      const Vec3 mean = rgb_of(m, x, y);
+      const Vec3 low{std::max(mean.x - sd.x, 0.0), std::max(mean.y - sd.y, 0.0), std::max(mean.z - sd.z, 0.0)};
+      // halves_error_de00 is half the distance between its two colours
+      error += halves_error_de00(mean, mean + sd, shown) + halves_error_de00(mean, low, shown);
+    }
+  return error / (static_cast<double>(m.width) * m.height);
+}
+
 }  // namespace
 
 namespace {
@@ -125,8 +165,10 @@ std::vector<IntegratorType> auto_candidates(const RenderScene& scene) {
   return out;
 }
 
+int auto_render_spp(int spp, bool seconds_only) { return seconds_only ? 64 : spp; }
+
 int auto_trial_spp(int spp, bool seconds_only) {
-  if (seconds_only) spp = 64;
+  spp = auto_render_spp(spp, seconds_only);
   return spp < 16 ? 0 : 2 * std::clamp(spp / 32, 1, 16);
 }
 
@@ -142,7 +184,7 @@ double cost_per_ray(IntegratorType type) {
 }
 
 EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,
-                                 bool keep_spectra, const DisplayDesc* display, const RenderControl& control,
+                                 int render_spp, bool keep_spectra, const DisplayDesc* display, const RenderControl& control,
                                  RenderStats& stats) {
   EstimatorChoice choice;
   choice.trial_spp = std::min(trial_spp - trial_spp % 2, settings.spp);
@@ -162,12 +204,14 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     return choice;
   }
   const int k = choice.trial_spp / 2;
+  choice.render_spp = std::max(render_spp, choice.trial_spp);
   // A trial is short (an eighth of the render at most): it is not cancelled, nor reported as
   // progress; a Ctrl-C takes effect in the render's first pass.
   RenderControl trial_control;
   trial_control.threads = control.threads;
   std::vector<std::optional<FilmBuffer>> films(candidates.size());  // by trial
   std::vector<Blocks> blocks(candidates.size());
+  std::vector<std::optional<std::pair<Film, Film>>> images(candidates.size());  // each trial's A and M
   DisplayTransform shown;
   bool displayed = false;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
@@ -195,22 +239,33 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     // (an automatic exposure is measured on it), the same for all.
     if (!displayed && display) shown = display_transform(scene, *display, m);
     displayed = true;
-    double error = 0.0;
-    for (int y = 0; y < m.height; ++y)
-      for (int x = 0; x < m.width; ++x) {
-        const Vec3 first = rgb_of(a, x, y), both = rgb_of(m, x, y);
-        const Vec3 second = 2.0 * both - first;  // samples [k, 2k), splats included
-        error += halves_error_de00(first, second, shown);
-      }
-    t.error_de00 = error / (static_cast<double>(m.width) * m.height);
+    t.error_de00 = predicted_error_de00(a, m, 1.0, shown);
     blocks[i] = blocks_of(a, m);
+    images[i].emplace(a, m);
     t.rays = st.rays;
     t.cost = static_cast<double>(st.rays) * cost_per_ray(type);
-    t.score = t.error_de00 * t.error_de00 * t.cost;
     t.seconds = st.seconds;
     choice.trials.push_back(t);
     stats.rays += st.rays;
     stats.seconds += st.seconds;
+  }
+  // Each trialled candidate's error predicted for the same cost: what the cheapest of them spends
+  // on the render's samples (`render_spp`), which buys the others fewer samples. Its mean's
+  // deviation falls as one over the square root of its samples (2k in the trial), vcm's slower.
+  double cheapest = 0.0;  // cost of a sample
+  for (std::size_t i = 0; i < choice.trials.size(); ++i)
+    if (images[i]) {
+      const double per_sample = choice.trials[i].cost / (2 * k);
+      if (cheapest == 0.0 || per_sample < cheapest) cheapest = per_sample;
+    }
+  for (std::size_t i = 0; i < choice.trials.size(); ++i) {
+    EstimatorTrial& t = choice.trials[i];
+    if (!images[i]) continue;
+    t.samples_at_equal_cost = choice.render_spp * cheapest / (t.cost / (2 * k));
+    // (vcm's merges' variance falls as n^−α: its smaller radii make each iteration noisier.)
+    const double rate = t.type == IntegratorType::vcm ? bidir::kVcmAlpha : 1.0;
+    const double scale = std::pow(2.0 * k / std::max(t.samples_at_equal_cost, 1e-9), 0.5 * rate);
+    t.score = predicted_error_de00(images[i]->first, images[i]->second, scale, shown);
   }
   // The two unbiased candidates, path and bdpt, each left out where it is darker than the other
   // somewhere (vcm's first iterations blur the light by their radius: no reference for this).

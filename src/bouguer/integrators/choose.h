@@ -2,17 +2,23 @@
 // --integrator auto (#37): which estimator renders this scene to a given noise soonest, found by
 // rendering it. Which one wins depends on the scene (the path tracer beats bdpt and vcm on a glass
 // ball under a small lamp; bdpt wins on the coloured-caustics showcase), so each candidate renders
-// a short trial of the image, and the one whose trial has the lowest noise² × cost renders the
-// rest, on from its trial's samples (the image is then bit for bit that estimator's own).
+// a short trial of the image, and the one whose error predicted for the same cost is lowest renders
+// the rest, on from its trial's samples (the image is then bit for bit that estimator's own).
 //
 // Deterministic for a seed: the cost is the trial's ray count times the estimator's measured cost
-// per ray relative to the path tracer's (kCostPerRay), not its seconds, which depend on the
+// per ray relative to the path tracer's (cost_per_ray), not its seconds, which depend on the
 // machine and its load; the seconds are reported beside it.
 //
 // The noise: a trial is two halves of k samples each (samples [0, k) and [k, 2k) of the render),
-// the image after each read from the same film (the second half's is 2·M − A, splats included),
-// and a pixel's error is ΔE00(A, B)/2 on the display colour (render/adaptive.h's estimate); the
-// trial's is the mean over the pixels. Noise cannot tell an estimator that misses light: the path
+// the image after each read from the same film (the second half's is 2·M − A, splats included).
+// A pixel's standard deviation per channel is the root mean square of the half gaps (M − A) over
+// its block of 8 × 8 pixels: a pixel's own gap reads as converged where an estimator's light comes
+// as rare large samples that neither half of a short trial has met there (vcm's merges in a thin
+// liquid behind glass, where its trial's own gaps said ΔE00 3.9 and its 4-spp image was 10 from
+// the truth). The score is the mean pixel ΔE00, on the display colour, between the mean and the
+// mean moved one standard deviation up and down, the deviation scaled to what the cheapest
+// candidate's render_spp samples cost spent on this one (the distance is far from linear at a
+// short trial's noise, so it is read at the render's). Noise cannot tell an estimator that misses light: the path
 // tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So
 // where a delta lamp shines and a specular surface it cannot connect through is in the scene
 // (path_misses_light), the path tracer is trialled with its light paths where they make that light
@@ -32,8 +38,9 @@ struct EstimatorTrial {
   IntegratorType type = IntegratorType::path;
   double error_de00 = 0.0;  // mean pixel error estimate of the trial's image (its 2k samples)
   std::uint64_t rays = 0;
-  double cost = 0.0;     // rays × kCostPerRay
-  double score = 0.0;    // error² × cost: the cost of a given noise (lower is better)
+  double cost = 0.0;     // rays × cost_per_ray
+  double samples_at_equal_cost = 0.0;  // what the cheapest trialled candidate's render_spp samples cost buys this one
+  double score = 0.0;    // the mean pixel error estimate at those samples, ΔE00 (lower is better)
   double seconds = 0.0;  // measured, reported; the choice does not read it
   bool complete = true;  // false: not chosen, for one of two reasons (below)
   // Why not complete: false, it misses light in this scene (path_misses_light: no trial); true,
@@ -46,6 +53,7 @@ struct EstimatorTrial {
 struct EstimatorChoice {
   IntegratorType chosen = IntegratorType::path;
   int trial_spp = 0;  // samples per pixel each candidate rendered (2k); the chosen film has them
+  int render_spp = 0;  // the errors compared at what this many samples of the cheapest candidate cost
   bool light_paths = false;  // the path tracer chosen, rendering with its light paths (render.light_paths)
   std::vector<EstimatorTrial> trials;
   std::optional<FilmBuffer> film;  // the chosen candidate's film after its trial
@@ -62,6 +70,9 @@ std::vector<IntegratorType> auto_candidates(const RenderScene& scene);
 // bounded by seconds alone (`seconds_only`: its spp stands for "as many as fit") has trials as for
 // 64 spp.
 int auto_trial_spp(int spp, bool seconds_only = false);
+// The samples per pixel at which the candidates' errors are compared: the render's, 64 for one
+// bounded by seconds alone.
+int auto_render_spp(int spp, bool seconds_only = false);
 
 // Whether the path tracer misses light in this scene: a delta lamp (point, spot, distant) and a
 // specular surface that next-event estimation cannot connect through (a smooth interface that is
@@ -92,11 +103,12 @@ bool darker_somewhere(const Film& dark_first, const Film& dark_mean, const Film&
 double cost_per_ray(IntegratorType type);
 
 // Renders the candidates' trials of `trial_spp` samples (auto_trial_spp; a render with a budget of
-// seconds and no number of samples: seconds_only) into films of the scene's size (with
-// spectra if `keep_spectra`) and chooses; `display` (null: exposure 1, no white balance) sets the
+// seconds and no number of samples: seconds_only) into films of the scene's size (with spectra if
+// `keep_spectra`) and chooses, their errors compared at what `render_spp` samples of the cheapest
+// cost (auto_render_spp); `display` (null: exposure 1, no white balance) sets the
 // colour the error is measured on. The stats get the trials' rays and seconds.
 EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,
-                                 bool keep_spectra, const DisplayDesc* display, const RenderControl& control,
-                                 RenderStats& stats);
+                                 int render_spp, bool keep_spectra, const DisplayDesc* display,
+                                 const RenderControl& control, RenderStats& stats);
 
 }  // namespace bouguer

@@ -45,7 +45,7 @@ using bidir::Bdpt;
 using bidir::begin_sample;
 
 constexpr std::uint64_t kCameraSalt = 6, kLightSalt = 7, kIterationSalt = 8;
-constexpr double kAlpha = 0.75;
+constexpr double kAlpha = bidir::kVcmAlpha;
 
 // A photon: a vertex of a light subpath where a path can merge. The vertex itself stays in the
 // iteration's kept light subpaths (LightSubpaths), which the merges read through `vertex`; the
