@@ -345,13 +345,17 @@ int run_render(const RenderCli& o) {
                    with, settings.spp);
       else {
         std::string rows;
-        for (const EstimatorTrial& t : choice->trials)
-          rows += fmt::format("{}{}{} ΔE00 {:.3g}, cost {:.3g}, ΔE00 {:.3g} at {:.3g} spp{}", rows.empty() ? "" : "; ",
-                              integrator_info(t.type).name, t.light_paths ? " with light paths" : "", t.error_de00,
-                              t.cost, t.score, t.samples_at_equal_cost,
-                              t.complete ? ""
-                              : t.darker ? " (darker than another in some block of its trial: not chosen)"
-                                         : " (misses light here: not chosen)");
+        for (const EstimatorTrial& t : choice->trials) {
+          rows += fmt::format("{}{}{}", rows.empty() ? "" : "; ", integrator_info(t.type).name,
+                              t.light_paths ? " with light paths" : "");
+          if (t.rays == 0) {  // not trialled
+            rows += " (misses light here: not chosen)";
+            continue;
+          }
+          rows += fmt::format(" ΔE00 {:.3g}, cost {:.3g}, ΔE00 {:.3g} at {:.3g} spp{}", t.error_de00, t.cost, t.score,
+                              t.samples_at_equal_cost,
+                              t.darker ? " (darker than another in some block of its trial: not chosen)" : "");
+        }
         fmt::print("  auto: {}{} (trials of {} spp, errors compared at the cost of {} spp of the cheapest: {})\n",
                    integrator_info(choice->chosen).name, with, choice->trial_spp, choice->render_spp, rows);
       }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
-#include <utility>
 
 #include "bouguer/core/error.h"
 #include "bouguer/integrators/bidirectional.h"
@@ -23,34 +23,50 @@ Vec3 rgb_of(const Film& f, int x, int y) {
 double luminance(const Vec3& c) { return rec709_luminance(c.x, c.y, c.z); }
 
 // A trial's image by blocks of kBlockPx² pixels: each block's mean luminance and the variance of
-// that mean, from the pixels' two halves (((Y_A − Y_B)/2)² estimates the variance of (A + B)/2).
+// that mean, from the pixels' two halves (((Y_A − Y_B)/2)² estimates the variance of (A + B)/2),
+// and per channel the mean over the block of the pixels' squared half gaps (what
+// predicted_error_de00 reads, with the colours of the trial's mean image).
 constexpr int kBlockPx = 8;
 struct Blocks {
-  int nx = 0, ny = 0;
+  int nx = 0, ny = 0, width = 0, height = 0;
   std::vector<double> mean, var;
+  std::vector<Vec3> square;  // by block
+  std::vector<Vec3> rgb;     // M by pixel, row-major
+
+  std::size_t at(int x, int y) const {
+    return static_cast<std::size_t>(y / kBlockPx) * static_cast<std::size_t>(nx) +
+           static_cast<std::size_t>(x / kBlockPx);
+  }
 };
 
 Blocks blocks_of(const Film& a, const Film& m) {
   Blocks b;
   b.nx = (m.width + kBlockPx - 1) / kBlockPx;
   b.ny = (m.height + kBlockPx - 1) / kBlockPx;
+  b.width = m.width;
+  b.height = m.height;
   const std::size_t n = static_cast<std::size_t>(b.nx) * static_cast<std::size_t>(b.ny);
   b.mean.assign(n, 0.0);
   b.var.assign(n, 0.0);
+  b.square.assign(n, Vec3{});
+  b.rgb.reserve(static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height));
   std::vector<double> count(n, 0.0);
   for (int y = 0; y < m.height; ++y)
     for (int x = 0; x < m.width; ++x) {
-      const std::size_t k = static_cast<std::size_t>(y / kBlockPx) * static_cast<std::size_t>(b.nx) +
-                            static_cast<std::size_t>(x / kBlockPx);
-      const double ya = luminance(rgb_of(a, x, y)), yab = luminance(rgb_of(m, x, y));
-      const double half_gap = yab - ya;  // ((2·M − A) − A)/2
-      b.mean[k] += yab;
+      const std::size_t k = b.at(x, y);
+      const Vec3 first = rgb_of(a, x, y), both = rgb_of(m, x, y);
+      const Vec3 gap = both - first;  // ((2·M − A) − A)/2
+      const double half_gap = luminance(both) - luminance(first);
+      b.mean[k] += luminance(both);
       b.var[k] += half_gap * half_gap;
+      b.square[k] += Vec3{gap.x * gap.x, gap.y * gap.y, gap.z * gap.z};
+      b.rgb.push_back(both);
       count[k] += 1.0;
     }
   for (std::size_t k = 0; k < n; ++k) {
     b.mean[k] /= count[k];
     b.var[k] /= count[k] * count[k];
+    b.square[k] = b.square[k] / count[k];
   }
   return b;
 }
@@ -81,30 +97,19 @@ bool darker_blocks(const Blocks& dark, const Blocks& bright) {
 // stops at black); it is read at the render's noise, not the trial's, since the distance is not
 // linear in the deviation: far from linear at a trial's noise, so the trial's own ΔE00 scaled by
 // √(2k / n) would misjudge the render's.
-double predicted_error_de00(const Film& a, const Film& m, double scale, const DisplayTransform& shown) {
-  const int nx = (m.width + kBlockPx - 1) / kBlockPx, ny = (m.height + kBlockPx - 1) / kBlockPx;
-  std::vector<Vec3> square(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), Vec3{});
-  std::vector<double> count(square.size(), 0.0);
-  const auto block = [&](int x, int y) {
-    return static_cast<std::size_t>(y / kBlockPx) * static_cast<std::size_t>(nx) + static_cast<std::size_t>(x / kBlockPx);
-  };
-  for (int y = 0; y < m.height; ++y)
-    for (int x = 0; x < m.width; ++x) {
-      const Vec3 gap = rgb_of(m, x, y) - rgb_of(a, x, y);
-      square[block(x, y)] += Vec3{gap.x * gap.x, gap.y * gap.y, gap.z * gap.z};
-      count[block(x, y)] += 1.0;
-    }
+double predicted_error_de00(const Blocks& b, double scale, const DisplayTransform& shown) {
   double error = 0.0;
-  for (int y = 0; y < m.height; ++y)
-    for (int x = 0; x < m.width; ++x) {
-      const Vec3 s = square[block(x, y)] / count[block(x, y)];
+  for (int y = 0; y < b.height; ++y)
+    for (int x = 0; x < b.width; ++x) {
+      const Vec3& s = b.square[b.at(x, y)];
       const Vec3 sd = scale * Vec3{std::sqrt(s.x), std::sqrt(s.y), std::sqrt(s.z)};
-      const Vec3 mean = rgb_of(m, x, y);
+      const Vec3& mean =
+          b.rgb[static_cast<std::size_t>(y) * static_cast<std::size_t>(b.width) + static_cast<std::size_t>(x)];
       const Vec3 low{std::max(mean.x - sd.x, 0.0), std::max(mean.y - sd.y, 0.0), std::max(mean.z - sd.z, 0.0)};
       // halves_error_de00 is half the distance between its two colours
       error += halves_error_de00(mean, mean + sd, shown) + halves_error_de00(mean, low, shown);
     }
-  return error / (static_cast<double>(m.width) * m.height);
+  return error / (static_cast<double>(b.width) * b.height);
 }
 
 }  // namespace
@@ -184,8 +189,8 @@ double cost_per_ray(IntegratorType type) {
 }
 
 EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,
-                                 int render_spp, bool keep_spectra, const DisplayDesc* display, const RenderControl& control,
-                                 RenderStats& stats) {
+                                 int render_spp, bool keep_spectra, const DisplayDesc* display,
+                                 const RenderControl& control, RenderStats& stats) {
   EstimatorChoice choice;
   choice.trial_spp = std::min(trial_spp - trial_spp % 2, settings.spp);
   const std::vector<IntegratorType> candidates = auto_candidates(scene);
@@ -210,8 +215,7 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
   RenderControl trial_control;
   trial_control.threads = control.threads;
   std::vector<std::optional<FilmBuffer>> films(candidates.size());  // by trial
-  std::vector<Blocks> blocks(candidates.size());
-  std::vector<std::optional<std::pair<Film, Film>>> images(candidates.size());  // each trial's A and M
+  std::vector<std::optional<Blocks>> blocks(candidates.size());  // by trial, where it ran
   DisplayTransform shown;
   bool displayed = false;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
@@ -239,33 +243,13 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     // (an automatic exposure is measured on it), the same for all.
     if (!displayed && display) shown = display_transform(scene, *display, m);
     displayed = true;
-    t.error_de00 = predicted_error_de00(a, m, 1.0, shown);
-    blocks[i] = blocks_of(a, m);
-    images[i].emplace(a, m);
+    t.error_de00 = predicted_error_de00(blocks[i].emplace(blocks_of(a, m)), 1.0, shown);
     t.rays = st.rays;
     t.cost = static_cast<double>(st.rays) * cost_per_ray(type);
     t.seconds = st.seconds;
     choice.trials.push_back(t);
     stats.rays += st.rays;
     stats.seconds += st.seconds;
-  }
-  // Each trialled candidate's error predicted for the same cost: what the cheapest of them spends
-  // on the render's samples (`render_spp`), which buys the others fewer samples. Its mean's
-  // deviation falls as one over the square root of its samples (2k in the trial), vcm's slower.
-  double cheapest = 0.0;  // cost of a sample
-  for (std::size_t i = 0; i < choice.trials.size(); ++i)
-    if (images[i]) {
-      const double per_sample = choice.trials[i].cost / (2 * k);
-      if (cheapest == 0.0 || per_sample < cheapest) cheapest = per_sample;
-    }
-  for (std::size_t i = 0; i < choice.trials.size(); ++i) {
-    EstimatorTrial& t = choice.trials[i];
-    if (!images[i]) continue;
-    t.samples_at_equal_cost = choice.render_spp * cheapest / (t.cost / (2 * k));
-    // (vcm's merges' variance falls as n^−α: its smaller radii make each iteration noisier.)
-    const double rate = t.type == IntegratorType::vcm ? bidir::kVcmAlpha : 1.0;
-    const double scale = std::pow(2.0 * k / std::max(t.samples_at_equal_cost, 1e-9), 0.5 * rate);
-    t.score = predicted_error_de00(images[i]->first, images[i]->second, scale, shown);
   }
   // The two unbiased candidates, path and bdpt, each left out where it is darker than the other
   // somewhere (vcm's first iterations blur the light by their radius: no reference for this).
@@ -275,13 +259,29 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
       const EstimatorTrial& u = choice.trials[j];
       if (i == j || t.type == IntegratorType::vcm || u.type == IntegratorType::vcm || !t.complete || !u.complete)
         continue;
-      if (darker_blocks(blocks[i], blocks[j])) t.complete = false, t.darker = true;
+      if (darker_blocks(*blocks[i], *blocks[j])) t.complete = false, t.darker = true;
     }
+  // Each trialled candidate's error predicted for the same cost: what the cheapest of those that
+  // may be chosen spends on the render's samples (`render_spp`) buys the others fewer samples. Its
+  // mean's deviation falls as one over the square root of its samples (2k in the trial), vcm's
+  // slower (its merges' variance falls as n^−α: its smaller radii make each iteration noisier).
+  double cheapest = std::numeric_limits<double>::infinity();  // cost of a sample
+  for (std::size_t i = 0; i < choice.trials.size(); ++i)
+    if (blocks[i] && choice.trials[i].complete && choice.trials[i].cost > 0.0)
+      cheapest = std::min(cheapest, choice.trials[i].cost / (2 * k));
   std::size_t best = choice.trials.size();
   for (std::size_t i = 0; i < choice.trials.size(); ++i) {
-    const EstimatorTrial& t = choice.trials[i];
+    EstimatorTrial& t = choice.trials[i];
+    if (!blocks[i] || t.cost <= 0.0 || !std::isfinite(cheapest)) continue;
+    t.samples_at_equal_cost = choice.render_spp * cheapest / (t.cost / (2 * k));
+    const double rate = t.type == IntegratorType::vcm ? bidir::kVcmAlpha : 1.0;
+    t.score = predicted_error_de00(*blocks[i], std::pow(2.0 * k / t.samples_at_equal_cost, 0.5 * rate), shown);
     if (t.complete && (best == choice.trials.size() || t.score < choice.trials[best].score)) best = i;
   }
+  // (Every trialled candidate left out cannot happen: vcm is never judged, and the darkness test
+  // leaves out at most one of path and bdpt. The first trialled one, should it.)
+  for (std::size_t i = 0; best == choice.trials.size() && i < choice.trials.size(); ++i)
+    if (blocks[i]) best = i;
   choice.chosen = choice.trials[best].type;
   choice.light_paths = choice.trials[best].light_paths;
   choice.film.emplace(std::move(*films[best]));

@@ -84,7 +84,8 @@ Film render(const RenderScene& scene, const RenderSettings& settings, const Rend
   };
   if (settings.integrator == IntegratorType::automatic) {
     EstimatorChoice choice =
-        choose_estimator(scene, settings, auto_trial_spp(settings.spp), settings.spp, keep_spectra, nullptr, control, stats);
+        choose_estimator(scene, settings, auto_trial_spp(settings.spp), settings.spp, keep_spectra, nullptr, control,
+                         stats);
     RenderSettings chosen = settings;
     chosen.integrator = choice.chosen;
     chosen.light_paths = chosen.light_paths || choice.light_paths;
