@@ -221,8 +221,8 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
 // tracer 3.6 at the same cost (14 spp): it is the right choice. A pixel's own half gap read vcm's
 // trial as converged where it had no merge, and auto chose vcm here in 4 seeds of 4 (6 of 6 at
 // 64 × 64 and 64 spp); the block's mean square of the gaps, read at the render's noise and vcm's
-// slower rate, chooses the path tracer in 8 seeds of 8 (seeds 0–7: its error 0.59–0.99 of vcm's,
-// 0.78 at this one).
+// slower rate, chooses the path tracer in 8 seeds of 8 (seeds 0–7: its error 0.53–0.88 of vcm's,
+// 0.70 at this one).
 TEST(Choose, ThePathTracerWithItsLightPathsForALiquidLitThroughGlass) {
   SceneDesc desc = parse_scene(test::lit_tumbler("auto"), "tumbler.json");
   desc.camera.width_px = desc.camera.height_px = 48;

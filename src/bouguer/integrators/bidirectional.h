@@ -59,8 +59,10 @@ struct Merging {
 };
 
 // vcm's radius shrinks as r_i = r_1·i^((α−1)/2) (progressive photon mapping), so the variance of
-// its merges' mean over n iterations falls as n^−α, not n^−1.
+// its merges' mean over n iterations falls as n^−α on surfaces (a kernel of area πr²), not n^−1,
+// and as n^−(1 − 3(1 − α)/2) = n^−0.625 in media (of volume 4/3·πr³).
 constexpr double kVcmAlpha = 0.75;
+constexpr double kVcmMediumRate = 1.0 - 1.5 * (1.0 - kVcmAlpha);
 
 // vcm.cpp's merging: its first radius (the scene's, or two pixel footprints), and the η of an
 // iteration with radius r over `light_paths` light subpaths, or of iteration `iteration`.

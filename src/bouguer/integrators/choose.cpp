@@ -264,17 +264,21 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
   // Each trialled candidate's error predicted for the same cost: what the cheapest of those that
   // may be chosen spends on the render's samples (`render_spp`) buys the others fewer samples. Its
   // mean's deviation falls as one over the square root of its samples (2k in the trial), vcm's
-  // slower (its merges' variance falls as n^−α: its smaller radii make each iteration noisier).
+  // slower (its smaller radii make each iteration's merges noisier: bidirectional.h; at the
+  // rate of its merges in media wherever a medium scatters, the slower, all its variance counted
+  // as theirs).
   double cheapest = std::numeric_limits<double>::infinity();  // cost of a sample
   for (std::size_t i = 0; i < choice.trials.size(); ++i)
     if (blocks[i] && choice.trials[i].complete && choice.trials[i].cost > 0.0)
       cheapest = std::min(cheapest, choice.trials[i].cost / (2 * k));
+  const bool media_merges = std::any_of(scene.media.begin(), scene.media.end(),
+                                        [](const SceneMedium& m) { return scattering(m.medium) != nullptr; });
   std::size_t best = choice.trials.size();
   for (std::size_t i = 0; i < choice.trials.size(); ++i) {
     EstimatorTrial& t = choice.trials[i];
     if (!blocks[i] || t.cost <= 0.0 || !std::isfinite(cheapest)) continue;
     t.samples_at_equal_cost = choice.render_spp * cheapest / (t.cost / (2 * k));
-    const double rate = t.type == IntegratorType::vcm ? bidir::kVcmAlpha : 1.0;
+    const double rate = t.type != IntegratorType::vcm ? 1.0 : media_merges ? bidir::kVcmMediumRate : bidir::kVcmAlpha;
     t.score = predicted_error_de00(*blocks[i], std::pow(2.0 * k / t.samples_at_equal_cost, 0.5 * rate), shown);
     if (t.complete && (best == choice.trials.size() || t.score < choice.trials[best].score)) best = i;
   }

@@ -17,8 +17,8 @@
 // liquid behind glass, where its trial's own gaps said ΔE00 3.9 and its 4-spp image was 10 from
 // the truth). The score is the mean pixel ΔE00, on the display colour, between the mean and the
 // mean moved one standard deviation up and down, the deviation scaled to what the cheapest
-// candidate's render_spp samples cost spent on this one (the distance is far from linear at a
-// short trial's noise, so it is read at the render's). Noise cannot tell an estimator that misses light: the path
+// candidate's render_spp samples cost spent on this one (vcm's at its merges' slower rate), read
+// at the render's noise, since the distance is far from linear at a short trial's. Noise cannot tell an estimator that misses light: the path
 // tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So
 // where a delta lamp shines and a specular surface it cannot connect through is in the scene
 // (path_misses_light), the path tracer is trialled with its light paths where they make that light
