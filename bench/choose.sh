@@ -47,7 +47,7 @@ table=$(
     j=$out/$name-auto.json
     "$build/bouguer" render "scenes/showcase/$name.json" --integrator auto --spectral full --spp 64 --seed 1 \
       --resolution 64x48 --threads 2 -o "$out/$name-auto.pfm" --stats-json "$j" --quiet
-    echo "| $name | $(field "$j" "d['auto']['chosen']") | $(field "$j" "' | '.join('%.2f, %.3g, %.2f at %.0f spp%s' % (t['error_delta_e00'], t['cost'], t['score'], t['samples_at_equal_cost'], '' if t['complete'] else ' (darker)' if t['darker'] else ' (misses light)') for t in d['auto']['trials'])") |"
+    echo "| $name | $(field "$j" "d['auto']['chosen']") | $(field "$j" "' | '.join('misses light: not trialled' if t['rays'] == 0 else '%.2f, %.3g, %.2f at %.0f spp%s' % (t['error_delta_e00'], t['cost'], t['score'], t['samples_at_equal_cost'], ' (darker)' if t['darker'] else '') for t in d['auto']['trials'])") |"
   done
 )
 echo "$table"

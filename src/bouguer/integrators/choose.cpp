@@ -105,7 +105,9 @@ double predicted_error_de00(const Blocks& b, double scale, const DisplayTransfor
       const Vec3 sd = scale * Vec3{std::sqrt(s.x), std::sqrt(s.y), std::sqrt(s.z)};
       const Vec3& mean =
           b.rgb[static_cast<std::size_t>(y) * static_cast<std::size_t>(b.width) + static_cast<std::size_t>(x)];
-      const Vec3 low{std::max(mean.x - sd.x, 0.0), std::max(mean.y - sd.y, 0.0), std::max(mean.z - sd.z, 0.0)};
+      // (down stops at black, or at the mean where a channel is below black: out of gamut)
+      const Vec3 low{std::min(mean.x, std::max(mean.x - sd.x, 0.0)), std::min(mean.y, std::max(mean.y - sd.y, 0.0)),
+                     std::min(mean.z, std::max(mean.z - sd.z, 0.0))};
       // halves_error_de00 is half the distance between its two colours
       error += halves_error_de00(mean, mean + sd, shown) + halves_error_de00(mean, low, shown);
     }
@@ -264,9 +266,9 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
   // Each trialled candidate's error predicted for the same cost: what the cheapest of those that
   // may be chosen spends on the render's samples (`render_spp`) buys the others fewer samples. Its
   // mean's deviation falls as one over the square root of its samples (2k in the trial), vcm's
-  // slower (its smaller radii make each iteration's merges noisier: bidirectional.h; at the
-  // rate of its merges in media wherever a medium scatters, the slower, all its variance counted
-  // as theirs).
+  // slower: its smaller radii make each iteration's merges noisier (bidirectional.h). Where a
+  // medium scatters, vcm's whole variance is taken to fall at the rate of its merges in media,
+  // the slower one.
   double cheapest = std::numeric_limits<double>::infinity();  // cost of a sample
   for (std::size_t i = 0; i < choice.trials.size(); ++i)
     if (blocks[i] && choice.trials[i].complete && choice.trials[i].cost > 0.0)

@@ -18,8 +18,9 @@
 // the truth). The score is the mean pixel ΔE00, on the display colour, between the mean and the
 // mean moved one standard deviation up and down, the deviation scaled to what the cheapest
 // candidate's render_spp samples cost spent on this one (vcm's at its merges' slower rate), read
-// at the render's noise, since the distance is far from linear at a short trial's. Noise cannot tell an estimator that misses light: the path
-// tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So
+// at the render's noise, since the distance is far from linear at a short trial's.
+//
+// Noise cannot tell an estimator that misses light: the path tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So
 // where a delta lamp shines and a specular surface it cannot connect through is in the scene
 // (path_misses_light), the path tracer is trialled with its light paths where they make that light
 // (light_paths_complete), and is no candidate otherwise; and where a short trial has not yet found light
@@ -39,7 +40,8 @@ struct EstimatorTrial {
   double error_de00 = 0.0;  // mean pixel error estimate of the trial's image (its 2k samples)
   std::uint64_t rays = 0;
   double cost = 0.0;     // rays × cost_per_ray
-  double samples_at_equal_cost = 0.0;  // what the cheapest trialled candidate's render_spp samples cost buys this one
+  // The samples that render_spp samples of the cheapest candidate that may be chosen cost buy this one.
+  double samples_at_equal_cost = 0.0;
   double score = 0.0;    // the mean pixel error estimate at those samples, ΔE00 (lower is better)
   double seconds = 0.0;  // measured, reported; the choice does not read it
   bool complete = true;  // false: not chosen, for one of two reasons (below)
