@@ -56,7 +56,7 @@ Blocks blocks_of(const Film& a, const Film& m) {
       const std::size_t k = b.at(x, y);
       const Vec3 first = rgb_of(a, x, y), both = rgb_of(m, x, y);
       const Vec3 gap = both - first;  // ((2·M − A) − A)/2
-      const double half_gap = luminance(both) - luminance(first);
+      const double half_gap = luminance(gap);  // (luminance is linear)
       b.mean[k] += luminance(both);
       b.var[k] += half_gap * half_gap;
       b.square[k] += Vec3{gap.x * gap.x, gap.y * gap.y, gap.z * gap.z};

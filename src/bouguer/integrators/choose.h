@@ -20,11 +20,12 @@
 // candidate's render_spp samples cost spent on this one (vcm's at its merges' slower rate), read
 // at the render's noise, since the distance is far from linear at a short trial's.
 //
-// Noise cannot tell an estimator that misses light: the path tracer leaves black the caustic a point lamp casts through a glass mesh, without noise. So
-// where a delta lamp shines and a specular surface it cannot connect through is in the scene
-// (path_misses_light), the path tracer is trialled with its light paths where they make that light
-// (light_paths_complete), and is no candidate otherwise; and where a short trial has not yet found light
-// that another unbiased estimator's has (darker_somewhere), it is left out too.
+// Noise cannot tell an estimator that misses light: the path tracer leaves black the caustic a
+// point lamp casts through a glass mesh, without noise. So where a delta lamp shines and a specular
+// surface it cannot connect through is in the scene (path_misses_light), the path tracer is
+// trialled with its light paths where they make that light (light_paths_complete), and is no
+// candidate otherwise; and where a short trial has not yet found light that another unbiased
+// estimator's has (darker_somewhere), it is left out too.
 #include <cstdint>
 #include <optional>
 #include <vector>
