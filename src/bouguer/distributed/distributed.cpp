@@ -24,6 +24,7 @@
 #include "bouguer/distributed/mpi_module.h"
 #include "bouguer/core/csv.h"
 #include "bouguer/integrators/render_into.h"
+#include "bouguer/integrators/shell_hops.h"
 
 namespace bouguer::distributed {
 namespace {
@@ -86,12 +87,14 @@ struct Context {
   std::vector<PixelRegion> pieces;
   Job job;
   const PathGuide* guide = nullptr;  // the same on every rank (integrators/guiding.h)
+  const ShellSet* shells = nullptr;  // made once a rank, not once a piece (integrators/shell_hops.h)
 };
 
 void render_piece(const Context& c, std::size_t piece, FilmBuffer& film, RenderStats& stats) {
   RenderControl control;
   control.threads = c.threads;
   control.guide = c.guide;
+  control.shells = c.shells;
   render_into(c.scene, c.settings, film, c.pieces[piece], {0, c.settings.spp}, control, stats);
 }
 
@@ -239,8 +242,11 @@ bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings,
   try {
     // vcm: every piece traces the light subpaths of the whole image (its photons), so one per rank.
     const int per_rank = settings.integrator == IntegratorType::vcm ? 1 : pieces_per_rank();
+    std::optional<ShellSet> shells;
+    if (settings.integrator == IntegratorType::path && settings.shell_transport && scene.scatters)
+      shells.emplace(scene, settings.seed, SampleRange{0, settings.spp}, threads);
     const Context c{scene, settings, threads, make_pieces(film.width(), film.height(), ranks, per_rank),
-                    job_of(scene, settings, film), guide};
+                    job_of(scene, settings, film), guide, shells ? &*shells : nullptr};
     if (rank != 0) {
       render_as_worker(c, api, film);
       return false;

@@ -70,9 +70,11 @@ double nee_floor_m(double sigma_per_m) { return (kNeeFullDepth - std::log(kNeeFl
 
 // A fresh point query at x, as far as the thinning of next-event estimation needs to look.
 template <std::size_t N>
-void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last) {
-  const double cap_m = 2.0 * nee_floor_m(sigma_per_m);
+void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last,
+                            double cap_m) {
+  cap_m = std::max(cap_m, 2.0 * nee_floor_m(sigma_per_m));
   last.centre = x;
+  last.cap_m = cap_m;
   last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest, &last.nearest_geometry);
   last.radius_m = last.surface_m;
   for (const int index : v.scene.delta_lights) {
@@ -100,7 +102,7 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
 
 #define BOUGUER_DENSE_MEDIA_INSTANTIATE(N) \
   template double homogeneous_sigma_min_per_m(const SceneView<N>&, int, const SampledWavelengths<N>&); \
-  template void query_surface_distance(const SceneView<N>&, const Vec3&, double, SurfaceDistance&); \
+  template void query_surface_distance(const SceneView<N>&, const Vec3&, double, SurfaceDistance&, double); \
   template double nee_probability_in_medium(const SceneView<N>&, int, const Vec3&, const SampledWavelengths<N>&, \
       SurfaceDistance&); \
   template bool splits_wavelengths(const SceneView<N>&, int, const SampledWavelengths<N>&, const Vec3&, \

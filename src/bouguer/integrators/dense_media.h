@@ -32,6 +32,7 @@ inline constexpr double kNeeFloor = 1.0 / 64.0;
 struct SurfaceDistance {
   Vec3 centre;              // where the last query was made
   double radius_m = -1.0;   // the distance found there (capped); < 0: none yet
+  double cap_m = 0.0;       // how far that query looked: a radius below it is exact
   double surface_m = -1.0;  // the same without the point lights
   Vec3 nearest;             // the nearest surface point, where surface_m is below the cap
   std::uint32_t nearest_geometry = 0;  // its surface (RenderScene::surfaces), there too
@@ -61,9 +62,11 @@ double walk_sigma_min_per_m(const SceneView<N>& v, int medium, const SampledWave
   }
   return sigma_per_m;
 }
-// A fresh point query at x, as far as the thinning of next-event estimation needs to look.
+// A fresh point query at x, as far as the thinning of next-event estimation needs to look, or as
+// far as `cap_m` where that is further (shell transport: shell_hops.h).
 template <std::size_t N>
-void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last);
+void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last,
+                            double cap_m = 0.0);
 
 // Splitting at a dense chromatic medium (the path tracer, #20). Where a camera path enters a
 // scattering medium whose σ_s differs across the carried wavelengths and in which it will scatter

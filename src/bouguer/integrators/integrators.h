@@ -5,9 +5,11 @@
 //   light:   light tracing, paths from the emitters connected to the camera (light.cpp),
 //   bdpt:    bidirectional path tracing over one random walk (bdpt.cpp, bidirectional.h, walk.h),
 //   vcm:     vertex connection and merging: bdpt and photon mapping under one MIS (vcm.cpp).
+#include <optional>
 #include <vector>
 
 #include "bouguer/integrators/events.h"
+#include "bouguer/integrators/shell_hops.h"
 #include "bouguer/render/integrator.h"
 #include "bouguer/render/sampling.h"
 
@@ -107,14 +109,20 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
 // With `light_paths` (the path tracer's, render.light_paths), each sample then traces its light
 // path, with the wavelengths the sample began with, in the same loop (so a pass cut short has the
 // light paths of the samples it took, as the splats' scale counts them).
+// With `shells` (the path tracer's, render.shell_transport), its walks take spheres of shell
+// transport from tables made for the call's samples before its tiles start (shell_hops.h).
 template <std::size_t N, bool kDispersion = true, typename Li>
 void render_camera_paths(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
                          PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
-                         Li li, bool light_paths = false) {
+                         Li li, bool light_paths = false, bool shells = false) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
-                          settings.manifold, settings.area_lamp_chains};
+  std::optional<ShellSet> own_shells;
+  const ShellSet* shell_set = control.shells && control.shells->covers(range) ? control.shells : nullptr;
+  if (shells && scene.scatters && !shell_set) shell_set = &own_shells.emplace(scene, settings.seed, range, control.threads);
+  SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
+                    settings.manifold, settings.area_lamp_chains};
+  if (shells && shell_set && !shell_set->empty()) view.shells = shell_set;
   for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, range, control, stats, 0,
                            [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                std::uint64_t& rays) {
@@ -122,8 +130,10 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
                              std::optional<SampledWavelengths<N>> began;
                              if (light_paths) began = w;
                              const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel, rng);
+                             SceneView<N> at = view;
+                             at.sample = s;
                              const SampledSpectrum<N> l =
-                                 li(view, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
+                                 li(at, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
                              add_camera_sample(film, tables, w, x, y, s, l);
                              if (!began) return;
                              Rng light_rng = sample_rng(settings.seed, pixel, s, kLightPathsSalt);

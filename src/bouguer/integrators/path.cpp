@@ -45,7 +45,7 @@ void render_path(const RenderScene& scene, const RenderSettings& settings, FilmB
                                                    double dispersion_u, Rng& rng, std::uint64_t& rays) {
                              return path_radiance(v, ray, w, dispersion_u, rng, rays, guide);
                            },
-                           settings.light_paths && has_point_or_spot_lamp(scene));
+                           settings.light_paths && has_point_or_spot_lamp(scene), settings.shell_transport);
   });
 }
 

@@ -247,6 +247,18 @@ struct Radiance {
 
   GuideTrail& exit_guide_trail() { return trail; }
   const SurfaceDistance& surface_distance() const { return near; }
+  SurfaceDistance& shell_bound() { return near; }
+  // A sphere of shell transport taken (shell_hops.h): its collisions count as scattering events;
+  // the vertex it leaves the path at makes no connection, so nothing is open through glass.
+  bool hopped(int collisions) {
+    scatterings += collisions;
+    if (scatterings > kMaxScatterings) return false;
+    casters.start(false, state.start);
+    chains.start(false, state.start, nullptr, state.inside);
+    cylinders.start(false, state.start, nullptr, state.inside);
+    moved_to(state.start, true);
+    return true;
+  }
   float split_weight() const { return bin_weight; }
 
   void add(const SampledSpectrum<N>& c) { l += dispersed_keep && state.dispersed ? c * *dispersed_keep : c; }
@@ -392,7 +404,8 @@ struct Radiance {
 };
 static_assert(WalkVisitor<Radiance<kFullBins>, kFullBins> && TakesMediumPoints<Radiance<kFullBins>> &&
               SplitsWalks<Radiance<kFullBins>, kFullBins> && GuidesExits<Radiance<kFullBins>> &&
-              BoundsSurfaceDistance<Radiance<kFullBins>> && GuidesDirections<Radiance<kFullBins>, kFullBins>);
+              BoundsSurfaceDistance<Radiance<kFullBins>> && GuidesDirections<Radiance<kFullBins>, kFullBins> &&
+              HopsShells<Radiance<kFullBins>>);
 
 // The path tracer's estimate along one camera ray (path.cpp): guided by `guide` where it is not
 // null, and while a guide trains (integrators/guiding.h) its walk's records added to `learning`.

@@ -18,6 +18,8 @@
 
 namespace bouguer {
 
+class ShellSet;
+
 // A path's scattering events, and the index-matched interfaces it crosses, are not bounded by
 // max_depth (a dense medium needs thousands); these stop a path that would never end.
 inline constexpr int kMaxScatterings = 100000;
@@ -42,6 +44,10 @@ struct SceneView {
   // transmission (direct_light.h) asks only whether a segment is clear: no medium is tracked, so
   // nothing is drawn and the transmittance is 1 (manifold.h: next_event_makes, a geometric question).
   bool visibility_only = false;
+  // The path tracer's shell transport (integrators/shell_hops.h): the tables of the render call's
+  // samples (null: none) and the sample whose camera path is being walked.
+  const ShellSet* shells = nullptr;
+  int sample = 0;
 };
 
 inline bool absorbs(const RenderScene& scene, int medium) {

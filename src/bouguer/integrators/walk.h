@@ -23,6 +23,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/integrators/events.h"
+#include "bouguer/integrators/shell_hops.h"
 
 namespace bouguer {
 
@@ -142,7 +143,8 @@ struct WalkState : PathHead<N> {
   double cone_width_m = 0.0, cone_spread_rad = 0.0;
   bool parallel = false;  // pdf_dir is per unit area across parallel rays (orthographic camera,
                           // light at infinity): the first vertex's density is pdf_dir·|cos θ|
-  int events = 0;  // vertices so far (Russian roulette)
+  int events = 0;  // vertices so far (Russian roulette); a shell's collisions count too
+  ShellUse shells;  // the shell-transport entries the walk has taken (shell_hops.h)
 };
 // What only the path tracer reads (the bound that lets walk_deep go without a ray, the exit guide,
 // a split walk's bin weight) is its visitor's (radiance.h), which the walk asks for by the
@@ -277,6 +279,16 @@ concept BoundsSurfaceDistance = requires(const V& visit) {
 template <typename V>
 concept GuidesExits = requires(V& visit) {
   { visit.exit_guide_trail() } -> std::same_as<GuideTrail&>;
+};
+
+// HopsShells: shell_bound() -> SurfaceDistance&, the bound hop_shell reads and refreshes (the same
+//   as surface_distance()); hopped(collisions) -> bool, a sphere of shell transport taken
+//   (shell_hops.h) with its collisions, after which the path's last vertex is one that makes no
+//   connection; false ends the walk. Only where the view carries tables (SceneView::shells).
+template <typename V>
+concept HopsShells = requires(V& visit, int collisions) {
+  { visit.shell_bound() } -> std::same_as<SurfaceDistance&>;
+  { visit.hopped(collisions) } -> std::same_as<bool>;
 };
 
 // GuidesDirections: direction_guide() -> DirectionGuide, the path guide (render/path_guide.h) to
@@ -439,6 +451,24 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
   Vec3 arrived;
   bool on_segment = false;
   auto before_ray = [&] {
+    // Shell transport first (shell_hops.h): spheres as long as one fits, each leaving the walk
+    // mid-flight on their surface, with no vertex to connect from (its direction's density 0).
+    if constexpr (HopsShells<Visitor>) {
+      const ShellTable* table = v.shells ? v.shells->table(v.sample, state.medium) : nullptr;
+      while (const auto hop = table ? hop_shell(v, table, state, state.shells, visit.shell_bound(), w, rng)
+                                    : std::nullopt) {
+        events += hop->collisions;
+        state.from = hop->exit;
+        state.pdf_dir = 0.0;
+        state.parallel = false;
+        tau = 0.0;
+        trail.clear();
+        if (!visit.hopped(hop->collisions)) {
+          collision.reset();
+          return false;
+        }
+      }
+    }
     collision = walk_deep(v, state, near, w, rng);
     on_segment = false;
     return !collision;

@@ -20,6 +20,7 @@
 namespace bouguer {
 
 class PathGuide;
+class ShellSet;
 
 struct PixelRegion {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // [x0, x1) × [y0, y1)
@@ -43,6 +44,10 @@ struct RenderControl {
   // Path guiding (render/path_guide.h, integrators/guiding.h): what the path tracer draws a share
   // of its directions from, trained before the render. Null: unguided.
   const PathGuide* guide = nullptr;
+  // The path tracer's shell-transport tables (integrators/shell_hops.h), made once where a caller
+  // renders the same samples in many pieces (distributed.cpp); null, or not covering the call's
+  // samples: each call makes its own.
+  const ShellSet* shells = nullptr;
 };
 
 struct RenderStats {

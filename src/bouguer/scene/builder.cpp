@@ -129,6 +129,11 @@ SceneBuilder& SceneBuilder::light_paths(bool on) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::shell_transport(bool on) {
+  desc_.render.shell_transport = on;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::guiding(bool on) {
   desc_.render.guiding = on;
   return *this;

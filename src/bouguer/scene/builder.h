@@ -54,6 +54,7 @@ class SceneBuilder {
   SceneBuilder& area_lamp_chains(bool on);  // path: RenderSettings::area_lamp_chains
   SceneBuilder& guiding(bool on);     // path: RenderSettings::guiding
   SceneBuilder& light_paths(bool on);  // path: RenderSettings::light_paths
+  SceneBuilder& shell_transport(bool on);  // path: RenderSettings::shell_transport
   SceneBuilder& seed(std::int64_t seed, const Source& where);
   SceneBuilder& resolution(std::int64_t width_px, std::int64_t height_px, const Source& where);
 

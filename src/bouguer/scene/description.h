@@ -74,6 +74,10 @@ struct RenderSettings {
   // path: path guiding at diffuse surfaces (integrators/guiding.h), trained before the render; off
   // unless asked for (guiding_enabled).
   bool guiding = false;
+  // path: shell transport deep in homogeneous scattering media (integrators/shell_hops.h): a walk's
+  // collisions inside a sphere free of surfaces drawn at once from tables of walks. Exact; off:
+  // every collision walked.
+  bool shell_transport = true;
 };
 
 // An absorber whose concentration varies in space: σ_a(x, λ) = c(x)·ε(λ).

@@ -649,7 +649,7 @@ void read_camera(const json& j, const Where& w, SceneBuilder& b) {
 void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
   expect_keys(j, w,
               {"integrator", "spectral", "spp", "max_depth", "seed", "merge_radius", "exit_guide", "manifold",
-               "area_lamp_chains", "guiding", "light_paths"});
+               "area_lamp_chains", "guiding", "light_paths", "shell_transport"});
   if (j.contains("integrator")) b.integrator(text(j["integrator"], w / "integrator"), w / "integrator");
   if (j.contains("spectral")) b.spectral_mode(text(j["spectral"], w / "spectral"), w / "spectral");
   if (j.contains("spp")) b.spp(whole_number(j["spp"], w / "spp"), w / "spp");
@@ -661,6 +661,7 @@ void read_render_settings(const json& j, const Where& w, SceneBuilder& b) {
   if (j.contains("area_lamp_chains")) b.area_lamp_chains(boolean(j["area_lamp_chains"], w / "area_lamp_chains"));
   if (j.contains("guiding")) b.guiding(boolean(j["guiding"], w / "guiding"));
   if (j.contains("light_paths")) b.light_paths(boolean(j["light_paths"], w / "light_paths"));
+  if (j.contains("shell_transport")) b.shell_transport(boolean(j["shell_transport"], w / "shell_transport"));
 }
 
 // "display": exposure, white balance and display curve (io/display.h, docs/scene-format.md).

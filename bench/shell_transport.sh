@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Shell transport (#37, integrators/shell_hops.h) on and off for the path tracer, in one run of one
+# build, alternating: the glass of whole milk (bench/scenes.py's `milk`) and a 10 mm whole-milk ball
+# under the same studio map. For each setting, PAIRS renders of two seeds each (seeds 1-2, 3-4, ...):
+# the seconds of a render (its --stats-json, wall clock), the mean ΔE00 between the two seeds of a
+# pair (about √2 times one render's error: noise only, which is all an exact change can move), and
+# ΔE00² × seconds (lower is better; off / on is the efficiency gained). Reports only; figures in
+# docs/performance.md.
+#   bench/shell_transport.sh build/bouguer
+# RESOLUTION (32x24), SPP (64), PAIRS (4) and THREADS (2) may be set.
+set -euo pipefail
+bin=$(realpath "$1")
+resolution=${RESOLUTION:-32x24}
+spp=${SPP:-64}
+pairs=${PAIRS:-4}
+threads=${THREADS:-2}
+repo=$(cd "$(dirname "$0")/.." && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+python3 "$repo/bench/scenes.py" "$tmp" milk
+# The ball: the milk scene's map and camera distance, its tumbler replaced by a 10 mm ball.
+python3 - "$tmp" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1] + "/milk.json"))
+d["objects"] = [{"name": "a 10 mm ball of whole milk", "shape": {"type": "sphere", "radius": "10 mm"},
+                 "inside": "whole", "transform": [{"translate": [0, "45 mm", 0]}]}]
+d["camera"]["fov_deg"] = 12
+json.dump(d, open(sys.argv[1] + "/ball.json", "w"), indent=1)
+PY
+seconds() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$1"; }
+echo "| scene | shell transport | seconds a render ($resolution, $spp spp, $threads threads) | mean ΔE00 seed to seed | ΔE00² × s |"
+echo "|---|---|---|---|---|"
+for scene in milk ball; do
+  for setting in true false; do
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); d['render']['shell_transport']=sys.argv[2]=='true'; json.dump(d, open(sys.argv[3],'w'))" \
+      "$tmp/$scene.json" "$setting" "$tmp/$scene-$setting.json"
+  done
+  declare -A secs=() gaps=()
+  for pair in $(seq 1 "$pairs"); do
+    for setting in true false; do  # alternating, so a busy machine slows both alike
+      for seed in $((2 * pair - 1)) $((2 * pair)); do
+        "$bin" render "$tmp/$scene-$setting.json" --resolution "$resolution" --spp "$spp" --seed "$seed" \
+          --threads "$threads" --quiet -o "$tmp/r-$setting-$seed.pfm" --stats-json "$tmp/s-$setting-$seed.json"
+        secs[$setting]="${secs[$setting]:-} $(seconds "$tmp/s-$setting-$seed.json")"
+      done
+      gap=$("$bin" compare "$tmp/r-$setting-$((2 * pair - 1)).pfm" "$tmp/r-$setting-$((2 * pair)).pfm" |
+            sed -n 's/.*mean \([0-9.]*\).*/\1/p')
+      gaps[$setting]="${gaps[$setting]:-} $gap"
+    done
+  done
+  for setting in true false; do
+    python3 - "$scene" "$setting" "${secs[$setting]}" "${gaps[$setting]}" <<'PY'
+import sys
+s = [float(x) for x in sys.argv[3].split()]
+g = [float(x) for x in sys.argv[4].split()]
+ms, mg = sum(s) / len(s), sum(g) / len(g)
+print(f"| {sys.argv[1]} | {'on' if sys.argv[2] == 'true' else 'off'} | {ms:.2f} ({min(s):.2f}–{max(s):.2f}) | "
+      f"{mg:.2f} ({' '.join(f'{x:.2f}' for x in g)}) | {mg * mg * ms:.3g} |")
+PY
+  done
+  unset secs gaps
+done

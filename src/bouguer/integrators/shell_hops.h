@@ -1,0 +1,122 @@
+#pragma once
+// Shell transport in the path tracer's walks (#37; the tables and why they are exact:
+// media/shell_walks.h). ShellSet holds the tables of one render call's samples, one per sample
+// index and phase function, made before its tiles start from the seed and the sample index alone,
+// so a render split into threads, passes or processes reads the very same tables. hop_shell takes
+// one sphere for a walk of one wavelength deep in a homogeneous medium: the walk.h loop calls it
+// before each ray of a visitor that hops (walk.h: HopsShells).
+//
+// What a hop leaves out: the vertices inside the sphere, and with them the connections the path
+// tracer makes there (next-event estimation, the exit guide, the connections through glass). The
+// path after a hop is weighted as one whose last vertex makes no connection (its direction's
+// density 0): whatever it meets is found by the walk's own direction alone, with weight 1, so the
+// estimate stays unbiased (the strategies at a vertex may be any set, chosen from the path so far,
+// as long as the weights of those chosen sum to 1). Deep in whole milk those connections find
+// nothing anyway (dense_media.h); a point or spot lamp inside the medium, which only a connection
+// finds, keeps every sphere off it (the bound includes its distance).
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <numbers>
+#include <vector>
+
+#include "bouguer/core/frame.h"
+#include "bouguer/integrators/dense_media.h"
+#include "bouguer/integrators/media_travel.h"
+#include "bouguer/media/shell_walks.h"
+#include "bouguer/render/integrator.h"
+
+namespace bouguer {
+
+class ShellSet {
+ public:
+  // The tables of samples [range.begin, range.end) of a render with `seed`, for the media of
+  // `scene` that can hold a sphere of the smallest class (shell_transport_applies, enclosed by
+  // some object, and σ_s·ρ at its largest over the wavelengths times the largest sphere in the box
+  // of a surface it borders at least kShellSmallestRadius), with the classes that can fit
+  // there; made on `threads` threads (0: all). A render of a thin medium makes none, and one of a
+  // small ball no large walks.
+  ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange range, int threads);
+  bool empty() const { return slots_ == 0; }
+  bool covers(SampleRange r) const { return range_.begin <= r.begin && r.end <= range_.end; }
+  // Sample s's table for `medium`, or null where the medium has none.
+  const ShellTable* table(int sample, int medium) const;
+
+ private:
+  std::vector<int> slot_of_medium_;  // −1: no table
+  int slots_ = 0;
+  std::vector<int> classes_;  // by slot
+  SampleRange range_;
+  std::vector<ShellTable> tables_;  // (sample − range.begin) × slots_ + slot
+};
+
+// Which entries of each class a walk has taken: the first drawn once per walk (−1: not yet), then
+// consecutive ones, so that no entry serves one path twice (a walk splits with its state: its
+// walks of one wavelength take the same entries, and stay in step as dense_media.h's split wants).
+struct ShellUse {
+  int first = -1;
+  std::array<std::uint8_t, kShellClasses> taken{};
+};
+
+// A sphere taken: where the walk left it (its direction of flight in state.ray) and its collisions.
+struct ShellHop {
+  Vec3 exit;
+  int collisions = 0;
+};
+
+// The largest sphere about the walk's position (state.start, flying along state.ray.direction) that
+// `near` (the visitor's bound on the distance to every surface and point lamp) shows to hold no
+// surface, when it is of a class the walk still has entries of; a fresh point query (as far as the
+// largest class reaches) where the bound is stale and the position may be deep. On a hop: the
+// state's ray leaves the exit along the direction the walk left with, its throughput times the
+// absorbers' transmittance over the length travelled. Nothing otherwise (no tables, several
+// wavelengths carried, a medium without a table or not enclosed, too near a surface).
+template <std::size_t N, typename State>
+std::optional<ShellHop> hop_shell(const SceneView<N>& v, const ShellTable* table, State& state,
+                                  ShellUse& use, SurfaceDistance& near, const SampledWavelengths<N>& w, Rng& rng) {
+  if (!table || !w.secondary_terminated()) return std::nullopt;
+  const double sigma_per_m = walk_sigma_min_per_m(v, state.medium, w, near);
+  if (!(sigma_per_m > 0.0)) return std::nullopt;
+  const Vec3 p = state.start;
+  // (walk_deep's margin: a ray's hit lies within float rounding of the scene's coordinates)
+  const double margin_m = 1e-5 * v.scene.rays.rounding_scale_m(p);
+  const double smallest_m = kShellSmallestRadius / sigma_per_m;
+  double moved = near.radius_m >= 0.0 ? length(p - near.centre) : 0.0;
+  double safe_m = near.radius_m >= 0.0 ? near.radius_m - moved - margin_m : -1.0;
+  if (safe_m < smallest_m) {
+    // A fresh query, unless the last one (exact below its cap) shows the position shallow: within
+    // twice the smallest radius of a surface, where most queries would find no sphere.
+    if (near.radius_m >= 0.0 && near.radius_m < near.cap_m && near.radius_m + moved < 2.0 * smallest_m)
+      return std::nullopt;
+    query_surface_distance(v, p, sigma_per_m, near, shell_radius(kShellClasses - 1) / sigma_per_m);
+    safe_m = near.radius_m - margin_m;
+  }
+  const int k = std::min(shell_class(sigma_per_m * safe_m), table->classes - 1);
+  if (k < 0 || use.taken[static_cast<std::size_t>(k)] >= kShellEntries) return std::nullopt;
+  if (use.first < 0) use.first = static_cast<int>(rng.next_u32() % kShellEntries);
+  const int entry = (use.first + use.taken[static_cast<std::size_t>(k)]++) % kShellEntries;
+  const ShellExit& e = table->at(k, entry);
+  // The table's walk flew along +z; the path's flies along d, turned about it by a uniform angle
+  // (the walk's distribution is symmetric about its first direction).
+  const double phi = 2.0 * std::numbers::pi * rng.next_double();
+  const double c = std::cos(phi), s = std::sin(phi);
+  auto turned = [&](const std::array<float, 3>& a) {
+    return Vec3{c * a[0] - s * a[1], s * a[0] + c * a[1], static_cast<double>(a[2])};
+  };
+  const Frame frame(state.ray.direction);
+  const double radius_m = shell_radius(k) / sigma_per_m;
+  const Vec3 exit = p + frame.to_world(turned(e.position)) * radius_m;
+  const Vec3 d = normalize(frame.to_world(turned(e.direction)));
+  const double length_m = static_cast<double>(e.length) / sigma_per_m;
+  const ScatteringMedium& sm = *scattering_medium(v.scene, state.medium);
+  if (!sm.absorbers.empty())
+    state.beta[static_cast<std::size_t>(w.single)] *=
+        absorbers_kept_transmittance(sm.absorbers, v.tables, Ray{p, d}, 0.0, length_m, w);
+  state.ray = Ray{exit, d};
+  state.start = exit;
+  state.cone_width_m += state.cone_spread_rad * length_m;
+  return ShellHop{exit, e.collisions};
+}
+
+}  // namespace bouguer
