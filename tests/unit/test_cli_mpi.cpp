@@ -100,10 +100,10 @@ TEST(CliMpi, AGuidedRenderIsTheOneProcessImageBitForBit) {
   EXPECT_FALSE(image == test::read_file(dir / "plain.exr"));
 }
 
-// Shell transport (integrators/shell_hops.h): each rank makes the tables of the render's samples
-// once and hands them to every piece, from the seed and the sample index alone, so the image is the
-// one-process one bit for bit; and it is not the image without it (spheres were taken: the
-// whole-milk ball of 1.5 mm holds them).
+// Shell transport (integrators/shell_hops.h): the tables come from the seed and the sample index
+// alone (each rank makes them once for all its pieces, which this cannot tell from each piece
+// making its own), so the image is the one-process one bit for bit; and it is not the image
+// without it (spheres were taken: the whole-milk ball of 1.5 mm holds them).
 TEST(CliMpi, AShellTransportRenderIsTheOneProcessImageBitForBit) {
   SKIP_WITHOUT_MPI();
   const auto dir = test::scratch_dir("mpi_shells");

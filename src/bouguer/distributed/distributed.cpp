@@ -242,8 +242,11 @@ bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings,
   try {
     // vcm: every piece traces the light subpaths of the whole image (its photons), so one per rank.
     const int per_rank = settings.integrator == IntegratorType::vcm ? 1 : pieces_per_rank();
+    // (Up to kShellPrebuiltSamples, 64 MiB a phase function; beyond, each piece makes its own in
+    // chunks, integrators.h: render_camera_paths.)
     std::optional<ShellSet> shells;
-    if (settings.integrator == IntegratorType::path && settings.shell_transport && scene.scatters)
+    if (settings.integrator == IntegratorType::path && settings.shell_transport && scene.scatters &&
+        settings.spp <= kShellPrebuiltSamples)
       shells.emplace(scene, settings.seed, SampleRange{0, settings.spp}, threads);
     const Context c{scene, settings, threads, make_pieces(film.width(), film.height(), ranks, per_rank),
                     job_of(scene, settings, film), guide, shells ? &*shells : nullptr};

@@ -110,35 +110,47 @@ void for_each_pixel_sample(const RenderScene& scene, const SpectralTables<N>& ta
 // path, with the wavelengths the sample began with, in the same loop (so a pass cut short has the
 // light paths of the samples it took, as the splats' scale counts them).
 // With `shells` (the path tracer's, render.shell_transport), its walks take spheres of shell
-// transport from tables made for the call's samples before its tiles start (shell_hops.h).
+// transport from tables made before the tiles start (shell_hops.h): for at most kShellChunkSamples
+// samples at a time, the call's samples walked chunk by chunk (each pixel still takes its samples
+// in order, as separate calls over consecutive ranges would: the same image bit for bit), unless
+// the control carries tables for all of them.
 template <std::size_t N, bool kDispersion = true, typename Li>
 void render_camera_paths(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film,
                          PixelRegion region, SampleRange range, const RenderControl& control, RenderStats& stats,
                          Li li, bool light_paths = false, bool shells = false) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  std::optional<ShellSet> own_shells;
-  const ShellSet* shell_set = control.shells && control.shells->covers(range) ? control.shells : nullptr;
-  if (shells && scene.scatters && !shell_set) shell_set = &own_shells.emplace(scene, settings.seed, range, control.threads);
-  SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
-                    settings.manifold, settings.area_lamp_chains};
-  if (shells && shell_set && !shell_set->empty()) view.shells = shell_set;
-  for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, range, control, stats, 0,
-                           [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
-                               std::uint64_t& rays) {
-                             const std::uint64_t pixel = pixel_index(x, y, film.width());
-                             std::optional<SampledWavelengths<N>> began;
-                             if (light_paths) began = w;
-                             const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel, rng);
-                             SceneView<N> at = view;
-                             at.sample = s;
-                             const SampledSpectrum<N> l =
-                                 li(at, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
-                             add_camera_sample(film, tables, w, x, y, s, l);
-                             if (!began) return;
-                             Rng light_rng = sample_rng(settings.seed, pixel, s, kLightPathsSalt);
-                             trace_light_path_beyond_next_event(view, *began, dispersion_u, light_rng, film, rays);
-                           });
+  const bool hops = shells && scene.scatters;
+  const bool given = hops && control.shells && control.shells->covers(scene, settings.seed, range);
+  const int chunk = hops && !given ? kShellChunkSamples : std::max(1, range.end - range.begin);
+  const int chunks = std::max(1, (range.end - range.begin + chunk - 1) / chunk);
+  for (int c = 0; c < chunks; ++c) {
+    const SampleRange part{range.begin + c * chunk, std::min(range.end, range.begin + (c + 1) * chunk)};
+    std::optional<ShellSet> own;
+    const ShellSet* shell_set = given ? control.shells : hops ? &own.emplace(scene, settings.seed, part, control.threads) : nullptr;
+    SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
+                      settings.manifold, settings.area_lamp_chains};
+    if (shell_set && !shell_set->empty()) view.shells = shell_set;
+    RenderControl this_chunk = control;
+    if (chunks > 1 && control.progress)
+      this_chunk.progress = [&, c](double f) { control.progress((c + f) / chunks); };
+    for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, part, this_chunk, stats, 0,
+                             [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
+                                 std::uint64_t& rays) {
+                               const std::uint64_t pixel = pixel_index(x, y, film.width());
+                               std::optional<SampledWavelengths<N>> began;
+                               if (light_paths) began = w;
+                               const auto [u, v] = subpixel(s, settings.spp, settings.seed, pixel, rng);
+                               SceneView<N> at = view;
+                               at.sample = s;
+                               const SampledSpectrum<N> l =
+                                   li(at, camera.generate_ray(x + u, y + v), w, dispersion_u, rng, rays);
+                               add_camera_sample(film, tables, w, x, y, s, l);
+                               if (!began) return;
+                               Rng light_rng = sample_rng(settings.seed, pixel, s, kLightPathsSalt);
+                               trace_light_path_beyond_next_event(view, *began, dispersion_u, light_rng, film, rays);
+                             });
+  }
 }
 
 }  // namespace bouguer

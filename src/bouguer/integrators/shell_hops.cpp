@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "bouguer/core/memory.h"
 #include "bouguer/render/sampling.h"
 
 namespace bouguer {
@@ -39,14 +40,23 @@ int classes_that_fit(const RenderScene& scene, int medium, const ScatteringMediu
   double sigma_max = 0.0;
   for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 5.0)
     sigma_max = std::max(sigma_max, eval(scene.spectra[static_cast<std::size_t>(m.sigma_s)], nm));
-  return shell_class(sigma_max * rho * radius_m) + 1;
+  int classes = shell_class(sigma_max * rho * radius_m) + 1;
+  // Nor more than a walk of kShellMaxWalkLength can make: the walk out of a sphere travels
+  // (1 − g)·τ²/2 + τ·E[p·d] mean free paths (test_shell_transport.cpp's martingale), so an isotropic
+  // or backward medium's largest spheres would cost far more to make than a forward one's.
+  const double g = mean_cosine(m.phase);
+  while (classes > 0 && (1.0 - g) * shell_radius(classes - 1) * shell_radius(classes - 1) / 2.0 > kShellMaxWalkLength)
+    --classes;
+  return classes;
 }
 
 }  // namespace
 
-ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange range, int threads) : range_(range) {
+ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange range, int threads)
+    : scene_(&scene), seed_(seed), range_(range) {
   std::vector<const PhaseFunction*> phases;
   slot_of_medium_.assign(scene.media.size(), -1);
+  if (!scene.delta_lights.empty()) return;  // (their light comes only by connections: shell_hops.h)
   for (std::size_t i = 0; i < scene.media.size(); ++i) {
     const ScatteringMedium* m = scattering(scene.media[i].medium);
     if (!m || !scene.media[i].enclosed || !shell_transport_applies(*m)) continue;
@@ -65,7 +75,10 @@ ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange ran
   slots_ = static_cast<int>(phases.size());
   const int samples = std::max(0, range.end - range.begin);
   if (slots_ == 0 || samples == 0) return;
-  tables_.resize(static_cast<std::size_t>(samples) * static_cast<std::size_t>(slots_));
+  const std::size_t count = static_cast<std::size_t>(samples) * static_cast<std::size_t>(slots_);
+  require_memory(count * (sizeof(ShellTable) + sizeof(ShellExit) * kShellClasses * kShellEntries),
+                 "shell transport's tables");
+  tables_.resize(count);
   // Each table from its own stream (the sample index and the phase function's slot), so the
   // order they are made in changes nothing.
   tbb::task_arena arena(threads > 0 ? threads : tbb::this_task_arena::max_concurrency());

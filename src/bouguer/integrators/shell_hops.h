@@ -11,9 +11,11 @@
 // path after a hop is weighted as one whose last vertex makes no connection (its direction's
 // density 0): whatever it meets is found by the walk's own direction alone, with weight 1, so the
 // estimate stays unbiased (the strategies at a vertex may be any set, chosen from the path so far,
-// as long as the weights of those chosen sum to 1). Deep in whole milk those connections find
-// nothing anyway (dense_media.h); a point or spot lamp inside the medium, which only a connection
-// finds, keeps every sphere off it (the bound includes its distance).
+// as long as the weights of those chosen sum to 1). That holds for every light the walk's own
+// directions can reach (area and spherical lamps, the map, the background), not for point, spot
+// and distant lamps, which only a connection reaches: a scene with any has no tables (ShellSet).
+// A walk that crossed its sphere without a collision (about e^−12 of them at the smallest) is
+// a flight like any other: its last vertex keeps its connections.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -29,9 +31,17 @@
 
 namespace bouguer {
 
+// The samples a render call makes tables for at once (render_camera_paths walks a longer range in
+// chunks): 4 MiB of tables a phase function.
+inline constexpr int kShellChunkSamples = 1024;
+// The samples a distributed render makes tables for once a rank and hands to every piece
+// (distributed.cpp): 64 MiB a phase function.
+inline constexpr int kShellPrebuiltSamples = 16384;
+
 class ShellSet {
  public:
-  // The tables of samples [range.begin, range.end) of a render with `seed`, for the media of
+  // The tables of samples [range.begin, range.end) of a render of `scene` with `seed` (none where
+  // the scene has a point, spot or distant lamp: see above), for the media of
   // `scene` that can hold a sphere of the smallest class (shell_transport_applies, enclosed by
   // some object, and σ_s·ρ at its largest over the wavelengths times the largest sphere in the box
   // of a surface it borders at least kShellSmallestRadius), with the classes that can fit
@@ -39,11 +49,16 @@ class ShellSet {
   // small ball no large walks.
   ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange range, int threads);
   bool empty() const { return slots_ == 0; }
-  bool covers(SampleRange r) const { return range_.begin <= r.begin && r.end <= range_.end; }
+  // Whether these are the tables of a render of `scene` with `seed` over `r`.
+  bool covers(const RenderScene& scene, std::uint64_t seed, SampleRange r) const {
+    return &scene == scene_ && seed == seed_ && range_.begin <= r.begin && r.end <= range_.end;
+  }
   // Sample s's table for `medium`, or null where the medium has none.
   const ShellTable* table(int sample, int medium) const;
 
  private:
+  const RenderScene* scene_;
+  std::uint64_t seed_;
   std::vector<int> slot_of_medium_;  // −1: no table
   int slots_ = 0;
   std::vector<int> classes_;  // by slot
@@ -59,11 +74,15 @@ struct ShellUse {
   std::array<std::uint8_t, kShellClasses> taken{};
 };
 
-// A sphere taken: where the walk left it (its direction of flight in state.ray) and its collisions.
+// A sphere taken: where the walk entered it (its centre) and left it (its direction of flight in
+// state.ray), the length it travelled and its collisions.
 struct ShellHop {
-  Vec3 exit;
+  Vec3 centre, exit;
+  double length_m = 0.0;
   int collisions = 0;
 };
+// A table's walk cut short is one that kMaxScatterings would end (its collisions say so).
+static_assert(kMaxShellCollisions >= kMaxScatterings);
 
 // The largest sphere about the walk's position (state.start, flying along state.ray.direction) that
 // `near` (the visitor's bound on the distance to every surface and point lamp) shows to hold no
@@ -116,7 +135,7 @@ std::optional<ShellHop> hop_shell(const SceneView<N>& v, const ShellTable* table
   state.ray = Ray{exit, d};
   state.start = exit;
   state.cone_width_m += state.cone_spread_rad * length_m;
-  return ShellHop{exit, e.collisions};
+  return ShellHop{p, exit, length_m, e.collisions};
 }
 
 }  // namespace bouguer

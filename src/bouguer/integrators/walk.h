@@ -457,6 +457,10 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
       const ShellTable* table = v.shells ? v.shells->table(v.sample, state.medium) : nullptr;
       while (const auto hop = table ? hop_shell(v, table, state, state.shells, visit.shell_bound(), w, rng)
                                     : std::nullopt) {
+        if (hop->collisions == 0) {  // a flight straight through: the last vertex is still the last
+          tau += scattering_depth(v, media, state.medium, hop->centre, state.ray.direction, hop->length_m);
+          continue;
+        }
         events += hop->collisions;
         state.from = hop->exit;
         state.pdf_dir = 0.0;
