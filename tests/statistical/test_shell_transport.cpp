@@ -204,10 +204,13 @@ TEST(ShellTransport, TheSameImageAtAnyThreadCountSampleSplitAndChunk) {
 
   // A call of more samples than one chunk of tables (kShellChunkSamples) walks them chunk by
   // chunk: the same image as two calls split elsewhere.
-  // (A 1 mm ball: five classes fit, whose tables are a tenth of the 3 mm ball's to make.)
+  // (A 1 mm ball filling the frame: five classes fit, whose tables are a tenth of the 3 mm ball's
+  // to make.) Spheres are taken in the second chunk too: its samples alone differ from the analog
+  // walk's.
   desc = lit_milk_ball(true, "1 mm");
-  desc.render.spp = kShellChunkSamples + 6;
+  desc.render.spp = kShellChunkSamples + 64;
   desc.camera.width_px = desc.camera.height_px = 2;
+  desc.camera.fov_deg = 2.0;
   const RenderScene small = compile(desc);
   FilmBuffer one_call = make_film(small, false), two_calls = make_film(small, false);
   render_into(small, desc.render, one_call, PixelRegion::whole(small.camera), {0, desc.render.spp}, two, stats);
@@ -215,6 +218,12 @@ TEST(ShellTransport, TheSameImageAtAnyThreadCountSampleSplitAndChunk) {
   render_into(small, desc.render, two_calls, PixelRegion::whole(small.camera), {0, half}, two, stats);
   render_into(small, desc.render, two_calls, PixelRegion::whole(small.camera), {half, desc.render.spp}, two, stats);
   EXPECT_TRUE(same(resolve(one_call, desc.render.spp), resolve(two_calls, desc.render.spp))) << "chunks";
+  const SampleRange tail{kShellChunkSamples, desc.render.spp};
+  FilmBuffer tail_on = make_film(small, false), tail_off = make_film(small, false);
+  render_into(small, desc.render, tail_on, PixelRegion::whole(small.camera), tail, two, stats);
+  desc.render.shell_transport = false;
+  render_into(compile(desc), desc.render, tail_off, PixelRegion::whole(small.camera), tail, two, stats);
+  EXPECT_FALSE(same(resolve(tail_on, 64), resolve(tail_off, 64))) << "no sphere in the second chunk";
 }
 
 }  // namespace

@@ -120,20 +120,27 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
                          Li li, bool light_paths = false, bool shells = false) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  const bool hops = shells && scene.scatters;
+  // (Whether any medium gets tables: a set over no samples makes none, and costs nothing.)
+  const bool hops = shells && scene.scatters && !ShellSet(scene, settings.seed, SampleRange{}, control.threads).empty();
   const bool given = hops && control.shells && control.shells->covers(scene, settings.seed, range);
-  const int chunk = hops && !given ? kShellChunkSamples : std::max(1, range.end - range.begin);
-  const int chunks = std::max(1, (range.end - range.begin + chunk - 1) / chunk);
+  const int samples = std::max(0, range.end - range.begin);
+  const int chunk = hops && !given ? kShellChunkSamples : std::max(1, samples);
+  const int chunks = std::max(1, (samples + chunk - 1) / chunk);
   for (int c = 0; c < chunks; ++c) {
+    if (c > 0 && control.cancel && control.cancel->load()) break;  // (before the next chunk's tables)
     const SampleRange part{range.begin + c * chunk, std::min(range.end, range.begin + (c + 1) * chunk)};
     std::optional<ShellSet> own;
     const ShellSet* shell_set = given ? control.shells : hops ? &own.emplace(scene, settings.seed, part, control.threads) : nullptr;
     SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
                       settings.manifold, settings.area_lamp_chains};
     if (shell_set && !shell_set->empty()) view.shells = shell_set;
+    // (Progress by samples, as one call over the whole range would report it: a pass cut short
+    // scales its light paths' splats by it, render_into.h.)
     RenderControl this_chunk = control;
     if (chunks > 1 && control.progress)
-      this_chunk.progress = [&, c](double f) { control.progress((c + f) / chunks); };
+      this_chunk.progress = [&, part](double f) {
+        control.progress((part.begin - range.begin + f * (part.end - part.begin)) / samples);
+      };
     for_each_pixel_sample<N, kDispersion>(scene, tables, settings, film.width(), region, part, this_chunk, stats, 0,
                              [&](int x, int y, int s, Rng& rng, SampledWavelengths<N>& w, double dispersion_u,
                                  std::uint64_t& rays) {

@@ -85,7 +85,7 @@ struct ShellHop {
 static_assert(kMaxShellCollisions >= kMaxScatterings);
 
 // The largest sphere about the walk's position (state.start, flying along state.ray.direction) that
-// `near` (the visitor's bound on the distance to every surface and point lamp) shows to hold no
+// `near` (the visitor's bound on the distance to every surface) shows to hold no
 // surface, when it is of a class the walk still has entries of; a fresh point query (as far as the
 // largest class reaches) where the bound is stale and the position may be deep. On a hop: the
 // state's ray leaves the exit along the direction the walk left with, its throughput times the

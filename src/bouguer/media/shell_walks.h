@@ -38,7 +38,8 @@ inline constexpr int kShellClasses = 8;
 inline constexpr double kShellSmallestRadius = 12.0;
 inline constexpr double kShellRatio = 1.5;
 // The largest class a medium gets makes walks of at most this many mean free paths on average
-// (about as many collisions): every class at g = 0.86, to τ = 61 when isotropic.
+// ((1 − g)·τ²/2, plus at most τ; about as many collisions): every class at g = 0.86, to τ = 61
+// when isotropic.
 inline constexpr double kShellMaxWalkLength = 4000.0;
 // Walks per class in one table: a path takes at most this many spheres of one class (then walks on
 // as before), and a table costs this many walks of each class to make.
