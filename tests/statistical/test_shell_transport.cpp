@@ -107,7 +107,8 @@ TEST(ShellWalks, ExitsKeepTheWalksMartingales) {
 // into four walks of one wavelength is where spheres are taken): the image's mean per channel and
 // the difference between its upper and lower halves agree within 4 standard errors, each measured
 // from the spread of independent renders (a table serves every pixel of its sample, so the
-// pixels of one render are not independent). What it catches, each measured on purpose: exits not
+// pixels of one render are not independent). What it catches, each measured on purpose (before
+// the roulette between spheres; the scene and the tolerance the same): exits not
 // turned to the flight's frame (green 6.2 and blue 12.5 standard errors brighter, the halves'
 // difference 2.7–4.1 larger), absorption over the sphere's radius instead of the walk's length
 // (green 8.4 and blue 10.5 standard errors brighter).

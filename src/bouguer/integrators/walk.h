@@ -467,7 +467,12 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
         state.parallel = false;
         tau = 0.0;
         trail.clear();
-        if (!visit.hopped(hop->collisions)) {
+        // The roulette, as at the vertices the sphere stands for: without it a path deep in the
+        // medium took sphere after sphere at a throughput the walk would long have ended.
+        const RouletteReading r = roulette();
+        if (!visit.hopped(hop->collisions) ||
+            !survives_roulette(scene, events, state.medium, state.beta, rng, r.divisor,
+                               roulette_scale(scene, state.medium, mode), r.single)) {
           collision.reset();
           return false;
         }
