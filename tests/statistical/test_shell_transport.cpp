@@ -18,6 +18,7 @@
 #include "bouguer/render/render.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
+#include "support/test_scenes.h"
 #include "support/test_support.h"
 
 namespace bouguer {
@@ -74,20 +75,16 @@ TEST(ShellWalks, ExitsKeepTheWalksMartingales) {
     for (const int k : {0, 2}) {
       const double tau = shell_radius(k);
       Rng rng(11, static_cast<std::uint64_t>(k));
-      double l_sum = 0.0, l_sum2 = 0.0, z_sum = 0.0, z_sum2 = 0.0;
+      std::vector<double> ls, zs;
       for (int i = 0; i < kWalks; ++i) {
         const ShellExit e = walk_out_of_sphere(tau, phase, rng);
         const double pd = double(e.position[0]) * e.direction[0] + double(e.position[1]) * e.direction[1] +
                           double(e.position[2]) * e.direction[2];
-        const double l = double(e.length) - tau * pd, z = tau * e.position[2] + e.direction[2] / (1.0 - g);
-        l_sum += l, l_sum2 += l * l, z_sum += z, z_sum2 += z * z;
+        ls.push_back(double(e.length) - tau * pd);
+        zs.push_back(tau * e.position[2] + e.direction[2] / (1.0 - g));
       }
-      auto estimate = [](double s, double s2) {
-        const double mean = s / kWalks;
-        return std::pair{mean, std::sqrt(std::max(0.0, s2 / kWalks - mean * mean) / (kWalks - 1.0))};
-      };
-      const auto [l, l_se] = estimate(l_sum, l_sum2);
-      const auto [z, z_se] = estimate(z_sum, z_sum2);
+      const auto [l, l_se] = test::mean_estimate(ls);
+      const auto [z, z_se] = test::mean_estimate(zs);
       const double l_expected = (1.0 - g) * tau * tau / 2.0, z_expected = 1.0 / (1.0 - g);
       std::printf("g %.2f, tau %.0f: E[l - tau p.d] %.3f +- %.3f (exact %.3f); E[tau p_z + d_z/(1-g)] %.3f +- %.3f "
                   "(exact %.3f)\n",
@@ -140,27 +137,24 @@ std::array<double, 6> ball_figures(const Film& f) {
 
 TEST(ShellTransport, AgreesWithTheAnalogWalkOnABallLitFromAbove) {
   constexpr int kRenders = 6;
-  std::array<std::array<double, 6>, 2> mean{}, se{};
+  std::array<std::array<test::Estimate, 6>, 2> e{};  // [shells][figure]
   for (const bool shells : {false, true}) {
     const std::vector<Film> films = test::render_seeds(lit_milk_ball(shells), kRenders, shells ? 101 : 1, 2);
-    std::array<double, 6> s{}, s2{};
-    for (const Film& f : films) {
-      const auto q = ball_figures(f);
-      for (std::size_t i = 0; i < 6; ++i) s[i] += q[i], s2[i] += q[i] * q[i];
-    }
     for (std::size_t i = 0; i < 6; ++i) {
-      mean[shells][i] = s[i] / kRenders;
-      se[shells][i] = std::sqrt(std::max(0.0, s2[i] / kRenders - mean[shells][i] * mean[shells][i]) / (kRenders - 1));
+      std::vector<double> per_render;
+      for (const Film& f : films) per_render.push_back(ball_figures(f)[i]);
+      e[shells][i] = test::mean_estimate(per_render);
     }
   }
   const char* what[6] = {"R", "G", "B", "R above - below", "G above - below", "B above - below"};
   for (std::size_t i = 0; i < 6; ++i) {
-    const double se_gap = std::hypot(se[0][i], se[1][i]);
-    std::printf("%s: analog %.4f, shells %.4f, gap %.4f = %.2f standard errors\n", what[i], mean[0][i], mean[1][i],
-                mean[1][i] - mean[0][i], (mean[1][i] - mean[0][i]) / se_gap);
-    EXPECT_NEAR(mean[1][i], mean[0][i], 4.0 * se_gap) << what[i];
+    const test::Estimate &analog = e[0][i], &shells = e[1][i];
+    const double se_gap = std::hypot(analog.standard_error, shells.standard_error);
+    std::printf("%s: analog %.4f, shells %.4f, gap %.4f = %.2f standard errors\n", what[i], analog.mean, shells.mean,
+                shells.mean - analog.mean, (shells.mean - analog.mean) / se_gap);
+    EXPECT_NEAR(shells.mean, analog.mean, 4.0 * se_gap) << what[i];
     // (Resolution: 3 % of a channel's mean, 15 % of the halves' difference.)
-    EXPECT_LT(4.0 * se_gap, (i < 3 ? 0.03 : 0.15) * mean[0][i]) << what[i] << ": too few samples for the resolution";
+    EXPECT_LT(4.0 * se_gap, (i < 3 ? 0.03 : 0.15) * analog.mean) << what[i] << ": too few samples for the resolution";
   }
 }
 

@@ -247,7 +247,7 @@ bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings,
     std::optional<ShellSet> shells;
     if (settings.integrator == IntegratorType::path && settings.shell_transport && scene.scatters &&
         settings.spp <= kShellPrebuiltSamples)
-      shells.emplace(scene, settings.seed, SampleRange{0, settings.spp}, threads);
+      shells.emplace(scene, settings.seed).make(SampleRange{0, settings.spp}, threads);
     const Context c{scene, settings, threads, make_pieces(film.width(), film.height(), ranks, per_rank),
                     job_of(scene, settings, film), guide, shells ? &*shells : nullptr};
     if (rank != 0) {

@@ -43,6 +43,15 @@ struct SurfaceDistance {
   double sigma_min_per_m = 0.0;
   bool holds_sigma(int medium, int single) const { return single >= 0 && sigma_medium == medium && sigma_single == single; }
 };
+// The radius about p that the bound `near` shows free of every surface and point light: its
+// distance less how far p is from where it was measured, less a float margin (a ray's hit point
+// lies on the double-precision triangle within float rounding of the scene's coordinates); not
+// positive where the bound shows none. What walk_deep (walk.h) and a sphere of shell transport
+// (shell_hops.h) may take without a ray.
+inline double free_radius_m(const RayScene& rays, const SurfaceDistance& near, const Vec3& p) {
+  if (!(near.radius_m > 0.0)) return -1.0;
+  return near.radius_m - length(p - near.centre) - 1e-5 * rays.rounding_scale_m(p);
+}
 template <std::size_t N>
 double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& x, const SampledWavelengths<N>& w,
                                  SurfaceDistance& last);

@@ -120,20 +120,20 @@ void render_camera_paths(const RenderScene& scene, const RenderSettings& setting
                          Li li, bool light_paths = false, bool shells = false) {
   const SpectralTables<N> tables(scene.spectra, settings.spectral);
   const Camera camera(scene.camera);
-  // (Whether any medium gets tables: a set over no samples makes none, and costs nothing.)
-  const bool hops = shells && scene.scatters && !ShellSet(scene, settings.seed, SampleRange{}, control.threads).empty();
-  const bool given = hops && control.shells && control.shells->covers(scene, settings.seed, range);
+  const bool given = shells && scene.scatters && control.shells && control.shells->covers(scene, settings.seed, range);
+  std::optional<ShellSet> own;  // (kept only where some medium gets tables)
+  if (shells && scene.scatters && !given && own.emplace(scene, settings.seed).empty()) own.reset();
   const int samples = std::max(0, range.end - range.begin);
-  const int chunk = hops && !given ? kShellChunkSamples : std::max(1, samples);
+  const int chunk = own ? kShellChunkSamples : std::max(1, samples);
   const int chunks = std::max(1, (samples + chunk - 1) / chunk);
   for (int c = 0; c < chunks; ++c) {
     if (c > 0 && control.cancel && control.cancel->load()) break;  // (before the next chunk's tables)
     const SampleRange part{range.begin + c * chunk, std::min(range.end, range.begin + (c + 1) * chunk)};
-    std::optional<ShellSet> own;
-    const ShellSet* shell_set = given ? control.shells : hops ? &own.emplace(scene, settings.seed, part, control.threads) : nullptr;
+    if (own) own->make(part, control.threads);
     SceneView<N> view{scene, tables, camera, settings.max_depth, exit_guide_enabled(settings, scene),
                       settings.manifold, settings.area_lamp_chains};
-    if (shell_set && !shell_set->empty()) view.shells = shell_set;
+    if (given && !control.shells->empty()) view.shells = control.shells;
+    if (own) view.shells = &*own;
     // (Progress by samples, as one call over the whole range would report it: a pass cut short
     // scales its light paths' splats by it, render_into.h.)
     RenderControl this_chunk = control;

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "bouguer/core/memory.h"
+#include "bouguer/spectra/spectrum.h"
 #include "bouguer/render/sampling.h"
 
 namespace bouguer {
@@ -37,10 +38,9 @@ int classes_that_fit(const RenderScene& scene, int medium, const ScatteringMediu
     radius_m = std::max(radius_m, 0.5 * std::min({extent.x, extent.y, extent.z}));
   }
   const double rho = std::get<ConstantField>(m.density).value;
-  double sigma_max = 0.0;
-  for (double nm = kLambdaMinNm; nm <= kLambdaMaxNm; nm += 5.0)
-    sigma_max = std::max(sigma_max, eval(scene.spectra[static_cast<std::size_t>(m.sigma_s)], nm));
-  int classes = shell_class(sigma_max * rho * radius_m) + 1;
+  const auto* sigma_s = std::get_if<Spectrum>(&scene.spectra[static_cast<std::size_t>(m.sigma_s)].source);
+  if (!sigma_s) return 0;
+  int classes = shell_class(max_value(*sigma_s) * rho * radius_m) + 1;
   // Nor more than a walk of kShellMaxWalkLength can make: the walk out of a sphere travels
   // (1 − g)·τ²/2 + τ·E[p·d] mean free paths (test_shell_transport.cpp's martingale), so an isotropic
   // or backward medium's largest spheres would cost far more to make than a forward one's.
@@ -52,9 +52,7 @@ int classes_that_fit(const RenderScene& scene, int medium, const ScatteringMediu
 
 }  // namespace
 
-ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange range, int threads)
-    : scene_(&scene), seed_(seed), range_(range) {
-  std::vector<const PhaseFunction*> phases;
+ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed) : scene_(&scene), seed_(seed) {
   slot_of_medium_.assign(scene.media.size(), -1);
   if (!scene.delta_lights.empty()) return;  // (their light comes only by connections: shell_hops.h)
   for (std::size_t i = 0; i < scene.media.size(); ++i) {
@@ -62,17 +60,22 @@ ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange ran
     if (!m || !scene.media[i].enclosed || !shell_transport_applies(*m)) continue;
     const int classes = classes_that_fit(scene, static_cast<int>(i), *m);
     if (classes == 0) continue;
-    const auto same = std::find_if(phases.begin(), phases.end(), [&](const PhaseFunction* p) { return same_phase(*p, m->phase); });
-    const auto slot = static_cast<std::size_t>(same - phases.begin());
+    const auto same = std::find_if(phases_.begin(), phases_.end(), [&](const PhaseFunction* p) { return same_phase(*p, m->phase); });
+    const auto slot = static_cast<std::size_t>(same - phases_.begin());
     slot_of_medium_[i] = static_cast<int>(slot);
-    if (same == phases.end()) {
-      phases.push_back(&m->phase);
+    if (same == phases_.end()) {
+      phases_.push_back(&m->phase);
       classes_.push_back(classes);
     } else {
       classes_[slot] = std::max(classes_[slot], classes);
     }
   }
-  slots_ = static_cast<int>(phases.size());
+  slots_ = static_cast<int>(phases_.size());
+}
+
+void ShellSet::make(SampleRange range, int threads) {
+  range_ = range;
+  tables_.clear();
   const int samples = std::max(0, range.end - range.begin);
   if (slots_ == 0 || samples == 0) return;
   const std::size_t count = static_cast<std::size_t>(samples) * static_cast<std::size_t>(slots_);
@@ -87,8 +90,8 @@ ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange ran
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
         const int s = range.begin + static_cast<int>(i / static_cast<std::size_t>(slots_));
         const auto slot = i % static_cast<std::size_t>(slots_);
-        Rng stream = sample_rng(seed, kShellPixelBase + slot, s, kShellSalt);
-        tables_[i] = make_shell_table(*phases[slot], stream.next_u32() | (std::uint64_t{stream.next_u32()} << 32),
+        Rng stream = sample_rng(seed_, kShellPixelBase + slot, s, kShellSalt);
+        tables_[i] = make_shell_table(*phases_[slot], stream.next_u32() | (std::uint64_t{stream.next_u32()} << 32),
                                       stream.next_u32(), classes_[slot]);
       }
     });

@@ -40,15 +40,18 @@ inline constexpr int kShellPrebuiltSamples = 16384;
 
 class ShellSet {
  public:
-  // The tables of samples [range.begin, range.end) of a render of `scene` with `seed` (none where
-  // the scene has a point, spot or distant lamp: see above), for the media of
-  // `scene` that can hold a sphere of the smallest class (shell_transport_applies, enclosed by
-  // some object, and σ_s·ρ at its largest over the wavelengths times the largest sphere in the box
-  // of a surface it borders at least kShellSmallestRadius), with the classes that can fit
-  // there; made on `threads` threads (0: all). A render of a thin medium makes none, and one of a
-  // small ball no large walks.
-  ShellSet(const RenderScene& scene, std::uint64_t seed, SampleRange range, int threads);
+  // Shell transport for a render of `scene` with `seed`: which media get tables (none where the
+  // scene has a point, spot or distant lamp: see above), those that can hold a sphere of the
+  // smallest class (shell_transport_applies, enclosed by some object, and σ_s·ρ at its largest
+  // over the wavelengths times the largest sphere in the box of a surface it borders at least
+  // kShellSmallestRadius), with the classes that can fit there. A render of a thin medium gets
+  // none, and one of a small ball no large walks. No tables yet: make() makes them.
+  ShellSet(const RenderScene& scene, std::uint64_t seed);
+  // Whether no medium gets tables.
   bool empty() const { return slots_ == 0; }
+  // The tables of samples [range.begin, range.end) (those of any range before dropped), on
+  // `threads` threads (0: all).
+  void make(SampleRange range, int threads);
   // Whether these are the tables of a render of `scene` with `seed` over `r`.
   bool covers(const RenderScene& scene, std::uint64_t seed, SampleRange r) const {
     return &scene == scene_ && seed == seed_ && range_.begin <= r.begin && r.end <= range_.end;
@@ -62,6 +65,7 @@ class ShellSet {
   std::vector<int> slot_of_medium_;  // −1: no table
   int slots_ = 0;
   std::vector<int> classes_;  // by slot
+  std::vector<const PhaseFunction*> phases_;  // by slot
   SampleRange range_;
   std::vector<ShellTable> tables_;  // (sample − range.begin) × slots_ + slot
 };
@@ -98,18 +102,16 @@ std::optional<ShellHop> hop_shell(const SceneView<N>& v, const ShellTable* table
   const double sigma_per_m = walk_sigma_min_per_m(v, state.medium, w, near);
   if (!(sigma_per_m > 0.0)) return std::nullopt;
   const Vec3 p = state.start;
-  // (walk_deep's margin: a ray's hit lies within float rounding of the scene's coordinates)
-  const double margin_m = 1e-5 * v.scene.rays.rounding_scale_m(p);
   const double smallest_m = kShellSmallestRadius / sigma_per_m;
-  double moved = near.radius_m >= 0.0 ? length(p - near.centre) : 0.0;
-  double safe_m = near.radius_m >= 0.0 ? near.radius_m - moved - margin_m : -1.0;
+  double safe_m = free_radius_m(v.scene.rays, near, p);
   if (safe_m < smallest_m) {
     // A fresh query, unless the last one (exact below its cap) shows the position shallow: within
     // twice the smallest radius of a surface, where most queries would find no sphere.
-    if (near.radius_m >= 0.0 && near.radius_m < near.cap_m && near.radius_m + moved < 2.0 * smallest_m)
+    if (near.radius_m >= 0.0 && near.radius_m < near.cap_m &&
+        near.radius_m + length(p - near.centre) < 2.0 * smallest_m)
       return std::nullopt;
     query_surface_distance(v, p, sigma_per_m, near, shell_radius(kShellClasses - 1) / sigma_per_m);
-    safe_m = near.radius_m - margin_m;
+    safe_m = free_radius_m(v.scene.rays, near, p);
   }
   const int k = std::min(shell_class(sigma_per_m * safe_m), table->classes - 1);
   if (k < 0 || use.taken[static_cast<std::size_t>(k)] >= kShellEntries) return std::nullopt;

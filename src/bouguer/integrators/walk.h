@@ -187,10 +187,7 @@ std::optional<Vec3> walk_deep(const SceneView<N>& v, WalkState<N>& state, const 
   const ScatteringMedium* sm = scattering_medium(v.scene, state.medium);
   if (!sm || !v.scene.media[static_cast<std::size_t>(state.medium)].enclosed) return std::nullopt;
   const Vec3& p = state.start;
-  // The ray's hit point is on the double-precision triangle within float rounding of the scene's
-  // coordinates.
-  const double margin_m = 1e-5 * v.scene.rays.rounding_scale_m(p);
-  const double safe_m = near.radius_m - length(p - near.centre) - margin_m;
+  const double safe_m = free_radius_m(v.scene.rays, near, p);
   if (!(safe_m > 0.0)) return std::nullopt;
   const auto single = static_cast<std::size_t>(w.single);
   // (σ_s·ρ as the visitor last read it for this medium and wavelength, where it did: the same product)
