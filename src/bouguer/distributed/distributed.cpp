@@ -242,8 +242,8 @@ bool render_over_ranks(const RenderScene& scene, const RenderSettings& settings,
   try {
     // vcm: every piece traces the light subpaths of the whole image (its photons), so one per rank.
     const int per_rank = settings.integrator == IntegratorType::vcm ? 1 : pieces_per_rank();
-    // (Up to kShellPrebuiltSamples, 64 MiB a phase function; beyond, each piece makes its own in
-    // chunks, integrators.h: render_camera_paths.)
+    // (Up to kShellPrebuiltSamples, 64 MiB a phase function, 128 with kept collisions; beyond,
+    // each piece makes its own in chunks, integrators.h: render_camera_paths.)
     std::optional<ShellSet> shells;
     if (settings.integrator == IntegratorType::path && settings.shell_transport && scene.scatters &&
         settings.spp <= kShellPrebuiltSamples)

@@ -95,10 +95,11 @@ template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, Towards towards,
                                    MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                    const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                   NextEvent next_event, const ThroughInterfaces* through = nullptr) {
+                                   NextEvent next_event, const ThroughInterfaces* through = nullptr,
+                                   bool delta_only = false) {
   const RenderScene& s = v.scene;
   const bool mis = next_event != NextEvent::lights;
-  const bool environment = next_event != NextEvent::lights;
+  const bool environment = next_event != NextEvent::lights && !delta_only;
   const bool interfaces = next_event == NextEvent::lights_map_and_interfaces;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
@@ -108,7 +109,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   };
   SampledSpectrum<N> sum;
   const double u_light = rng.next_double(), u1 = rng.next_double(), u2 = rng.next_double();
-  const auto chosen = s.area_lights.sample(u_light);
+  const auto chosen = delta_only ? std::nullopt : s.area_lights.sample(u_light);
   // Through the casters (exact glass spheres): every delta light, and the area light drawn, at a
   // point drawn by area (manifold.h). Its own numbers, so the connections below draw as before.
   if (interfaces && !s.casters.empty()) {
@@ -216,10 +217,13 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
       path_r_u, rng, rays, next_event, through);
 }
 
+namespace {
+
+// At a scattering event: every strategy, or the delta lights' alone.
 template <std::size_t N>
-SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
-                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          bool through_interfaces) {
+SampledSpectrum<N> in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
+                             const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, bool through_interfaces,
+                             bool delta_only) {
   // Light arriving along −wi leaves the event along −direction, back along the camera walk.
   auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
     phase_pdf = phase_value(at.phase, -wi, -at.direction);
@@ -227,7 +231,24 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
   };
   return direct_light_at(
       v, PathVertex{at.x, nullptr, at.inside}, phase_towards, [&](const Vec3&) { return at.medium; }, w, path_r_u,
-      rng, rays, through_interfaces ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted);
+      rng, rays, through_interfaces ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted,
+      nullptr, delta_only);
+}
+
+}  // namespace
+
+template <std::size_t N>
+SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          bool through_interfaces) {
+  return in_medium(v, at, w, path_r_u, rng, rays, through_interfaces, false);
+}
+
+template <std::size_t N>
+SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          bool through_interfaces) {
+  return in_medium(v, at, w, path_r_u, rng, rays, through_interfaces, true);
 }
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
@@ -237,6 +258,8 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
       const ThroughInterfaces*); \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const MediumPoint&, \
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool); \
+  template SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>&, const MediumPoint&, \
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool);
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)

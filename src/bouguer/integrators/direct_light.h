@@ -114,4 +114,13 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
                                           bool through_interfaces = false);
 
+// Only the point, spot and distant lamps of direct_light_in_medium, reached as it reaches them
+// (through the interfaces with through_interfaces): the connections shell transport keeps where
+// it leaves a sphere's vertices out (shell_hops.h), whose other strategies the walk's own
+// directions stand for.
+template <std::size_t N>
+SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
+                                          const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                                          bool through_interfaces = false);
+
 }  // namespace bouguer

@@ -249,9 +249,29 @@ struct Radiance {
   const SurfaceDistance& surface_distance() const { return near; }
   SurfaceDistance& shell_bound() { return near; }
   // A sphere of shell transport taken (shell_hops.h): its collisions count as scattering events;
-  // the vertex it leaves the path at makes no connection, so nothing is open through glass.
-  bool hopped(int collisions) {
-    scatterings += collisions;
+  // the vertex it leaves the path at makes no connection, so nothing is open through glass. Where
+  // it kept a collision (a scene with point, spot or distant lamps), the connections to those lamps
+  // its n collisions would have made, estimated by n times the kept one's, thinned as the analog
+  // walk thins its own deep in a medium (dense_media.h): made with probability q = min(1, n·q₁),
+  // q₁ the one vertex's, and divided by it, so the sphere makes as many as its vertices would.
+  // Where the sphere takes the path past kMaxScatterings, only the collisions before the limit
+  // connect, as the analog walk's would: the kept one if it is one of them.
+  bool hopped(const ShellHop& hop) {
+    const int before = scatterings;
+    scatterings += hop.collisions;
+    if (hop.kept && hop.kept_beta > 0.0f && before + hop.kept_ordinal <= kMaxScatterings) {
+      const int medium = state.medium;
+      const double q = std::min(1.0, hop.collisions * nee_probability_in_medium(v, medium, hop.kept_point, w, near));
+      if (q >= 1.0 || rng.next_double() < q) {
+        const MediumPoint at{hop.kept_point, hop.kept_direction, scattering_medium(v.scene, medium)->phase, medium,
+                             state.inside};
+        SampledSpectrum<N> beta = state.beta;
+        beta[static_cast<std::size_t>(w.single)] = hop.kept_beta;
+        add(beta * delta_lights_in_medium(v, at, w, state.mis.r_u, rng, rays,
+                                          next_event == NextEvent::lights_map_and_interfaces) *
+            static_cast<float>(hop.collisions / q));
+      }
+    }
     if (scatterings > kMaxScatterings) return false;
     casters.start(false, state.start);
     chains.start(false, state.start, nullptr, state.inside);

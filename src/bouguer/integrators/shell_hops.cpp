@@ -54,7 +54,7 @@ int classes_that_fit(const RenderScene& scene, int medium, const ScatteringMediu
 
 ShellSet::ShellSet(const RenderScene& scene, std::uint64_t seed) : scene_(&scene), seed_(seed) {
   slot_of_medium_.assign(scene.media.size(), -1);
-  if (!scene.delta_lights.empty()) return;  // (their light comes only by connections: shell_hops.h)
+  keep_collisions_ = !scene.delta_lights.empty();  // (their light comes only by connections: shell_hops.h)
   for (std::size_t i = 0; i < scene.media.size(); ++i) {
     const ScatteringMedium* m = scattering(scene.media[i].medium);
     if (!m || !scene.media[i].enclosed || !shell_transport_applies(*m)) continue;
@@ -79,7 +79,8 @@ void ShellSet::make(SampleRange range, int threads) {
   const int samples = std::max(0, range.end - range.begin);
   if (slots_ == 0 || samples == 0) return;
   const std::size_t count = static_cast<std::size_t>(samples) * static_cast<std::size_t>(slots_);
-  require_memory(count * (sizeof(ShellTable) + sizeof(ShellExit) * kShellClasses * kShellEntries),
+  require_memory(count * (sizeof(ShellTable) + (sizeof(ShellExit) + (keep_collisions_ ? sizeof(ShellCollision) : 0)) *
+                                                  kShellClasses * kShellEntries),
                  "shell transport's tables");
   tables_.resize(count);
   // Each table from its own stream (the sample index and the phase function's slot), so the
@@ -92,7 +93,7 @@ void ShellSet::make(SampleRange range, int threads) {
         const auto slot = i % static_cast<std::size_t>(slots_);
         Rng stream = sample_rng(seed_, kShellPixelBase + slot, s, kShellSalt);
         tables_[i] = make_shell_table(*phases_[slot], stream.next_u32() | (std::uint64_t{stream.next_u32()} << 32),
-                                      stream.next_u32(), classes_[slot]);
+                                      stream.next_u32(), classes_[slot], keep_collisions_);
       }
     });
   });

@@ -13,11 +13,18 @@
 // estimate stays unbiased (the strategies at a vertex may be any set, chosen from the path so far,
 // as long as the weights of those chosen sum to 1). That holds for every light the walk's own
 // directions can reach (area and spherical lamps, the map, the background), not for point, spot
-// and distant lamps, which only a connection reaches: a scene with any has no tables (ShellSet).
-// A walk that crossed its sphere without a collision (about e^−12 of them at the smallest) is
-// a flight like any other: its last vertex keeps its connections.
+// and distant lamps, which only a connection reaches. In a scene with any, the tables keep one
+// collision of each walk drawn uniformly (media/shell_walks.h: ShellCollision), and the path
+// tracer connects to those lamps from it alone, times the walk's count of collisions n: its
+// expectation is the sum of the n connections the sphere's vertices would have made
+// (Radiance::hopped). So that none of those n is worth much (the estimate's variance), the
+// spheres stay kShellLampMargin inside the free radius there: every collision lies where the
+// analog walk thins its own connections to their floor (dense_media.h): each is worth at most
+// e^−7.2 of a lamp's unshadowed light. A walk that crossed its sphere without a collision (about e^−12 of them at
+// the smallest) is a flight like any other: its last vertex keeps its connections.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <numbers>
@@ -32,16 +39,20 @@
 namespace bouguer {
 
 // The samples a render call makes tables for at once (render_camera_paths walks a longer range in
-// chunks): 4 MiB of tables a phase function.
+// chunks): 4 MiB of tables a phase function (8 MiB where they keep collisions).
 inline constexpr int kShellChunkSamples = 1024;
 // The samples a distributed render makes tables for once a rank and hands to every piece
-// (distributed.cpp): 64 MiB a phase function.
+// (distributed.cpp): 64 MiB a phase function (128 MiB where they keep collisions).
 inline constexpr int kShellPrebuiltSamples = 16384;
+// The optical depth at which next-event estimation deep in a medium reaches its floor
+// (dense_media.h: exp(kNeeFullDepth − τ) = kNeeFloor, τ = 3 + ln 64): in a scene with point, spot
+// or distant lamps a sphere keeps this far, at the walk's wavelength, inside the free radius.
+inline const double kShellLampMargin = kNeeFullDepth - std::log(kNeeFloor);
 
 class ShellSet {
  public:
-  // Shell transport for a render of `scene` with `seed`: which media get tables (none where the
-  // scene has a point, spot or distant lamp: see above), those that can hold a sphere of the
+  // Shell transport for a render of `scene` with `seed`: which media get tables (keeping a
+  // collision of each walk where the scene has a point, spot or distant lamp: see above), those that can hold a sphere of the
   // smallest class (shell_transport_applies, enclosed by some object, and σ_s·ρ at its largest
   // over the wavelengths times the largest sphere in the box of a surface it borders at least
   // kShellSmallestRadius), with the classes that can fit there. A render of a thin medium gets
@@ -49,6 +60,8 @@ class ShellSet {
   ShellSet(const RenderScene& scene, std::uint64_t seed);
   // Whether no medium gets tables.
   bool empty() const { return slots_ == 0; }
+  // Whether the tables keep a collision of each walk (the scene has a point, spot or distant lamp).
+  bool keeps_collisions() const { return keep_collisions_; }
   // The tables of samples [range.begin, range.end) (those of any range before dropped), on
   // `threads` threads (0: all).
   void make(SampleRange range, int threads);
@@ -64,6 +77,7 @@ class ShellSet {
   std::uint64_t seed_;
   std::vector<int> slot_of_medium_;  // −1: no table
   int slots_ = 0;
+  bool keep_collisions_ = false;
   std::vector<int> classes_;  // by slot
   std::vector<const PhaseFunction*> phases_;  // by slot
   SampleRange range_;
@@ -79,11 +93,18 @@ struct ShellUse {
 };
 
 // A sphere taken: where the walk entered it (its centre) and left it (its direction of flight in
-// state.ray), the length it travelled and its collisions.
+// state.ray), the length it travelled and its collisions; where the table keeps collisions, the
+// one kept (its point, the direction the walk arrived along, the throughput there at the walk's
+// wavelength and which of the collisions it was: the connections to point, spot and distant lamps
+// start from it).
 struct ShellHop {
   Vec3 centre, exit;
   double length_m = 0.0;
   int collisions = 0;
+  bool kept = false;
+  Vec3 kept_point, kept_direction;
+  float kept_beta = 0.0f;
+  int kept_ordinal = 0;
 };
 // A table's walk cut short is one that kMaxScatterings would end (its collisions say so).
 static_assert(kMaxShellCollisions >= kMaxScatterings);
@@ -102,7 +123,9 @@ std::optional<ShellHop> hop_shell(const SceneView<N>& v, const ShellTable* table
   const double sigma_per_m = walk_sigma_min_per_m(v, state.medium, w, near);
   if (!(sigma_per_m > 0.0)) return std::nullopt;
   const Vec3 p = state.start;
-  const double smallest_m = kShellSmallestRadius / sigma_per_m;
+  const bool keeps = !table->kept.empty();
+  const double margin_m = keeps ? kShellLampMargin / sigma_per_m : 0.0;
+  const double smallest_m = kShellSmallestRadius / sigma_per_m + margin_m;
   double safe_m = free_radius_m(v.scene.rays, near, p);
   if (safe_m < smallest_m) {
     // A fresh query, unless the last one (exact below its cap) shows the position shallow: within
@@ -110,10 +133,10 @@ std::optional<ShellHop> hop_shell(const SceneView<N>& v, const ShellTable* table
     if (near.radius_m >= 0.0 && near.radius_m < near.cap_m &&
         near.radius_m + length(p - near.centre) < 2.0 * smallest_m)
       return std::nullopt;
-    query_surface_distance(v, p, sigma_per_m, near, shell_radius(kShellClasses - 1) / sigma_per_m);
+    query_surface_distance(v, p, sigma_per_m, near, shell_radius(kShellClasses - 1) / sigma_per_m + margin_m);
     safe_m = free_radius_m(v.scene.rays, near, p);
   }
-  const int k = std::min(shell_class(sigma_per_m * safe_m), table->classes - 1);
+  const int k = std::min(shell_class(sigma_per_m * (safe_m - margin_m)), table->classes - 1);
   if (k < 0 || use.taken[static_cast<std::size_t>(k)] >= kShellEntries) return std::nullopt;
   if (use.first < 0) use.first = static_cast<int>(rng.next_u32() % kShellEntries);
   const int entry = (use.first + use.taken[static_cast<std::size_t>(k)]++) % kShellEntries;
@@ -131,13 +154,26 @@ std::optional<ShellHop> hop_shell(const SceneView<N>& v, const ShellTable* table
   const Vec3 d = normalize(frame.to_world(turned(e.direction)));
   const double length_m = static_cast<double>(e.length) / sigma_per_m;
   const ScatteringMedium& sm = *scattering_medium(v.scene, state.medium);
+  const auto single = static_cast<std::size_t>(w.single);
+  ShellHop hop;
+  hop.centre = p, hop.exit = exit, hop.length_m = length_m, hop.collisions = e.collisions;
+  if (keeps && e.collisions > 0) {
+    const ShellCollision& kept = table->kept_at(k, entry);
+    const double kept_m = static_cast<double>(kept.length) / sigma_per_m;
+    hop.kept = true;
+    hop.kept_point = p + frame.to_world(turned(kept.position)) * radius_m;
+    hop.kept_direction = normalize(frame.to_world(turned(kept.direction)));
+    hop.kept_beta = state.beta[single];
+    hop.kept_ordinal = kept.ordinal;
+    if (!sm.absorbers.empty())
+      hop.kept_beta *= absorbers_kept_transmittance(sm.absorbers, v.tables, Ray{p, d}, 0.0, kept_m, w);
+  }
   if (!sm.absorbers.empty())
-    state.beta[static_cast<std::size_t>(w.single)] *=
-        absorbers_kept_transmittance(sm.absorbers, v.tables, Ray{p, d}, 0.0, length_m, w);
+    state.beta[single] *= absorbers_kept_transmittance(sm.absorbers, v.tables, Ray{p, d}, 0.0, length_m, w);
   state.ray = Ray{exit, d};
   state.start = exit;
   state.cone_width_m += state.cone_spread_rad * length_m;
-  return ShellHop{p, exit, length_m, e.collisions};
+  return hop;
 }
 
 }  // namespace bouguer

@@ -279,13 +279,14 @@ concept GuidesExits = requires(V& visit) {
 };
 
 // HopsShells: shell_bound() -> SurfaceDistance&, the bound hop_shell reads and refreshes (the same
-//   as surface_distance()); hopped(collisions) -> bool, a sphere of shell transport taken
-//   (shell_hops.h) with its collisions, after which the path's last vertex is one that makes no
-//   connection; false ends the walk. Only where the view carries tables (SceneView::shells).
+//   as surface_distance()); hopped(hop) -> bool, a sphere of shell transport taken (shell_hops.h)
+//   with its collisions (and the one it kept, for the lamps only connections reach), after which
+//   the path's last vertex is one that makes no connection; false ends the walk. Only where the
+//   view carries tables (SceneView::shells).
 template <typename V>
-concept HopsShells = requires(V& visit, int collisions) {
+concept HopsShells = requires(V& visit, const ShellHop& hop) {
   { visit.shell_bound() } -> std::same_as<SurfaceDistance&>;
-  { visit.hopped(collisions) } -> std::same_as<bool>;
+  { visit.hopped(hop) } -> std::same_as<bool>;
 };
 
 // GuidesDirections: direction_guide() -> DirectionGuide, the path guide (render/path_guide.h) to
@@ -467,7 +468,7 @@ void random_walk(const SceneView<N>& v, const WalkMedia& media, TransportMode mo
         // The roulette, as at the vertices the sphere stands for: without it a path deep in the
         // medium took sphere after sphere at a throughput the walk would long have ended.
         const RouletteReading r = roulette();
-        if (!visit.hopped(hop->collisions) ||
+        if (!visit.hopped(*hop) ||
             !survives_roulette(scene, events, state.medium, state.beta, rng, r.divisor,
                                roulette_scale(scene, state.medium, mode), r.single)) {
           collision.reset();

@@ -61,23 +61,44 @@ struct ShellExit {
 };
 inline constexpr std::int32_t kMaxShellCollisions = 100000;
 
+// One of a walk's collisions drawn uniformly (each of its `collisions` with probability 1/n): where
+// it fell (in units of the sphere's radius: within the unit ball), the direction the walk arrived
+// there along, the optical length travelled to it and which it was (1 to n). For scenes with
+// point, spot or distant lamps, which only connections reach: n times the connection from this one
+// collision has the expectation of the connections from all n (integrators/shell_hops.h).
+struct ShellCollision {
+  std::array<float, 3> position{};
+  std::array<float, 3> direction{};
+  float length = 0.0f;
+  std::int32_t ordinal = 0;
+};
+
 struct ShellTable {
   std::vector<ShellExit> exits;  // classes × kShellEntries, class-major
+  // The same walks' collisions drawn uniformly, where the table keeps them (else empty).
+  std::vector<ShellCollision> kept;
   int classes = 0;               // the first `classes` of kShellClasses
-  const ShellExit& at(int k, int entry) const {
-    return exits[static_cast<std::size_t>(k) * kShellEntries + static_cast<std::size_t>(entry)];
+  const ShellExit& at(int k, int entry) const { return exits[index(k, entry)]; }
+  const ShellCollision& kept_at(int k, int entry) const { return kept[index(k, entry)]; }
+  static std::size_t index(int k, int entry) {
+    return static_cast<std::size_t>(k) * kShellEntries + static_cast<std::size_t>(entry);
   }
 };
 
 // One walk of a table: from the centre of the sphere of optical radius τ, flying along +z, until it
-// leaves (the tests draw many).
+// leaves (the tests draw many). With `kept`, one of its collisions drawn uniformly by reservoir
+// sampling from `pick`'s numbers (exactly: the c-th replaces the one kept with probability 1/c, an
+// integer draw; the walk's own stream is not touched, so its walks are the same kept or not); left
+// as it is where the walk made none.
 class Rng;
-ShellExit walk_out_of_sphere(double tau, const PhaseFunction& phase, Rng& rng);
+ShellExit walk_out_of_sphere(double tau, const PhaseFunction& phase, Rng& rng, ShellCollision* kept = nullptr,
+                             Rng* pick = nullptr);
 
 // A table of walks for `phase` of the first `classes` classes (at most kShellClasses), drawn from
-// the stream (seed, stream).
+// the stream (seed, stream); with `keep_collisions`, each walk's uniformly drawn collision too
+// (drawn from a stream of their own: the exits are the same either way).
 ShellTable make_shell_table(const PhaseFunction& phase, std::uint64_t seed, std::uint64_t stream,
-                            int classes = kShellClasses);
+                            int classes = kShellClasses, bool keep_collisions = false);
 
 // Whether a scattering medium's walks can be drawn so: a constant density and constant absorbers.
 bool shell_transport_applies(const ScatteringMedium& m);
