@@ -23,6 +23,7 @@
 #include "bouguer/core/rng.h"
 #include "bouguer/integrators/manifold.h"
 #include "bouguer/integrators/manifold_chain.h"
+#include "bouguer/render/camera.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/materials/fresnel.h"
@@ -134,6 +135,51 @@ TEST(ManifoldNextEvent, PointLampUnderFlatWaterLightsTheCeilingAsTheClosedFormSa
                 what, mean, worst, ceiling_radiance(0.0));
     EXPECT_LT(worst, 0.003) << what;
     EXPECT_NEAR(mean, 1.0, 0.0005) << what;
+  }
+}
+
+// A sun through the flat top of the water box at a vertex in the water (manifold.h:
+// distant_light_through_plane): next-event estimation at a medium point of an isotropic phase
+// function gets E·T·cos θ_l/cos θ_x/(4π) at every carried wavelength, to rounding, for the sun at
+// 0°, 40° and 70° from the vertical, at two depths (a sun's light does not fall off). What it
+// catches: the beam's compression left out (cos θ_l/cos θ_x: 12 % at 40°, 42 % at 70°), a
+// radiance's n² (77 %), no Fresnel (2 % to 14 %), the crossing or the direction on the water's
+// side wrong (the face missed: nothing), and no light at all (before: the glass stopped it).
+TEST(ManifoldNextEvent, SunThroughFlatWaterIsTheClosedForm) {
+  for (const double theta_deg : {0.0, 40.0, 70.0}) {
+    const double theta = theta_deg * std::numbers::pi / 180.0;
+    const RenderScene scene = compile(parse_scene(fmt::format(R"({{
+      "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
+      "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
+      "world_medium": "vacuum",
+      "media": {{"water": {{"ior": {}}}}},
+      "objects": [{{"name": "water", "shape": {}, "inside": "water"}}],
+      "lights": [{{"type": "distant", "direction": [{}, {}, 0], "spectrum": "D65", "scale": 1}}],
+      "background": {{"spectrum": "E", "scale": 0}}
+    }})", kN, kWaterBox, std::sin(theta), -std::cos(theta)), "sun_over_water.json"));
+    const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
+    const Camera camera(scene.camera);
+    const SceneView<kHeroCount> v{scene, tables, camera, 8};
+    const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
+    const int water = scene.surfaces[0].medium_behind, nested = scene.surfaces[0].nested;
+    ASSERT_GE(water, 0);
+    const PhaseFunction isotropic = IsotropicPhase{};
+    const double cos_x = std::sqrt(1.0 - std::pow(std::sin(theta) / kN, 2.0));
+    const double t = 1.0 - fresnel_dielectric(std::cos(theta), cos_x, 1.0, kN);
+    const double expected = t * std::cos(theta) / cos_x / (4.0 * std::numbers::pi);
+    const SampledSpectrum<kHeroCount> sun = tables.at(std::get<DistantLight>(scene.lights[0]).irradiance, w);
+    for (const double depth_m : {0.01, 0.15}) {
+      const MediumPoint at{Vec3{0.02, -depth_m, -0.03}, Vec3{0, -1, 0}, isotropic, water,
+                           nested >= 0 ? nested_bit(nested) : InsideSet{0}};
+      Rng rng(1, 2);
+      std::uint64_t rays = 0;
+      const SampledSpectrum<kHeroCount> l =
+          direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true);
+      std::printf("sun %.0f deg from the vertical, %.0f mm deep: E.T.cos_l/cos_x/4pi %.6f, found %.6f (over E)\n",
+                  theta_deg, depth_m * 1e3, expected, l[0] / sun[0]);
+      for (std::size_t k = 0; k < kHeroCount; ++k)
+        EXPECT_NEAR(l[k] / sun[k], expected, 1e-6 * expected) << theta_deg << " deg, " << depth_m << " m, " << k;
+    }
   }
 }
 

@@ -468,7 +468,8 @@ double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) 
 
 // The paths this makes: the lens, the camera subpath up to a non-specular vertex x whose
 // predecessor is specular, a chain of smooth refractions that the straight segment from x to a
-// point or spot lamp meets, the lamp. No other strategy of bdpt makes them where no two
+// point or spot lamp meets, the lamp (or one flat face towards a sun: manifold.h,
+// distant_light_through_plane). No other strategy of bdpt makes them where no two
 // non-specular vertices of the camera subpath up to x lie side by side (the lens counts as one):
 // a connection joins two such neighbours, light tracing (t = 1) the lens and the camera's first
 // vertex, and next-event estimation's straight segment (s = 1) is blocked; the lamp itself is met

@@ -67,7 +67,8 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
   Vertex<N> y;
   WalkState<N> state;
   // (The path tracer's light paths start at its point and spot lamps alone: its own directions
-  // meet every other lamp, and a distant lamp's light through glass is left out.)
+  // meet every other lamp, and a distant lamp's light through glass, but for one flat face, is
+  // left out.)
   if (!start_light_subpath(v, w, rng, y, state,
                            which == LightSplats::beyond_next_event ? &v.scene.point_lamps : nullptr))
     return;

@@ -749,13 +749,83 @@ void through_interface_each(const SceneView<N>& v, const PathVertex& at, const V
   through_each(v, at, inside, *f, q, towards, medium_towards, w, path_r_u, rng, rays, end, add);
 }
 
-// The light of delta light `light` (point or spot) at vertex `at` through the smooth interface
-// whose hit `blocker` stopped the straight shadow ray (through_interface_each), summed.
+// The light of a distant lamp (a sun) at vertex `at` through the flat smooth interface whose hit
+// `blocker` stopped the straight shadow ray: the one path that refracts there into the sun's
+// direction beyond. Snell's law at a plane fixes the direction on the vertex's side, so the
+// crossing is where the line back along it from the vertex meets the plane: no solve. A beam of
+// cross-section A⊥ on the sun's side meets A⊥/cos θ_l of the plane and leaves it A⊥·cos θ_x/cos θ_l
+// across, so the irradiance across the beam at the vertex is E·T·cos θ_l/cos θ_x (flux through a
+// tube: no n², as for the point lamps' tubes). Unweighted, as every delta lamp's connection (no
+// other strategy of the path tracer reaches a delta lamp; bdpt's through_glass says why its
+// weight is 1 there too). Nothing through an exact sphere or a cylinder's side, smooth-shaded
+// faces, or more than one crossing (the sun's line from the crossing must be clear): those solves
+// take a lamp point, and that light stays missing (docs/rendering.md); nor through a face that
+// neither the straight line nor the refracted lines tried meet first: where two faces each carry
+// a path, the second (the floor of a box of water near its sunlit wall gets the sun through the
+// top and through that wall; the wall's share, a third of the light there, is missing: the light
+// tracer read 1.5 times as much there).
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> distant_light_through_plane(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
+                                               const Hit& blocker, Towards towards, MediumTowards medium_towards,
+                                               const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
+                                               Rng& rng, std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  const Vec3 travel_sun = normalize(sun.direction), to_sun = -travel_sun;
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, to_sun) : at.inside;
+  // The face the straight line meets first; where the refracted line meets another face of the
+  // same surface first (near an edge of a box of water: the straight line leaves by a side, the
+  // refracted one by the top), that face's plane next, up to three.
+  Hit face = blocker;
+  for (int tries = 0; tries < 3; ++tries) {
+    if (find_caster(s, face.geometry)) return {};
+    if (!s.rays.analytic(face.geometry) && dot(face.shading_normal, face.normal) < 1.0 - 1e-9) return {};
+    const auto f = smooth_interface(s, face, surface_seen(s, face, inside));
+    if (!f || f->shape != Interface::Shape::plane) return {};
+    const bool sun_front = dot(to_sun, f->normal) > 0.0;
+    if (f->front(at.point) == sun_front) return {};  // (the vertex on the sun's side: no crossing)
+    const double eta_front = s.media[static_cast<std::size_t>(f->medium_front)].ior_reference;
+    const double eta_behind = s.media[static_cast<std::size_t>(f->medium_behind)].ior_reference;
+    const double eta_sun = sun_front ? eta_front : eta_behind, eta_x = sun_front ? eta_behind : eta_front;
+    const Vec3 n_sun = sun_front ? f->normal : -f->normal;
+    const double cos_l = dot(to_sun, n_sun), cos_x = cos_theta_transmitted(cos_l, eta_sun, eta_x);
+    if (!(cos_l > 0.0) || !(cos_x > 0.0)) return {};
+    // The refracted direction of travel on the vertex's side, and back along it to the plane.
+    const double eta = eta_sun / eta_x;
+    const Vec3 wi = -normalize(travel_sun * eta + n_sun * (eta * cos_l - cos_x));
+    if (at.hit && dot(wi, at.hit->normal) * dot(to_sun, at.hit->normal) <= 0.0) return {};  // (its other side)
+    const double along = dot(f->point - at.point, f->normal) / dot(wi, f->normal);
+    if (!(along > 0.0) || !std::isfinite(along)) return {};
+    const std::array<Vec3, 2> ys{at.point + wi * along, Vec3{}};
+    if (const auto r = follow(v, at, inside, *f, ys, 1, ys[0] + to_sun, medium_towards, w, rng, rays)) {
+      double vertex_pdf = 0.0;
+      const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
+      if (fv.is_zero()) return {};
+      const auto beyond = transmission(v, PathVertex{r->last.point, &r->last, r->inside}, to_sun,
+                                       std::numeric_limits<double>::infinity(), r->medium, w, rng, rays);
+      if (!beyond) return {};
+      const SampledSpectrum<N> r_l = r->r_l * beyond->ratios.r_l;
+      return fv * v.tables.at(sun.irradiance, w) * r->tr * beyond->tr *
+             static_cast<float>(r->fresnel * cos_l / cos_x / mean_ratio(s, path_r_u, r_l));
+    }
+    const auto next = s.rays.intersect(Ray{at.origin_towards(wi), wi});
+    ++rays;
+    if (!next || (next->geometry == face.geometry && dot(next->normal, face.normal) > 1.0 - 1e-9)) return {};
+    face = *next;
+  }
+  return {};
+}
+
+// The light of delta light `light` at vertex `at` through the smooth interface whose hit
+// `blocker` stopped the straight shadow ray (through_interface_each; a distant lamp through a
+// plane alone, above), summed.
 template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const PathVertex& at, const Light& light,
                                                  const Hit& blocker, Towards towards, MediumTowards medium_towards,
                                                  const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
                                                  Rng& rng, std::uint64_t& rays) {
+  if (const auto* sun = std::get_if<DistantLight>(&light))
+    return distant_light_through_plane(v, at, *sun, blocker, towards, medium_towards, w, path_r_u, rng, rays);
   const auto lamp = manifold_detail::delta_lamp(light);
   if (!lamp) return {};
   SampledSpectrum<N> sum;
