@@ -153,14 +153,18 @@ TEST(LightTracer, SeesThroughGlassAsThePathTracer) {
 // (the floor in view far from the walls, whose light through the lit wall the path tracer does not
 // find: manifold.h): the path tracer reaches the sun through the water's flat top
 // (manifold.h: distant_light_through_plane), the light tracer's light subpaths refract in from it
-// (its camera connections through the same face). What it catches: the beam's compression left
-// out (cos θ_l/cos θ_x: 10 % bright) or a radiance's n² (77 %), Fresnel left out (2 %, under the
-// cap), and a sun the path tracer does not reach through glass (before: black).
+// (its camera connections through the same face); bdpt, whose camera subpath sees the floor
+// through the water, takes the path tracer's connection (Bdpt::through_glass) and agrees too.
+// What it catches: the beam's compression left out (cos θ_l/cos θ_x: 10 % bright) or a
+// radiance's n² (77 %), Fresnel left out (2 %, under the cap), and a sun the path tracer or bdpt
+// does not reach through water (before: black).
 TEST(LightTracer, SeesASunThroughWaterAsThePathTracer) {
-  expect_light_tracer_sees_as_path(
-      scene(kPoolCamera, kPool,
-            R"({"type": "distant", "direction": [0.5736, -0.8192, 0], "spectrum": "D65", "scale": 1})"),
-      "floor under water, a sun", 16, 1024, 0.03);
+  const std::string json = scene(kPoolCamera, kPool,
+                                 R"({"type": "distant", "direction": [0.5736, -0.8192, 0], "spectrum": "D65", "scale": 1})");
+  expect_light_tracer_sees_as_path(json, "floor under water, a sun", 16, 1024, 0.03);
+  const SceneDesc desc = parse_scene(json, "sun_over_pool.json");
+  expect_agree("floor under water, a sun", "path", image_means(desc, IntegratorType::path, 16), "bdpt",
+               image_means(desc, IntegratorType::bdpt, 4), 0.03);
 }
 
 // The last two of the four: through an exact ball and a smooth-shaded tumbler. About 11 s on an

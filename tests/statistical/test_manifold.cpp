@@ -138,49 +138,57 @@ TEST(ManifoldNextEvent, PointLampUnderFlatWaterLightsTheCeilingAsTheClosedFormSa
   }
 }
 
-// A sun through the flat top of the water box at a vertex in the water (manifold.h:
-// distant_light_through_plane): next-event estimation at a medium point of an isotropic phase
-// function gets E·T·cos θ_l/cos θ_x/(4π) at every carried wavelength, to rounding, for the sun at
-// 0°, 40° and 70° from the vertical, at two depths (a sun's light does not fall off). What it
-// catches: the beam's compression left out (cos θ_l/cos θ_x: 12 % at 40°, 42 % at 70°), a
-// radiance's n² (77 %), no Fresnel (2 % to 14 %), the crossing or the direction on the water's
-// side wrong (the face missed: nothing), and no light at all (before: the glass stopped it).
+// A sun through the flat top of the water (a box's face, a cylinder's cap) at a vertex in the
+// water (manifold.h: distant_light_through_plane): next-event estimation at a medium point gets
+// E·T·cos θ_l/cos θ_x times the phase function's value at every carried wavelength, to rounding,
+// for the sun at 0°, 40° and 70° from the vertical, at two depths (a sun's light does not fall
+// off), isotropic and Henyey–Greenstein g = 0.5 (the light travelling down the refracted line,
+// scattered back up the walk: cos θ = −cos θ_x, the phase small where the other convention
+// would make it large). What it catches: the beam's compression left out (cos θ_l/cos θ_x: 14 %
+// bright at 40°, 107 % at 70°), a radiance's n² (77 %), no Fresnel (2 % to 14 %), the phase
+// function read the other way (a factor 7 to 27 at g = 0.5), the crossing or the direction on the
+// water's side wrong (the face missed: nothing), and no light at all (before: the glass stopped it).
 TEST(ManifoldNextEvent, SunThroughFlatWaterIsTheClosedForm) {
-  for (const double theta_deg : {0.0, 40.0, 70.0}) {
-    const double theta = theta_deg * std::numbers::pi / 180.0;
-    const RenderScene scene = compile(parse_scene(fmt::format(R"({{
-      "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
-      "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
-      "world_medium": "vacuum",
-      "media": {{"water": {{"ior": {}}}}},
-      "objects": [{{"name": "water", "shape": {}, "inside": "water"}}],
-      "lights": [{{"type": "distant", "direction": [{}, {}, 0], "spectrum": "D65", "scale": 1}}],
-      "background": {{"spectrum": "E", "scale": 0}}
-    }})", kN, kWaterBox, std::sin(theta), -std::cos(theta)), "sun_over_water.json"));
-    const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
-    const Camera camera(scene.camera);
-    const SceneView<kHeroCount> v{scene, tables, camera, 8};
-    const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
-    const int water = scene.surfaces[0].medium_behind, nested = scene.surfaces[0].nested;
-    ASSERT_GE(water, 0);
-    const PhaseFunction isotropic = IsotropicPhase{};
-    const double cos_x = std::sqrt(1.0 - std::pow(std::sin(theta) / kN, 2.0));
-    const double t = 1.0 - fresnel_dielectric(std::cos(theta), cos_x, 1.0, kN);
-    const double expected = t * std::cos(theta) / cos_x / (4.0 * std::numbers::pi);
-    const SampledSpectrum<kHeroCount> sun = tables.at(std::get<DistantLight>(scene.lights[0]).irradiance, w);
-    for (const double depth_m : {0.01, 0.15}) {
-      const MediumPoint at{Vec3{0.02, -depth_m, -0.03}, Vec3{0, -1, 0}, isotropic, water,
-                           nested >= 0 ? nested_bit(nested) : InsideSet{0}};
-      Rng rng(1, 2);
-      std::uint64_t rays = 0;
-      const SampledSpectrum<kHeroCount> l =
-          direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true);
-      std::printf("sun %.0f deg from the vertical, %.0f mm deep: E.T.cos_l/cos_x/4pi %.6f, found %.6f (over E)\n",
-                  theta_deg, depth_m * 1e3, expected, l[0] / sun[0]);
-      for (std::size_t k = 0; k < kHeroCount; ++k)
-        EXPECT_NEAR(l[k] / sun[k], expected, 1e-6 * expected) << theta_deg << " deg, " << depth_m << " m, " << k;
+  for (const auto& [water, what] : {std::pair{kWaterBox, "a box's face"}, std::pair{kWaterCylinder, "a cylinder's cap"}})
+    for (const double theta_deg : {0.0, 40.0, 70.0}) {
+      const double theta = theta_deg * std::numbers::pi / 180.0;
+      const RenderScene scene = compile(parse_scene(fmt::format(R"({{
+        "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
+        "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
+        "world_medium": "vacuum",
+        "media": {{"water": {{"ior": {}}}}},
+        "objects": [{{"name": "water", "shape": {}, "inside": "water"}}],
+        "lights": [{{"type": "distant", "direction": [{}, {}, 0], "spectrum": "D65", "scale": 1}}],
+        "background": {{"spectrum": "E", "scale": 0}}
+      }})", kN, water, std::sin(theta), -std::cos(theta)), "sun_over_water.json"));
+      const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
+      const Camera camera(scene.camera);
+      const SceneView<kHeroCount> v{scene, tables, camera, 8};
+      const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
+      const int medium = scene.surfaces[0].medium_behind, nested = scene.surfaces[0].nested;
+      ASSERT_GE(medium, 0);
+      const double cos_x = std::sqrt(1.0 - std::pow(std::sin(theta) / kN, 2.0));
+      const double t = 1.0 - fresnel_dielectric(std::cos(theta), cos_x, 1.0, kN);
+      const SampledSpectrum<kHeroCount> sun = tables.at(std::get<DistantLight>(scene.lights[0]).irradiance, w);
+      for (const double g : {0.0, 0.5}) {
+        const PhaseFunction phase = g == 0.0 ? PhaseFunction{IsotropicPhase{}} : PhaseFunction{HenyeyGreensteinPhase{g}};
+        const double hg = (1.0 - g * g) / (4.0 * std::numbers::pi * std::pow(1.0 + g * g + 2.0 * g * cos_x, 1.5));
+        const double expected = t * std::cos(theta) / cos_x * hg;
+        for (const double depth_m : {0.01, 0.15}) {
+          const MediumPoint at{Vec3{0.02, -depth_m, -0.03}, Vec3{0, -1, 0}, phase, medium,
+                               nested >= 0 ? nested_bit(nested) : InsideSet{0}};
+          Rng rng(1, 2);
+          std::uint64_t rays = 0;
+          const SampledSpectrum<kHeroCount> l =
+              direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true);
+          std::printf("sun through %s, %.0f deg, g %.1f, %.0f mm deep: closed form %.6f, found %.6f (over E)\n", what,
+                      theta_deg, g, depth_m * 1e3, expected, l[0] / sun[0]);
+          for (std::size_t k = 0; k < kHeroCount; ++k)
+            EXPECT_NEAR(l[k] / sun[k], expected, 1e-6 * expected)
+                << what << ", " << theta_deg << " deg, g " << g << ", " << depth_m << " m, " << k;
+        }
+      }
     }
-  }
 }
 
 // Flat layers between a point lamp and the ceiling (each a thickness and an index, from the lamp

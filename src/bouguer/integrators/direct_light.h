@@ -87,7 +87,8 @@ enum class NextEvent : std::uint8_t {
   // the vertex's own sampling of its direction by the power heuristic.
   lights_and_map_weighted,
   // The same, and a point or spot light that smooth interfaces hide (a flat face, a chain of mesh
-  // faces, an exact sphere) reached through them (manifold.h), for the path tracer alone: no other strategy of its
+  // faces, an exact sphere), or a sun one flat face hides, reached through them (manifold.h), for
+  // the path tracer alone: no other strategy of its
   // reaches those paths, where the bidirectional estimators' light subpaths do (their tails keep
   // lights_and_map_weighted; bdpt's one exception, where its light subpaths reach the vertex but
   // no connection can join them to the camera subpath, is Bdpt::through_glass). Area and spherical lights too, through exact spheres and (small ones:

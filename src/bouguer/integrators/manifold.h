@@ -14,12 +14,14 @@
 // times the Fresnel transmittance at each crossing, the transmittance of every segment (exact
 // Bouguer–Lambert, fields and priorities as any shadow ray; ratio-tracked in scattering media,
 // with all segments' spectral-MIS ratios), and the ray tube's dω_light / dA⊥ at the vertex (the
-// irradiance a point source gives through the refractions: flux is conserved, so no n² appears).
+// irradiance a point source gives through the refractions: flux is conserved, so no n² appears);
+// for a sun through one plane, its irradiance across the beam times the beam's compression
+// there (distant_light_through_plane).
 // Zero where no such path exists: a crossing off the face the straight shadow ray met (a plane)
 // or hidden, an interface that disperses, is rough or shades with normals other than its own,
 // something else in the way.
 //
-// Which strategy owns which path. Point and spot lights: these connections are the path tracer's
+// Which strategy owns which path. Point, spot and distant lights: these connections are the path tracer's
 // only strategy, so nothing is weighted (and bdpt's, at a non-specular vertex the camera sees
 // through specular ones: Bdpt::through_glass). Area and spherical lights through a caster
 // (RenderScene::casters: exact smooth spheres of objects without a priority): the walk also
@@ -763,7 +765,10 @@ void through_interface_each(const SceneView<N>& v, const PathVertex& at, const V
 // neither the straight line nor the refracted lines tried meet first: where two faces each carry
 // a path, the second (the floor of a box of water near its sunlit wall gets the sun through the
 // top and through that wall; the wall's share, a third of the light there, is missing: the light
-// tracer read 1.5 times as much there).
+// tracer read 1.5 times as much there, one render each). Nor where the caller tries none: the
+// straight line stopped by something opaque first (a pool's floor beside an opaque wall facing
+// the sun, whose refracted light clears it), or a surface that faces the refracted direction but
+// not the sun (an underwater slope facing away from a low sun).
 template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> distant_light_through_plane(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
                                                const Hit& blocker, Towards towards, MediumTowards medium_towards,
@@ -773,9 +778,10 @@ SampledSpectrum<N> distant_light_through_plane(const SceneView<N>& v, const Path
   const RenderScene& s = v.scene;
   const Vec3 travel_sun = normalize(sun.direction), to_sun = -travel_sun;
   const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, to_sun) : at.inside;
-  // The face the straight line meets first; where the refracted line meets another face of the
-  // same surface first (near an edge of a box of water: the straight line leaves by a side, the
-  // refracted one by the top), that face's plane next, up to three.
+  // The face the straight line meets first; where the refracted line meets another surface first
+  // (near an edge of a box of water: the straight line leaves by a side, the refracted one by the
+  // top), that one's plane next, up to three tries (a path accepted is valid whatever face it
+  // crosses: follow checks it, and the sun's line beyond).
   Hit face = blocker;
   for (int tries = 0; tries < 3; ++tries) {
     if (find_caster(s, face.geometry)) return {};
