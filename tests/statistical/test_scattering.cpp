@@ -134,13 +134,7 @@ TEST(Scattering, ChromaticDenseFurnaceSplitsIntoExactWalks) {
   const Film ball = render(desc, SpectralMode::hero, 16);
   desc.objects.clear();
   const Film sky = render(desc, SpectralMode::hero, 16);
-  double worst = 0.0;
-  for (int y = 0; y < ball.height; ++y)
-    for (int x = 0; x < ball.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        const double b = ball.rgb_at(x, y)[c], s = sky.rgb_at(x, y)[c];
-        worst = std::max(worst, std::abs(b - s) / s);
-      }
+  const double worst = test::largest_relative_difference(ball, sky);
   std::printf("chromatic dense furnace, hero, 16 spp: largest relative difference from the sky %.2e\n", worst);
   EXPECT_LT(worst, 1e-4);
   expect_white_furnace(furnace, "chromatic dense", 64, 0.01);

@@ -190,13 +190,7 @@ TEST(ShellTransport, AWhiteFurnaceStaysWhite) {
   const Film ball = test::render_desc(desc);
   desc.objects.clear();
   const Film sky = test::render_desc(desc);
-  double worst = 0.0;
-  for (int y = 0; y < ball.height; ++y)
-    for (int x = 0; x < ball.width; ++x)
-      for (int c = 0; c < 3; ++c) {
-        const double b = ball.rgb_at(x, y)[c], s = sky.rgb_at(x, y)[c];
-        worst = std::max(worst, std::abs(b - s) / s);
-      }
+  const double worst = test::largest_relative_difference(ball, sky);
   std::printf("white furnace with spheres, hero, 16 spp: largest relative difference from the sky %.2e\n", worst);
   // (Every throughput stays 1.0f exactly: nothing multiplies it but 1. A sphere that took 10⁻⁴ off
   // it, measured on purpose, left the image 7 % from the sky: the roulette then ends walks.)

@@ -144,6 +144,17 @@ std::vector<Film> render_seeds(const SceneDesc& desc, int seeds, std::uint64_t f
 
 Film render_text(const std::string& json, int threads) { return render_desc(parse_scene(json, "test.json"), threads); }
 
+double largest_relative_difference(const Film& a, const Film& reference) {
+  double worst = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double v = a.rgb_at(x, y)[c], r = reference.rgb_at(x, y)[c];
+        worst = std::max(worst, std::abs(v - r) / r);
+      }
+  return worst;
+}
+
 fs::path test_data(const std::string& relative) { return fs::path(BOUGUER_SOURCE_DIR) / "tests" / "data" / relative; }
 
 double chromaticity_spread(const Film& f, int& lit) {

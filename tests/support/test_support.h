@@ -51,6 +51,10 @@ std::vector<Film> render_seeds(const SceneDesc& desc, int seeds, std::uint64_t f
 // The same from scene-file text.
 Film render_text(const std::string& json, int threads = 0);
 
+// The largest relative difference of `a` from `reference` over every pixel and channel (the
+// furnaces' measure: a ball's image against the sky's alone).
+double largest_relative_difference(const Film& a, const Film& reference);
+
 // The measure of chromatic noise of #4: the spread (standard deviation, x and y combined) of the
 // chromaticity over the pixels whose r + g + b is at least 0.05 (light reflected away has no colour
 // to measure); `lit` receives how many pixels that is.

@@ -797,8 +797,7 @@ SampledSpectrum<N> distant_light_through_plane(const SceneView<N>& v, const Path
     const double cos_l = dot(to_sun, n_sun), cos_x = cos_theta_transmitted(cos_l, eta_sun, eta_x);
     if (!(cos_l > 0.0) || !(cos_x > 0.0)) return {};
     // The refracted direction of travel on the vertex's side, and back along it to the plane.
-    const double eta = eta_sun / eta_x;
-    const Vec3 wi = -normalize(travel_sun * eta + n_sun * (eta * cos_l - cos_x));
+    const Vec3 wi = -refract(to_sun, n_sun, cos_l, cos_x, eta_sun / eta_x);
     if (at.hit && dot(wi, at.hit->normal) * dot(to_sun, at.hit->normal) <= 0.0) return {};  // (its other side)
     const double along = dot(f->point - at.point, f->normal) / dot(wi, f->normal);
     if (!(along > 0.0) || !std::isfinite(along)) return {};
