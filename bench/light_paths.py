@@ -8,7 +8,8 @@ figures in docs/performance.md.
 
     python3 bench/light_paths.py build/bouguer
 
-SPP (64), RESOLUTION (64x64), THREADS (1) may be set in the environment."""
+SPP (64), RESOLUTION (64x64), THREADS (1) may be set in the environment; LIGHTS=sun lights the
+tumbler with a sun from the side, 30° up (irradiance 1, D65), in place of its two lamps."""
 import json
 import os
 import struct
@@ -45,6 +46,8 @@ def main(argv):
     spp, resolution, threads = os.environ.get("SPP", "64"), os.environ.get("RESOLUTION", "64x64"), os.environ.get("THREADS", "1")
     with open(os.path.join(REPO, "tests/data/lit_tumbler/scene.json")) as f:
         scene = json.load(f)
+    if os.environ.get("LIGHTS") == "sun":
+        scene["lights"] = [{"type": "distant", "direction": [0.8, -0.5, -0.3], "spectrum": "D65", "scale": 1}]
     print("| estimator | spp | seconds (one render) | liquid, mean green | mean ΔE00 (liquid) | ΔE00 × √s |")
     print("|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:

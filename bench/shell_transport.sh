@@ -4,7 +4,8 @@
 # under the same studio map, the glass again with a point lamp (tungsten, up and to the right,
 # whose light reaches the milk through the glass: the spheres' kept collisions connect to it, and
 # they keep clear of the glass by a margin) and with a sun (which lights the sweep, and the milk
-# through its open top: no connection brings a sun through the glass's wall, docs/rendering.md). For each setting, PAIRS renders of two seeds each (seeds 1-2, 3-4, ...):
+# through its open top and the glass's wall, docs/rendering.md). For each setting, PAIRS renders
+# of two seeds each (seeds 1-2, 3-4, ...):
 # the seconds of a render (its --stats-json, wall clock), the mean ΔE00 between the two seeds of a
 # pair (about √2 times one render's error: noise only, which is all an exact change can move), and
 # ΔE00² × seconds (lower is better; off / on is the efficiency gained). Reports only; figures in

@@ -150,9 +150,10 @@ TEST(Choose, DarkerBeyondNoiseOnlyWhereTheGapIsBothSignificantAndLarge) {
 
 // Where a point lamp shines through a glass block onto a floor, the path tracer by itself cannot
 // reach the light the block reflects (no direction it draws meets a point): it is trialled, and
-// chosen, only with its light paths (render.light_paths), which make that light. With an
-// orthographic camera, whose connections through glass the light paths lack, or a distant lamp,
-// which has none, or with `manifold` off, it is no candidate and not trialled; below 16 spp, with
+// chosen, only with its light paths (render.light_paths), which make that light; so too under a
+// sun, whose light paths start on the disk across the scene. With an orthographic camera, whose
+// connections through glass the light paths lack, or with `manifold` off, it is no candidate and
+// not trialled; below 16 spp, with
 // no trials, it renders with them. An exact glass sphere instead of the block
 // is one next-event estimation connects through (integrators/manifold.h): then it is a candidate
 // by itself, unless the scene turns that off.
@@ -187,6 +188,12 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   EXPECT_TRUE(with.trials[0].light_paths);
   EXPECT_GT(with.trials[0].rays, 0u);
   EXPECT_EQ(with.light_paths, with.chosen == IntegratorType::path);
+  const EstimatorChoice sun = choose_text(scene(block, true, R"("fov_deg": 45)", R"("type": "distant", "direction": [0, -1, 0.2])"));
+  ASSERT_EQ(sun.trials.size(), 3u);
+  EXPECT_TRUE(sun.trials[0].complete);
+  EXPECT_TRUE(sun.trials[0].light_paths);
+  EXPECT_GT(sun.trials[0].rays, 0u);
+  EXPECT_EQ(sun.light_paths, sun.chosen == IntegratorType::path);
   // Without trials (under 16 spp), the path tracer with its light paths.
   const SceneDesc few = parse_scene(scene(block, true), "a.json");
   RenderControl control;
@@ -197,10 +204,8 @@ TEST(Choose, PathTracerTrialledWithItsLightPathsWhereAPointLampShinesThroughGlas
   EXPECT_EQ(quick.chosen, IntegratorType::path);
   EXPECT_TRUE(quick.light_paths);
   const char* orthographic = R"("type": "orthographic", "width": 0.3)";
-  const char* distant = R"("type": "distant", "direction": [0, -1, 0.2])";
   // (and with `manifold` off, which turns their connections through glass off)
-  for (const std::string& text : {scene(block, true, orthographic), scene(block, true, R"("fov_deg": 45)", distant),
-                                  scene(block, false)}) {
+  for (const std::string& text : {scene(block, true, orthographic), scene(block, false)}) {
     const EstimatorChoice c = choose_text(text);
     ASSERT_EQ(c.trials.size(), 3u);
     EXPECT_FALSE(c.trials[0].complete);

@@ -468,8 +468,8 @@ double Bdpt<N>::direction_pdf(const Vertex<N>& x, const Vec3& wi, bool reverse) 
 
 // The paths this makes: the lens, the camera subpath up to a non-specular vertex x whose
 // predecessor is specular, a chain of smooth refractions that the straight segment from x to a
-// point or spot lamp meets, the lamp (or one flat face towards a sun: manifold.h,
-// distant_light_through_plane). No other strategy of bdpt makes them where no two
+// point or spot lamp meets, the lamp (or the chains, plane or sphere that lead towards a sun:
+// manifold.h, distant_light_through_interface). No other strategy of bdpt makes them where no two
 // non-specular vertices of the camera subpath up to x lie side by side (the lens counts as one):
 // a connection joins two such neighbours, light tracing (t = 1) the lens and the camera's first
 // vertex, and next-event estimation's straight segment (s = 1) is blocked; the lamp itself is met
@@ -526,7 +526,7 @@ SampledSpectrum<N> Bdpt<N>::through_glass_at(const Vertex<N>& x, const SampledSp
   return x.beta * sum * (x.dispersed ? keep : SampledSpectrum<N>::constant(1.0f));
 }
 
-// The paths this makes: a point or spot lamp, a chain of specular vertices (the light subpath's)
+// The paths this makes: a point, spot or distant lamp, a chain of specular vertices (the light subpath's)
 // along which next-event estimation through glass does not reach the lamp from the chain's end y
 // (light_prefix.h: a reflection in the chain, or refractions it does not solve), y and the light
 // subpath on from y, up to a non-specular vertex x, then a chain of smooth refractions to the
@@ -547,15 +547,14 @@ void Bdpt<N>::through_glass_to_camera(std::span<const Vertex<N>> light, FilmBuff
   if (!v_.manifold || !s_.smooth_glass || v_.camera.desc.type != CameraType::pinhole || light.size() < 2 ||
       light[0].kind != VertexKind::light)
     return;
-  const auto lamp = manifold_detail::delta_lamp(s_.lights[static_cast<std::size_t>(light[0].light)]);
-  if (!lamp) return;
-  LightPrefix<N> prefix{*lamp};
+  auto prefix = light_prefix<N>(s_.lights[static_cast<std::size_t>(light[0].light)], light[0].point);
+  if (!prefix) return;
   bool decided = false, before_specular = false;  // (the lamp is not)
   for (std::size_t i = 1; i < light.size(); ++i) {
     const Vertex<N>& x = light[i];
     if (x.kind == VertexKind::light) return;
     if (!decided) {
-      const PrefixVerdict verdict = prefix.add(v_, x, w_, rays_);
+      const PrefixVerdict verdict = prefix->add(v_, x, w_, rays_);
       if (verdict == PrefixVerdict::made) return;
       decided = verdict == PrefixVerdict::beyond;
     }

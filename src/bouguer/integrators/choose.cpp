@@ -144,10 +144,6 @@ bool path_misses_light(const RenderScene& scene, const RenderSettings& settings)
 
 bool light_paths_complete(const RenderScene& scene, const RenderSettings& settings) {
   if (!settings.manifold || scene.camera.type != CameraType::pinhole) return false;
-  for (const int index : scene.delta_lights) {
-    const Light& light = scene.lights[static_cast<std::size_t>(index)];
-    if (!std::holds_alternative<PointLight>(light) && !std::holds_alternative<SpotLight>(light)) return false;
-  }
   // (A smooth metallic surface's lobe is narrow, not a delta: a light path ends there as at any
   // surface, and the light it reflects on stays as rare to the path tracer as before.)
   return std::none_of(scene.materials.begin(), scene.materials.end(), smooth_metal);

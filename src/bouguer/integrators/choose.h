@@ -84,8 +84,7 @@ int auto_render_spp(int spp, bool seconds_only = false);
 bool path_misses_light(const RenderScene& scene, const RenderSettings& settings);
 
 // Whether the path tracer's light paths (render.light_paths) make the light path_misses_light
-// says it misses: every delta lamp a point or spot lamp (a distant one has no light paths), a
-// pinhole camera and `manifold` on (their connections through glass need both), and no smooth
+// says it misses: a pinhole camera and `manifold` on (their connections through glass need both), and no smooth
 // metallic surface (a narrow lobe, not a delta: the light paths end there). What is then still
 // missing, light reflected on both sides of a vertex, the trials' comparison (darker_somewhere) is
 // there for. Where it holds, the path tracer is trialled, and chosen, with its light paths.

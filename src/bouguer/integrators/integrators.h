@@ -26,7 +26,7 @@ void render_path(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRe
 void render_light(const RenderScene&, const RenderSettings&, FilmBuffer&, PixelRegion, SampleRange,
                   const RenderControl&, RenderStats&);
 // The path tracer's light paths (render.light_paths): after each camera sample, one light path
-// from a point or spot lamp (drawn by power among them: RenderScene::point_lamps), splatted only
+// from a point, spot or distant lamp (drawn by power among them: RenderScene::delta_lamps), splatted only
 // where the path tracer's next-event estimation does not make the path (light.cpp). Their
 // streams' salt (render/sampling.h: sample_rng), apart from every other's.
 inline constexpr std::uint64_t kLightPathsSalt = 5;

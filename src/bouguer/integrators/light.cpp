@@ -23,7 +23,7 @@ namespace bouguer {
 namespace {
 
 // Which splats a light path makes: all of them (the light tracer), or only those of a path from a
-// point or spot lamp that the path tracer's next-event estimation does not make at the path's first
+// point, spot or distant lamp that the path tracer's next-event estimation does not make at the path's first
 // vertex that is not specular (manifold.h: next_event_makes): light a mirror or a glass reflected
 // on its way there, light through glass along a path the connection through the glass does not
 // solve. Added to the path tracer's image, these make every path either estimator makes count
@@ -66,19 +66,17 @@ void trace_light_path(const SceneView<N>& v, SampledWavelengths<N>& w, double di
                       FilmBuffer& film, std::uint64_t& rays, LightSplats which) {
   Vertex<N> y;
   WalkState<N> state;
-  // (The path tracer's light paths start at its point and spot lamps alone: its own directions
-  // meet every other lamp, and a distant lamp's light through glass, but for one flat face, is
-  // left out.)
+  // (The path tracer's light paths start at its point, spot and distant lamps alone: its own
+  // directions meet every other lamp.)
   if (!start_light_subpath(v, w, rng, y, state,
-                           which == LightSplats::beyond_next_event ? &v.scene.point_lamps : nullptr))
+                           which == LightSplats::beyond_next_event ? &v.scene.delta_lamps : nullptr))
     return;
   state.dispersion_u = dispersion_u;
   const Light& lamp = v.scene.lights[static_cast<std::size_t>(y.light)];
   SplatToCamera<N> splat{v, w, rng, film, rays};
   if (which == LightSplats::beyond_next_event) {
-    const auto delta = manifold_detail::delta_lamp(lamp);
-    if (!delta) return;
-    splat.prefix = LightPrefix<N>{*delta};
+    splat.prefix = light_prefix<N>(lamp, y.point);
+    if (!splat.prefix) return;
   } else if (on_a_surface(lamp)) {
     splat_light_to_camera(v, y.hit, lamp, state.medium, y.beta, w, rng, film, rays);
   }

@@ -1,12 +1,13 @@
 #pragma once
-// A light path's specular prefix: from a point or spot lamp to its first vertex that is not
-// specular, and whether next-event estimation at that vertex makes the path (manifold.h:
+// A light path's specular prefix: from a point, spot or distant lamp to its first vertex that is
+// not specular, and whether next-event estimation at that vertex makes the path (manifold.h:
 // next_event_makes). Two strategies that splat light through glass to the camera ask it, each to
 // count only what its estimator's other strategies do not make: the path tracer's light paths
 // (light.cpp, render.light_paths) and bdpt's light through glass to the camera
 // (bidirectional.h: Bdpt::through_glass_to_camera).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <variant>
 
 #include "bouguer/integrators/manifold.h"
@@ -31,13 +32,18 @@ enum class PrefixVerdict {
 // zero where the half vector of a refraction is not valid, next-event estimation reads with the
 // camera's side, which a light path does not know there (such light stays missing, said in
 // rendering.md).
+// A distant lamp's (`sun`) path is measured from where its light subpath started, on the disk
+// across the scene it draws its rays from (`previous`), as a point lamp's from the lamp: the
+// tolerance next_event_makes allows the light path's float hits grows with it.
 template <std::size_t N>
 struct LightPrefix {
   manifold_detail::DeltaLamp lamp;
+  const DistantLight* sun = nullptr;
+  Vec3 previous = lamp.p;
   bool after_specular = false, reflected = false;
   int crossings = 0;
   double path_m = 0.0;
-  Vec3 previous = lamp.p, nearest_lamp = {}, specular_normal = {}, specular_wo = {};
+  Vec3 nearest_lamp = {}, specular_normal = {}, specular_wo = {};
 
   PrefixVerdict add(const SceneView<N>& v, const Vertex<N>& x, const SampledWavelengths<N>& w, std::uint64_t& rays) {
     path_m += length(x.point - previous);
@@ -62,10 +68,20 @@ struct LightPrefix {
       return vertex_f(v.scene, x, x.wo, wi, TransportMode::radiance);
     };
     auto medium_towards = [&](const Vec3& wi) { return vertex_medium_towards(x, wi); };
-    return next_event_makes(v, vertex_at(x), lamp, nearest_lamp, path_m, crossings, towards, medium_towards, w, rays)
+    return next_event_makes(v, vertex_at(x), lamp, sun, nearest_lamp, path_m, crossings, towards, medium_towards, w,
+                            rays)
                ? PrefixVerdict::made
                : PrefixVerdict::beyond;
   }
 };
+
+// The prefix of a light path from `light` (its light subpath's first vertex `start`): a point, spot
+// or distant lamp; nothing for others.
+template <std::size_t N>
+std::optional<LightPrefix<N>> light_prefix(const Light& light, const Vec3& start) {
+  if (const auto* sun = std::get_if<DistantLight>(&light)) return LightPrefix<N>{.lamp = {}, .sun = sun, .previous = start};
+  if (const auto lamp = manifold_detail::delta_lamp(light)) return LightPrefix<N>{.lamp = *lamp};
+  return std::nullopt;
+}
 
 }  // namespace bouguer

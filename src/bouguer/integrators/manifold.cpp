@@ -256,6 +256,33 @@ SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, 
   return out;
 }
 
+SphereRefraction sphere_refraction_towards(const Vec3& inner, const Vec3& to_lamp, const Vec3& centre, double radius_m,
+                                           double eta_inner, double eta_outer, const NearSolution* near) {
+  SphereRefraction out;
+  // As sphere_refraction_points with the outer point infinitely far along e1 = to_lamp: in the
+  // plane of the centre, the inner point and that direction (the normal at a crossing passes
+  // through the centre, so Snell's law keeps the path in it), the optical length
+  // η_i·|inner − y| − η_o·y·e1 (a plane wave's phase) is stationary along the circle where its
+  // slope η_i·(a1·sin φ − a2·cos φ)/|inner − y| + η_o·sin φ is 0; its arc the half of the sphere
+  // whose outward normal has a part along e1.
+  const Vec3 to_inner = inner - centre;
+  if (!(length(to_inner) < radius_m)) return out;
+  const Vec3 e1 = to_lamp;
+  const Vec3 across = to_inner - e1 * dot(to_inner, e1);
+  const double across_m = length(across);
+  const Vec3 e2 = across_m > 1e-12 * radius_m ? across / across_m : Frame(e1).s;
+  const double a1 = dot(to_inner, e1) / radius_m, a2 = dot(to_inner, e2) / radius_m;
+  auto slope_cs = [&](double c, double s) {
+    return eta_inner * (a1 * s - a2 * c) / norm2(c - a1, s - a2) + eta_outer * s;
+  };
+  const double phi_max = 0.5 * std::numbers::pi * (1.0 - 1e-12);
+  const auto [from, to, intervals] = scan_range(phi_max, near, centre, e1, e2, 48);
+  scan_roots(slope_cs, slope_cs, from, to, intervals, static_cast<int>(out.points.size()), [&](double phi) {
+    out.points[static_cast<std::size_t>(out.count++)] = centre + (e1 * std::cos(phi) + e2 * std::sin(phi)) * radius_m;
+  }, true);
+  return out;
+}
+
 namespace {
 
 // Two points in a cylinder's frame: `ref` at (r, 0) across the axis on e1 (r its distance from the
@@ -346,9 +373,11 @@ struct CircleTrace {
 };
 // (With `extended`, a ray that gets out is valid whichever way (b1, b2) lies along it, `ahead`
 // saying which; and one totally reflected at the exit leaves along the tangent there, `reflected`
-// saying so: the side is then continuous where a ray stops getting out.)
+// saying so: the side is then continuous where a ray stops getting out. With `direction`, (b1, b2)
+// is a unit direction, a point infinitely far along it: the side is the exit direction's cross
+// product with it, ahead where they agree.)
 inline CircleTrace trace_circle(double a, double b1, double b2, double eta, double y1x, double y1y,
-                                bool extended = false) {
+                                bool extended = false, bool direction = false) {
   CircleTrace p;
   double dx = y1x - a, dy = y1y;
   const double dl = norm2(dx, dy);
@@ -373,7 +402,7 @@ inline CircleTrace trace_circle(double a, double b1, double b2, double eta, doub
     const double l = norm2(ox, oy);
     ox /= l, oy /= l;
   }
-  const double rx = b1 - p.y2x, ry = b2 - p.y2y;
+  const double rx = direction ? b1 : b1 - p.y2x, ry = direction ? b2 : b2 - p.y2y;
   p.ahead = ox * rx + oy * ry > 0.0;
   if (!p.ahead && !extended) return p;
   p.valid = true;
@@ -387,12 +416,13 @@ inline CircleTrace trace_circle(double a, double b1, double b2, double eta, doub
 // changes of the side of it (b1, b2) lies on, refined by the Illinois method to 1e-14 of a radian.
 // An interval whose ends differ in whether their rays pass (at an edge of total internal
 // reflection, or of the far point being ahead) is split in four, three times over, so a narrow
-// window of paths near it is not stepped over. `out(passage)` for each, at most `most`.
+// window of paths near it is not stepped over. `out(passage)` for each, at most `most`. With
+// `direction`, to a point infinitely far along the unit (b1, b2) (trace_circle).
 template <typename Out>
 void circle_passages(double a, double b1, double b2, double eta, double first, double last, int intervals, int most,
-                     Out out) {
+                     Out out, bool direction = false) {
   using Passage = CircleTrace;
-  auto passage_cs = [&](double y1x, double y1y) { return trace_circle(a, b1, b2, eta, y1x, y1y); };
+  auto passage_cs = [&](double y1x, double y1y) { return trace_circle(a, b1, b2, eta, y1x, y1y, false, direction); };
   auto passage = [&](double phi) { return passage_cs(std::cos(phi), std::sin(phi)); };
   auto side = [&](double phi) {
     const Passage p = passage(phi);
@@ -434,6 +464,16 @@ void circle_passages(double a, double b1, double b2, double eta, double first, d
   }
 }
 
+// What circle_passages hands over, kept as a sphere's passage: its entry and exit points in the
+// world (the circle's plane through the centre along e1, e2, in units of the radius).
+auto keep_passage(SpherePassages& out, const Vec3& centre, const Vec3& e1, const Vec3& e2, double radius_m) {
+  return [&out, centre, e1, e2, radius_m](const CirclePassage& p) {
+    const auto k = static_cast<std::size_t>(out.count++);
+    out.entry[k] = centre + (e1 * std::cos(p.phi) + e2 * std::sin(p.phi)) * radius_m;
+    out.exit[k] = centre + (e1 * p.exit_x + e2 * p.exit_y) * radius_m;
+  };
+}
+
 }  // namespace
 
 SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
@@ -462,11 +502,32 @@ SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec
   const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12);
   const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 16);
   circle_passages(a, b1, b2, eta, first, last, intervals, static_cast<int>(out.entry.size()),
-                  [&](const CirclePassage& p) {
-                    const auto k = static_cast<std::size_t>(out.count++);
-                    out.entry[k] = centre + (e1 * std::cos(p.phi) + e2 * std::sin(p.phi)) * radius_m;
-                    out.exit[k] = centre + (e1 * p.exit_x + e2 * p.exit_y) * radius_m;
-                  });
+                  keep_passage(out, centre, e1, e2, radius_m));
+  return out;
+}
+
+SpherePassages sphere_passage_towards(const Vec3& from, const Vec3& to_lamp, const Vec3& centre, double radius_m,
+                                      double eta_inside, double eta_outside, const NearSolution* near) {
+  SpherePassages out;
+  // As sphere_passage_points with `to` infinitely far along to_lamp, at (b1, b2) on the unit circle
+  // of directions with b2 ≥ 0.
+  const Vec3 to_from = from - centre;
+  const double a = length(to_from) / radius_m;
+  if (!(a > 1.0)) return out;
+  const Vec3 e1 = to_from / (a * radius_m);
+  const Vec3 across = to_lamp - e1 * dot(to_lamp, e1);
+  const double across_m = length(across);
+  const Vec3 e2 = across_m > 1e-12 ? across / across_m : Frame(e1).s;
+  const double b1 = dot(to_lamp, e1), b2 = dot(to_lamp, e2);
+  const double eta = eta_outside / eta_inside;
+  // (No path where the turn exceeds the most a passage deviates, plus the angle the sphere subtends
+  // at `from`: as there, the lamp's angle 0.)
+  const double turn = std::acos(std::clamp(-b1, -1.0, 1.0));
+  if (turn > 2.0 * std::acos(std::min(eta, 1.0 / eta)) + std::asin(1.0 / a)) return out;
+  const double phi_max = std::acos(1.0 / a) * (1.0 - 1e-12);
+  const auto [first, last, intervals] = scan_range(phi_max, near, centre, e1, e2, 16);
+  circle_passages(a, b1, b2, eta, first, last, intervals, static_cast<int>(out.entry.size()),
+                  keep_passage(out, centre, e1, e2, radius_m), true);
   return out;
 }
 

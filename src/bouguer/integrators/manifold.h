@@ -15,8 +15,8 @@
 // Bouguer–Lambert, fields and priorities as any shadow ray; ratio-tracked in scattering media,
 // with all segments' spectral-MIS ratios), and the ray tube's dω_light / dA⊥ at the vertex (the
 // irradiance a point source gives through the refractions: flux is conserved, so no n² appears);
-// for a sun through one plane, its irradiance across the beam times the beam's compression
-// there (distant_light_through_plane).
+// for a sun, its irradiance across the beam times the beam tube dA⊥_lamp/dA⊥_x (beam_tube,
+// chain_beam_tube: distant_light_through_interface).
 // Zero where no such path exists: a crossing off the face the straight shadow ray met (a plane)
 // or hidden, an interface that disperses, is rough or shades with normals other than its own,
 // something else in the way.
@@ -85,6 +85,13 @@ struct SphereRefraction {
 SphereRefraction sphere_refraction_points(const Vec3& inner, const Vec3& outer, const Vec3& centre, double radius_m,
                                           double eta_inner, double eta_outer, const NearSolution* near = nullptr);
 
+// The same towards a distant lamp: the points where a ray from `inner` refracts into the unit
+// direction to_lamp (the outer point infinitely far along it), on the half of the sphere whose
+// outward normal has a part along to_lamp; the plane of the paths is the centre's, inner's and
+// to_lamp's.
+SphereRefraction sphere_refraction_towards(const Vec3& inner, const Vec3& to_lamp, const Vec3& centre, double radius_m,
+                                           double eta_inner, double eta_outer, const NearSolution* near = nullptr);
+
 // The points of the side of a cylinder (its axis through `on_axis` along the unit `axis`, of
 // infinite length: whether a point lies on the finite side is for the caller to trace) where a ray
 // from `inner` (nearer the axis than the radius) refracts towards `outer` (farther): the stationary
@@ -117,6 +124,11 @@ struct SpherePassages {
 };
 SpherePassages sphere_passage_points(const Vec3& from, const Vec3& to, const Vec3& centre, double radius_m,
                                      double eta_inside, double eta_outside, const NearSolution* near = nullptr);
+
+// The same towards a distant lamp: the passages from `from` that leave the sphere along the unit
+// direction to_lamp (`to` infinitely far along it).
+SpherePassages sphere_passage_towards(const Vec3& from, const Vec3& to_lamp, const Vec3& centre, double radius_m,
+                                      double eta_inside, double eta_outside, const NearSolution* near = nullptr);
 
 // The paths from `from` to `to` (both outside the cylinder's side: farther from its axis than
 // the radius; the axis of infinite length, as above) through it: refracted in at entry[k], straight
@@ -223,6 +235,49 @@ inline Paths solve(const Interface& f, const Vec3& x, const Vec3& q, double eta_
       if (fx == fq) return out;  // both inside: no crossing
       return once(fx ? sphere_refraction_points(q, x, f.point, f.radius_m, eta_behind, eta_front, near)
                      : sphere_refraction_points(x, q, f.point, f.radius_m, eta_behind, eta_front, near));
+  }
+  return out;
+}
+
+// The paths through an interface from x that leave it along the unit to_lamp, towards a distant
+// lamp: a plane's one (Snell's law there fixes the direction on x's side, and the crossing is where
+// the line back along it meets the plane), a sphere's from inside it (once) or through it (twice,
+// f.twice). None through a cylinder's side (not yet: docs/rendering.md).
+inline Paths solve_towards(const Interface& f, const Vec3& x, const Vec3& to_lamp, double eta_front,
+                           double eta_behind, const NearSolution* near = nullptr) {
+  Paths out;
+  const bool fx = f.front(x);
+  switch (f.shape) {
+    case Interface::Shape::plane: {
+      const bool lamp_front = dot(to_lamp, f.normal) > 0.0;
+      if (fx == lamp_front) return out;
+      const double eta_lamp = lamp_front ? eta_front : eta_behind, eta_x = lamp_front ? eta_behind : eta_front;
+      const Vec3 n_lamp = lamp_front ? f.normal : -f.normal;
+      const double cos_l = dot(to_lamp, n_lamp), cos_x = cos_theta_transmitted(cos_l, eta_lamp, eta_x);
+      if (!(cos_l > 0.0) || !(cos_x > 0.0)) return out;
+      const Vec3 wi = -refract(to_lamp, n_lamp, cos_l, cos_x, eta_lamp / eta_x);  // on x's side, towards the plane
+      const double along = dot(f.point - x, f.normal) / dot(wi, f.normal);
+      if (!(along > 0.0) || !std::isfinite(along)) return out;
+      out.crossing[0][0] = x + wi * along;
+      out.count = 1;
+      return out;
+    }
+    case Interface::Shape::sphere: {
+      if (!fx) {
+        const SphereRefraction r = sphere_refraction_towards(x, to_lamp, f.point, f.radius_m, eta_behind, eta_front, near);
+        for (int k = 0; k < r.count; ++k) out.crossing[static_cast<std::size_t>(k)][0] = r.points[static_cast<std::size_t>(k)];
+        out.count = r.count;
+        return out;
+      }
+      if (!f.twice) return out;
+      const SpherePassages p = sphere_passage_towards(x, to_lamp, f.point, f.radius_m, eta_behind, eta_front, near);
+      out.crossings = 2;
+      for (int k = 0; k < p.count; ++k)
+        out.crossing[static_cast<std::size_t>(k)] = {p.entry[static_cast<std::size_t>(k)], p.exit[static_cast<std::size_t>(k)]};
+      out.count = p.count;
+      return out;
+    }
+    case Interface::Shape::cylinder: break;
   }
   return out;
 }
@@ -362,6 +417,47 @@ inline double tube(const Interface& f, const Vec3& x, const Vec3& wi, const std:
   return length(cross(*o1 - o0, *o2 - o0)) / (step * step);
 }
 
+// The beam tube at the vertex for a path leaving towards a distant lamp: the cross-section of the
+// lamp's parallel beam (across to_lamp) whose rays pass through a patch perpendicular to wi at x,
+// per unit area of it, dA⊥_lamp/dA⊥_x. Through a plane cos θ_l/cos θ_x in closed form (the beam
+// meets A⊥/cos θ_l of the plane and leaves it A⊥·cos θ_x/cos θ_l across). Through a sphere from its
+// symmetry about the axis through the centre along to_lamp: turning x about it by δ moves x ρ_x·δ
+// and the last crossing ρ_y·δ, both across the plane of the path; in the plane, by the solve at a
+// neighbour 1e-6 of the scale away (as `tube`), the last crossing's move across the beam.
+inline double beam_tube(const Interface& f, const Vec3& x, const Vec3& wi, const std::array<Vec3, 2>& ys,
+                        int crossings, const Vec3& to_lamp, double eta_front, double eta_behind) {
+  const Vec3& last = ys[static_cast<std::size_t>(crossings - 1)];
+  if (f.shape == Interface::Shape::plane) {
+    const double cos_x = std::abs(dot(wi, f.normal));
+    return cos_x > 0.0 ? std::abs(dot(to_lamp, f.normal)) / cos_x : 0.0;
+  }
+  const double step = 1e-6 * (length(ys[0] - x) + f.radius_m);
+  const NearSolution near{ys[0], std::max(1e-4, 10.0 * step / f.radius_m)};
+  // The last crossing's move across the beam with the vertex moved by `by`, the path the one whose
+  // last crossing is nearest this one's.
+  auto moved = [&](const Vec3& by) -> std::optional<Vec3> {
+    const Paths p = solve_towards(f, x + by * step, to_lamp, eta_front, eta_behind, &near);
+    std::optional<Vec3> d;
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < p.count; ++i) {
+      const Vec3 y = p.crossing[static_cast<std::size_t>(i)][static_cast<std::size_t>(p.crossings - 1)];
+      if (length(y - last) < best) best = length(y - last), d = (y - last) - to_lamp * dot(y - last, to_lamp);
+    }
+    return d;
+  };
+  const double rho_x = length(cross(x - f.point, to_lamp));
+  if (f.shape == Interface::Shape::sphere && rho_x > 1e-6 * length(x - f.point)) {
+    const Vec3 across = cross(x - f.point, to_lamp) / rho_x;  // the plane's normal
+    const auto d = moved(normalize(cross(across, wi)));
+    if (!d) return 0.0;
+    return length(*d) / step * length(cross(last - f.point, to_lamp)) / rho_x;
+  }
+  const Frame frame(wi);
+  const auto d1 = moved(frame.s), d2 = moved(frame.t);
+  if (!d1 || !d2) return 0.0;
+  return length(cross(*d1, *d2)) / (step * step);
+}
+
 // What the light sends along a path's final segment: its intensity, or its radiance × |cos θ_y|
 // divided by the density of the point drawn (area_pdf: the light's choice times the point's
 // density per m², 0 for a delta light); the final segment's transmittance and ratios.
@@ -468,6 +564,54 @@ LightEnd<N> delta_lamp_end(const SceneView<N>& v, const DeltaLamp& lamp, const R
   const double emitted = lamp.spot ? spot_falloff(*lamp.spot, -r.to_light) : 1.0;
   if (emitted == 0.0) return {};
   return point_end(v, v.tables.at(lamp.intensity, w) * static_cast<float>(emitted), r, w, rng, rays);
+}
+
+// What a distant lamp sends along a path's final segment, from its last crossing towards the lamp
+// (to_lamp) to infinity: its irradiance across the beam, and the segment's transmittance.
+template <std::size_t N>
+LightEnd<N> distant_lamp_end(const SceneView<N>& v, const DistantLight& sun, const Vec3& to_lamp, const Reach<N>& r,
+                             const SampledWavelengths<N>& w, Rng& rng, std::uint64_t& rays) {
+  const auto t = transmission(v, PathVertex{r.last.point, &r.last, r.inside}, to_lamp,
+                              std::numeric_limits<double>::infinity(), r.medium, w, rng, rays);
+  if (!t) return {};
+  return {v.tables.at(sun.irradiance, w), 0.0, 1.0, t->tr, t->ratios.r_l, t->ratios.r_u};
+}
+
+// The light of a distant lamp at vertex `at` along each path through interface f that leaves it
+// towards the lamp (solve_towards), add(l, last) taking each with its last crossing (nearest the
+// lamp): f·|cos θ| towards the first crossing, the irradiance
+// across the beam E times the beam tube (dA⊥_lamp/dA⊥_x), Fresnel at each crossing, every segment's
+// transmittance. Unweighted: no other strategy reaches a delta lamp. `followed`: whether some path
+// was clear up to its last crossing (the plane's tries go on to another face where none was).
+template <std::size_t N, typename Towards, typename MediumTowards, typename Add>
+void distant_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
+                     const DistantLight& sun, Towards towards, MediumTowards medium_towards,
+                     const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
+                     Add add, bool* followed = nullptr) {
+  const RenderScene& s = v.scene;
+  const Vec3 to_lamp = -normalize(sun.direction);
+  const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
+  const double eta_behind = s.media[static_cast<std::size_t>(f.medium_behind)].ior_reference;
+  const Paths paths = solve_towards(f, at.point, to_lamp, eta_front, eta_behind);
+  for (int k = 0; k < paths.count; ++k) {
+    const auto& ys = paths.crossing[static_cast<std::size_t>(k)];
+    // (A path leaving a surface vertex on the other side of it than the lamp's: the nested set
+    // `inside` is the lamp's side's.)
+    if (at.hit && dot(ys[0] - at.point, at.hit->normal) * dot(to_lamp, at.hit->normal) <= 0.0) continue;
+    const Vec3 beyond = ys[static_cast<std::size_t>(paths.crossings - 1)] + to_lamp;
+    const auto r = follow(v, at, inside, f, ys, paths.crossings, beyond, medium_towards, w, rng, rays);
+    if (!r) continue;
+    if (followed) *followed = true;
+    double vertex_pdf = 0.0;
+    const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
+    if (fv.is_zero()) continue;
+    const LightEnd<N> e = distant_lamp_end(v, sun, to_lamp, *r, w, rng, rays);
+    if (e.value.is_zero()) continue;
+    const double t = beam_tube(f, at.point, r->wi, ys, paths.crossings, to_lamp, eta_front, eta_behind);
+    if (!(t > 0.0) || !std::isfinite(t)) continue;
+    add(fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * t / mean_ratio(s, path_r_u, r->r_l * e.r_l)),
+        ys[static_cast<std::size_t>(paths.crossings - 1)]);
+  }
 }
 
 // What an area or spherical light sends from its point y along a path's final segment: clear up
@@ -752,28 +896,20 @@ void through_interface_each(const SceneView<N>& v, const PathVertex& at, const V
 }
 
 // The light of a distant lamp (a sun) at vertex `at` through the flat smooth interface whose hit
-// `blocker` stopped the straight shadow ray: the one path that refracts there into the sun's
-// direction beyond. Snell's law at a plane fixes the direction on the vertex's side, so the
-// crossing is where the line back along it from the vertex meets the plane: no solve. A beam of
-// cross-section A⊥ on the sun's side meets A⊥/cos θ_l of the plane and leaves it A⊥·cos θ_x/cos θ_l
-// across, so the irradiance across the beam at the vertex is E·T·cos θ_l/cos θ_x (flux through a
-// tube: no n², as for the point lamps' tubes). Unweighted, as every delta lamp's connection (no
-// other strategy of the path tracer reaches a delta lamp; bdpt's through_glass says why its
-// weight is 1 there too). Nothing through an exact sphere or a cylinder's side, smooth-shaded
-// faces, or more than one crossing (the sun's line from the crossing must be clear): those solves
-// take a lamp point, and that light stays missing (docs/rendering.md); nor through a face that
-// neither the straight line nor the refracted lines tried meet first: where two faces each carry
-// a path, the second (the floor of a box of water near its sunlit wall gets the sun through the
-// top and through that wall; the wall's share, a third of the light there, is missing: the light
-// tracer read 1.5 times as much there, one render each). Nor where the caller tries none: the
-// straight line stopped by something opaque first (a pool's floor beside an opaque wall facing
-// the sun, whose refracted light clears it), or a surface that faces the refracted direction but
-// not the sun (an underwater slope facing away from a low sun).
-template <std::size_t N, typename Towards, typename MediumTowards>
-SampledSpectrum<N> distant_light_through_plane(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
-                                               const Hit& blocker, Towards towards, MediumTowards medium_towards,
-                                               const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
-                                               Rng& rng, std::uint64_t& rays) {
+// `blocker` stopped the straight shadow ray (a cylinder's cap; a flat face of a mesh where no line
+// seeds a chain): the one path that refracts there into the sun's direction beyond
+// (solve_towards: no solve), its irradiance across the beam E·T·cos θ_l/cos θ_x (beam_tube: flux
+// through a tube, no n², as for the point lamps' tubes). Unweighted, as every delta lamp's
+// connection (no other strategy of the path tracer reaches a delta lamp; bdpt's through_glass
+// says why its weight is 1 there too). The face the straight line meets, or one the refracted
+// lines tried meet first (three tries); not one neither meets first, nor where the caller tries
+// none (the straight line stopped by something opaque first, or a surface that faces the
+// refracted direction but not the sun). add(l, last) as distant_through.
+template <std::size_t N, typename Towards, typename MediumTowards, typename Add>
+void distant_light_through_plane(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
+                                 const Hit& blocker, Towards towards, MediumTowards medium_towards,
+                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                 std::uint64_t& rays, Add add) {
   using namespace manifold_detail;
   const RenderScene& s = v.scene;
   const Vec3 travel_sun = normalize(sun.direction), to_sun = -travel_sun;
@@ -784,72 +920,232 @@ SampledSpectrum<N> distant_light_through_plane(const SceneView<N>& v, const Path
   // crosses: follow checks it, and the sun's line beyond).
   Hit face = blocker;
   for (int tries = 0; tries < 3; ++tries) {
-    if (find_caster(s, face.geometry)) return {};
-    if (!s.rays.analytic(face.geometry) && dot(face.shading_normal, face.normal) < 1.0 - 1e-9) return {};
+    if (find_caster(s, face.geometry)) return;
+    if (!s.rays.analytic(face.geometry) && dot(face.shading_normal, face.normal) < 1.0 - 1e-9) return;
     const auto f = smooth_interface(s, face, surface_seen(s, face, inside));
-    if (!f || f->shape != Interface::Shape::plane) return {};
-    const bool sun_front = dot(to_sun, f->normal) > 0.0;
-    if (f->front(at.point) == sun_front) return {};  // (the vertex on the sun's side: no crossing)
-    const double eta_front = s.media[static_cast<std::size_t>(f->medium_front)].ior_reference;
-    const double eta_behind = s.media[static_cast<std::size_t>(f->medium_behind)].ior_reference;
-    const double eta_sun = sun_front ? eta_front : eta_behind, eta_x = sun_front ? eta_behind : eta_front;
-    const Vec3 n_sun = sun_front ? f->normal : -f->normal;
-    const double cos_l = dot(to_sun, n_sun), cos_x = cos_theta_transmitted(cos_l, eta_sun, eta_x);
-    if (!(cos_l > 0.0) || !(cos_x > 0.0)) return {};
-    // The refracted direction of travel on the vertex's side, and back along it to the plane.
-    const Vec3 wi = -refract(to_sun, n_sun, cos_l, cos_x, eta_sun / eta_x);
-    if (at.hit && dot(wi, at.hit->normal) * dot(to_sun, at.hit->normal) <= 0.0) return {};  // (its other side)
-    const double along = dot(f->point - at.point, f->normal) / dot(wi, f->normal);
-    if (!(along > 0.0) || !std::isfinite(along)) return {};
-    const std::array<Vec3, 2> ys{at.point + wi * along, Vec3{}};
-    if (const auto r = follow(v, at, inside, *f, ys, 1, ys[0] + to_sun, medium_towards, w, rng, rays)) {
-      double vertex_pdf = 0.0;
-      const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
-      if (fv.is_zero()) return {};
-      const auto beyond = transmission(v, PathVertex{r->last.point, &r->last, r->inside}, to_sun,
-                                       std::numeric_limits<double>::infinity(), r->medium, w, rng, rays);
-      if (!beyond) return {};
-      const SampledSpectrum<N> r_l = r->r_l * beyond->ratios.r_l;
-      return fv * v.tables.at(sun.irradiance, w) * r->tr * beyond->tr *
-             static_cast<float>(r->fresnel * cos_l / cos_x / mean_ratio(s, path_r_u, r_l));
-    }
+    if (!f || f->shape != Interface::Shape::plane) return;
+    bool followed = false;
+    distant_through(v, at, inside, *f, sun, towards, medium_towards, w, path_r_u, rng, rays, add, &followed);
+    if (followed) return;
+    const Paths p = solve_towards(*f, at.point, to_sun, s.media[static_cast<std::size_t>(f->medium_front)].ior_reference,
+                                  s.media[static_cast<std::size_t>(f->medium_behind)].ior_reference);
+    if (p.count == 0) return;
+    const Vec3 wi = normalize(p.crossing[0][0] - at.point);
+    if (at.hit && dot(wi, at.hit->normal) * dot(to_sun, at.hit->normal) <= 0.0) return;  // (its other side)
     const auto next = s.rays.intersect(Ray{at.origin_towards(wi), wi});
     ++rays;
-    if (!next || (next->geometry == face.geometry && dot(next->normal, face.normal) > 1.0 - 1e-9)) return {};
+    if (!next || (next->geometry == face.geometry && dot(next->normal, face.normal) > 1.0 - 1e-9)) return;
     face = *next;
   }
-  return {};
+}
+
+// How many lines a distant lamp's connection through chains of mesh faces seeds chains from
+// (distant_light_through_chains), and the probes it casts for the faces they may cross
+// (measured on a sunlit tumbler of haze, bench/light_paths.py: docs/performance.md).
+inline constexpr int kSunSeeds = 3, kSunProbes = 4;
+inline constexpr double kSunProbeTilt_rad = 0.6;  // (34°)
+
+// The light of a distant lamp at vertex `at` along one chain of mesh faces, solved towards it
+// (solve_chain_towards): f·|cos θ| towards its first crossing, E times the beam tube
+// (chain_beam_tube), Fresnel at each crossing (by the shading normal, as the walk), every
+// segment's transmittance, the lamp's line beyond the last crossing clear to infinity.
+template <std::size_t N, typename Towards, typename MediumTowards>
+SampledSpectrum<N> distant_light_along_chain(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
+                                             const Chain& c, Towards towards, MediumTowards medium_towards,
+                                             const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
+                                             Rng& rng, std::uint64_t& rays) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  const Vec3 to_lamp = -normalize(sun.direction);
+  const Vec3 beyond = c.crossing[static_cast<std::size_t>(c.count - 1)].hit.point + to_lamp;
+  const auto r = follow_chain(v, at, c, beyond, medium_towards, w, rng, rays);
+  if (!r) return {};
+  double vertex_pdf = 0.0;
+  const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
+  if (fv.is_zero()) return {};
+  const LightEnd<N> e = distant_lamp_end(v, sun, to_lamp, *r, w, rng, rays);
+  if (e.value.is_zero()) return {};
+  const double tube = chain_beam_tube(s, at.point, to_lamp, c);
+  if (!(tube > 0.0) || !std::isfinite(tube)) return {};
+  return fv * e.value * r->tr * e.tr * static_cast<float>(r->fresnel * tube / mean_ratio(s, path_r_u, r->r_l * e.r_l));
+}
+
+// The light of a distant lamp at vertex `at` (`inside`: the nested set leaving it towards the
+// lamp) through chains of smooth refracting mesh faces, summed over the distinct paths found. A
+// point in a drink near its surface gets the sun both through the surface and through the glass's
+// wall, and which the straight line meets says nothing of the other; so chains are seeded from
+// several lines, each solved towards the lamp (Newton from that line's crossings), and a path
+// found from two lines is counted once (the same crossings in order, to 1e-6 of its first
+// segment). The lines: the straight one; then the lamp's direction of travel at the vertex
+// refracted once by the plane of the face each of kSunProbes probes, kSunProbeTilt_rad off the
+// straight line, meets first (from the index beyond the straight line's last crossing to the
+// vertex's: through a thin wall, nearly its path; the surface, where the straight line leaves by
+// the wall); kSunSeeds lines at most, none within about 2.6° of another, and none solved whose
+// crossings lie on the same surfaces as an earlier line's, each facing much as there. (On a
+// sunlit tumbler: also refracting by the faces the lines cross, six lines, found 0.5 % more light
+// at twice the cost; two lines, 8 % less; the straight line alone, 11 % less.) Paths none of
+// these lead Newton to are missing (docs/rendering.md: the path tracer's light paths bring them);
+// `any`: some line crossed only such faces. add(l, last) as distant_through.
+template <std::size_t N, typename Towards, typename MediumTowards, typename Add>
+void distant_light_through_chains(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
+                                  InsideSet inside, Towards towards, MediumTowards medium_towards,
+                                  const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                  std::uint64_t& rays, bool& any, Add add) {
+  const RenderScene& s = v.scene;
+  const Vec3 to_lamp = -normalize(sun.direction);
+  std::array<Vec3, kSunSeeds> lines{};
+  int line_count = 0;
+  auto add_line = [&](const Vec3& d) {
+    if (line_count == kSunSeeds) return;
+    for (int i = 0; i < line_count; ++i)
+      if (dot(d, lines[static_cast<std::size_t>(i)]) > 0.999) return;
+    lines[static_cast<std::size_t>(line_count++)] = d;
+  };
+  // The lamp's direction of travel at the vertex refracted by a plane of normal n, from eta_lamp
+  // to eta_x, reversed (towards the plane), where it gets through.
+  double eta_x = 0.0, eta_lamp = 0.0;
+  auto add_refracted = [&](Vec3 n) {
+    if (dot(n, to_lamp) < 0.0) n = -n;
+    const double cos_l = dot(to_lamp, n), cos_x = cos_theta_transmitted(cos_l, eta_lamp, eta_x);
+    if (cos_l > 0.0 && cos_x > 0.0) add_line(-refract(to_lamp, n, cos_l, cos_x, eta_lamp / eta_x));
+  };
+  std::array<Chain, kSunSeeds> found{};
+  int found_count = 0;
+  auto same_path = [&](const Chain& a, const Chain& b) {
+    if (a.count != b.count) return false;
+    const double tolerance = 1e-6 * length(a.crossing[0].hit.point - at.point);
+    for (int i = 0; i < a.count; ++i)
+      if (length(a.crossing[static_cast<std::size_t>(i)].hit.point - b.crossing[static_cast<std::size_t>(i)].hit.point) >
+          tolerance)
+        return false;
+    return true;
+  };
+  // (A line whose crossings are on the same surfaces as an earlier line's, in order, each facing
+  // within about 18° of that one's, would most likely lead Newton where that one's did: it is not
+  // solved. The facets of one curved wall are alike; a wall and a liquid's surface are not.)
+  std::array<Chain, kSunSeeds> seeded{};
+  int seeded_count = 0;
+  auto same_faces = [](const Chain& a, const Chain& b) {
+    if (a.count != b.count) return false;
+    for (int i = 0; i < a.count; ++i) {
+      const Hit &p = a.crossing[static_cast<std::size_t>(i)].hit, &q = b.crossing[static_cast<std::size_t>(i)].hit;
+      if (p.geometry != q.geometry || dot(p.normal, q.normal) < 0.95) return false;
+    }
+    return true;
+  };
+  add_line(to_lamp);
+  for (int i = 0; i < line_count; ++i) {
+    auto c = seed_chain_towards(s, at.point, at.hit, inside, lines[static_cast<std::size_t>(i)], rays);
+    if (!c) continue;
+    any = true;
+    bool again = false;
+    for (int k = 0; k < seeded_count && !again; ++k) again = same_faces(seeded[static_cast<std::size_t>(k)], *c);
+    if (again) continue;
+    seeded[static_cast<std::size_t>(seeded_count++)] = *c;
+    if (eta_x == 0.0) {  // (the straight line's indices, or the first line seeded)
+      eta_x = c->crossing[0].eta_from, eta_lamp = c->crossing[static_cast<std::size_t>(c->count - 1)].eta_to;
+      const Frame around(to_lamp);
+      for (int k = 0; k < kSunProbes; ++k) {
+        const double phi = 2.0 * std::numbers::pi * k / kSunProbes;
+        const Vec3 d = normalize(to_lamp * std::cos(kSunProbeTilt_rad) +
+                                 (around.s * std::cos(phi) + around.t * std::sin(phi)) * std::sin(kSunProbeTilt_rad));
+        // (The surface a probe meets across index-matched ones, as a line would seed it: a
+        // point 1000 km along it stands for infinity.)
+        const auto probe = first_surface(s, at.point, at.hit, inside, at.point + d * 1e6, rays);
+        if (probe && smooth_glass_seen(probe->seen)) add_refracted(probe->hit.shading_normal);
+      }
+    }
+    if (!solve_chain_towards(s, at.point, at.hit, to_lamp, *c, rays)) continue;
+    const Vec3 first = c->crossing[0].hit.point;
+    if (at.hit && dot(first - at.point, at.hit->normal) * dot(to_lamp, at.hit->normal) <= 0.0) continue;
+    bool seen = false;
+    for (int k = 0; k < found_count && !seen; ++k) seen = same_path(found[static_cast<std::size_t>(k)], *c);
+    if (seen) continue;
+    found[static_cast<std::size_t>(found_count++)] = *c;
+    const SampledSpectrum<N> l = distant_light_along_chain(v, at, sun, *c, towards, medium_towards, w, path_r_u, rng, rays);
+    if (!l.is_zero()) add(l, c->crossing[static_cast<std::size_t>(c->count - 1)].hit.point);
+  }
+}
+
+// The light of a distant lamp at vertex `at` through the smooth interface whose hit `blocker`
+// stopped the straight shadow ray: faces of meshes through chains (distant_light_through_chains),
+// or, where no line seeds one (something opaque behind the face), a flat face by its plane; a
+// cylinder's cap by its plane; an exact sphere that is not a caster from inside it (a nested one;
+// casters are through_casters'). Nothing through a cylinder's side (docs/rendering.md). add(l,
+// last) as distant_through.
+template <std::size_t N, typename Towards, typename MediumTowards, typename Add>
+void distant_light_through_interface(const SceneView<N>& v, const PathVertex& at, const DistantLight& sun,
+                                     const Hit& blocker, Towards towards, MediumTowards medium_towards,
+                                     const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
+                                     std::uint64_t& rays, Add add) {
+  using namespace manifold_detail;
+  const RenderScene& s = v.scene;
+  if (find_caster(s, blocker.geometry)) return;
+  const Vec3 to_lamp = -normalize(sun.direction);
+  const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, to_lamp) : at.inside;
+  if (!s.rays.analytic(blocker.geometry)) {
+    bool any = false;
+    distant_light_through_chains(v, at, sun, inside, towards, medium_towards, w, path_r_u, rng, rays, any, add);
+    if (any || dot(blocker.shading_normal, blocker.normal) < 1.0 - 1e-9) return;
+  }
+  const auto f = smooth_interface(s, blocker, surface_seen(s, blocker, inside));
+  if (!f) return;
+  switch (f->shape) {
+    case Interface::Shape::plane:
+      return distant_light_through_plane(v, at, sun, blocker, towards, medium_towards, w, path_r_u, rng, rays, add);
+    case Interface::Shape::sphere:
+      if (f->front(at.point)) return;  // (crossed twice: a caster's case, as for the point lamps)
+      return distant_through(v, at, inside, *f, sun, towards, medium_towards, w, path_r_u, rng, rays, add);
+    case Interface::Shape::cylinder: break;
+  }
 }
 
 // The light of delta light `light` at vertex `at` through the smooth interface whose hit
-// `blocker` stopped the straight shadow ray (through_interface_each; a distant lamp through a
-// plane alone, above), summed.
+// `blocker` stopped the straight shadow ray (through_interface_each; a distant lamp's,
+// distant_light_through_interface), summed.
 template <std::size_t N, typename Towards, typename MediumTowards>
 SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const PathVertex& at, const Light& light,
                                                  const Hit& blocker, Towards towards, MediumTowards medium_towards,
                                                  const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u,
                                                  Rng& rng, std::uint64_t& rays) {
-  if (const auto* sun = std::get_if<DistantLight>(&light))
-    return distant_light_through_plane(v, at, *sun, blocker, towards, medium_towards, w, path_r_u, rng, rays);
+  SampledSpectrum<N> sum;
+  if (const auto* sun = std::get_if<DistantLight>(&light)) {
+    distant_light_through_interface(v, at, *sun, blocker, towards, medium_towards, w, path_r_u, rng, rays,
+                                    [&](const SampledSpectrum<N>& l, const Vec3&) { sum += l; });
+    return sum;
+  }
   const auto lamp = manifold_detail::delta_lamp(light);
   if (!lamp) return {};
-  SampledSpectrum<N> sum;
   auto end = [&](const manifold_detail::Reach<N>& r) { return manifold_detail::delta_lamp_end(v, *lamp, r, w, rng, rays); };
   through_interface_each(v, at, lamp->p, blocker, towards, medium_towards, w, path_r_u, rng, rays, TubeFrom::vertex,
                          end, [&](const SampledSpectrum<N>& l, const manifold_detail::Reach<N>&) { sum += l; });
   return sum;
 }
 
-// Whether the path tracer's next-event estimation at vertex `at` to delta lamp `lamp` makes the
+// How near a solved path's last crossing must come to a light path's first (`nearest_lamp`) to be
+// the same path (next_event_makes): 1e-5 of the path's length (at least of the float rounding's
+// scale there), and at least 4 ray offsets a crossing: the light path's rays leave each crossing
+// from an origin offset off the surface (ray_offset_m, 4e-6 of the coordinates), which moves its
+// path up to about that much off the exact one; a sun's paths, measured from the disk its rays
+// start on a few centimetres away, came out 2e-7 to 1.5e-6 m off through a glass's wall (2e-6 to
+// 4e-5 of their length), and a tolerance of 1e-5 of it alone counted a fifth of them twice.
+inline double made_within_m(const RenderScene& s, const Vec3& nearest_lamp, double path_m, int crossings) {
+  return std::max(1e-5 * std::max(path_m, s.rays.rounding_scale_m(nearest_lamp)),
+                  4.0 * crossings * ray_offset_m(nearest_lamp));
+}
+
+// Whether the path tracer's next-event estimation at vertex `at` to delta lamp `lamp` (or, given
+// `sun`, to that distant lamp) makes the
 // path along which the lamp's light reached `at` refracted at each of `crossings` smooth
 // interfaces and reflected nowhere (a light path's first vertex that is not specular: from the
 // lamp through its first crossing, `nearest_lamp`, those refractions make one path; `path_m` its
-// length). With no crossing, always (the straight shadow ray). Otherwise as direct_light_at asks:
+// length, a sun's from the disk its light subpath started on). With no crossing, always (the
+// straight shadow ray). Otherwise as direct_light_at asks:
 // through each caster, and where `towards` and a spot's profile are not zero along the straight
-// segment and its shadow ray is stopped by a smooth refracting interface, through that interface;
-// made where one of the paths solved there crosses last (nearest the lamp) within 1e-5 of the
-// path's length (at least of the float rounding's scale there: both points are hits on meshes) of
-// `nearest_lamp`, as chain_path_densities finds the walk's path. The question is
+// segment and its shadow ray is stopped by a smooth refracting interface, through that interface
+// (a sun's: distant_light_through_interface, every line it seeds);
+// made where one of the paths solved there crosses last (nearest the lamp) as near `nearest_lamp`
+// as made_within_m allows, as chain_path_densities finds the walk's path. The question is
 // the geometry's: the segments are traced for whether they are clear only (visibility_only: a
 // transmittance ratio tracking estimates as 0 in a density field would otherwise answer "not
 // made" at random), so it draws no random numbers. (Where next-event estimation gets 0 from a
@@ -857,8 +1153,9 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
 // paths (render.light_paths) keep only what this does not make.
 template <std::size_t N, typename Towards, typename MediumTowards>
 bool next_event_makes(const SceneView<N>& v, const PathVertex& at, const manifold_detail::DeltaLamp& lamp,
-                      const Vec3& nearest_lamp, double path_m, int crossings, Towards towards,
-                      MediumTowards medium_towards, const SampledWavelengths<N>& w, std::uint64_t& rays) {
+                      const DistantLight* sun, const Vec3& nearest_lamp, double path_m, int crossings,
+                      Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
+                      std::uint64_t& rays) {
   using namespace manifold_detail;
   const RenderScene& s = v.scene;
   if (crossings == 0) return true;
@@ -869,9 +1166,28 @@ bool next_event_makes(const SceneView<N>& v, const PathVertex& at, const manifol
   bool made = false;
   const SampledSpectrum<N> one = SampledSpectrum<N>::constant(1.0f);
   auto end = [&](const Reach<N>& r) { return point_end(geometry, one, r, w, unused, rays); };
-  auto add = [&](const SampledSpectrum<N>&, const Reach<N>& r) {
-    made = made || length(r.last.point - nearest_lamp) < 1e-5 * std::max(path_m, s.rays.rounding_scale_m(nearest_lamp));
+  auto made_at = [&](const Vec3& last) {
+    made = made || length(last - nearest_lamp) < made_within_m(s, nearest_lamp, path_m, crossings);
   };
+  auto add = [&](const SampledSpectrum<N>&, const Reach<N>& r) { made_at(r.last.point); };
+  if (sun) {  // (every line distant_light_through_interface seeds, as direct_light_at asks)
+    auto add_sun = [&](const SampledSpectrum<N>&, const Vec3& last) { made_at(last); };
+    const Vec3 to_lamp = -normalize(sun->direction);
+    const InsideSet inside = at.hit ? inside_towards(s, *at.hit, at.inside, to_lamp) : at.inside;
+    for (const ManifoldCaster& c : s.casters)
+      distant_through(geometry, at, inside, caster_interface(s, c), *sun, towards, medium_towards, w, one, unused, rays,
+                      add_sun);
+    double pdf = 0.0;
+    if (made || towards(to_lamp, pdf).is_zero()) return made;
+    bool glass = false;
+    Hit blocker;
+    if (!transmission(geometry, at, to_lamp, std::numeric_limits<double>::infinity(), medium_towards(to_lamp), w,
+                      unused, rays, {}, &glass, &blocker) &&
+        glass)
+      distant_light_through_interface(geometry, at, *sun, blocker, towards, medium_towards, w, one, unused, rays,
+                                      add_sun);
+    return made;
+  }
   const Vec3 to = lamp.p - at.point;
   const double d = length(to);
   const Vec3 straight = to / d;
@@ -932,9 +1248,14 @@ SampledSpectrum<N> through_casters(const SceneView<N>& v, const PathVertex& at, 
     auto inside_along = [&](const Vec3& q) {
       return at.hit ? inside_towards(s, *at.hit, at.inside, normalize(q - at.point)) : at.inside;
     };
-    for (const int index : s.delta_lights)
-      if (const auto lamp = delta_lamp(s.lights[static_cast<std::size_t>(index)]))
+    for (const int index : s.delta_lights) {
+      const Light& lamp_light = s.lights[static_cast<std::size_t>(index)];
+      if (const auto lamp = delta_lamp(lamp_light))
         sum += delta_through(v, at, inside_along(lamp->p), f, *lamp, towards, medium_towards, w, path_r_u, rng, rays);
+      else if (const auto* sun = std::get_if<DistantLight>(&lamp_light))
+        distant_through(v, at, inside_along(at.point - normalize(sun->direction)), f, *sun, towards, medium_towards, w,
+                        path_r_u, rng, rays, [&](const SampledSpectrum<N>& l, const Vec3&) { sum += l; });
+    }
     if (!y) continue;
     auto end = [&](const Reach<N>& r) {
       return area_lamp_end(v, *light, y->p, area_light->second * y->pdf_area, r, w, rng, rays);

@@ -164,11 +164,13 @@ struct CrossingLocal {
   double back_m = 0.0, ahead_m = 0.0, normal_length = 0.0;
 };
 
+// (`ahead_fixed`: the last crossing of a chain towards a distant lamp, whose direction ahead is that
+// unit vector whatever the crossing: as towards a point infinitely far, moving it turns nothing.)
 CrossingLocal crossing_local(const Triangle& t, const ChainCrossing& k, const Vec3& before, const Vec3& y,
-                             const Vec3& after) {
+                             const Vec3& after, const Vec3* ahead_fixed = nullptr) {
   CrossingLocal o;
-  o.back_m = length(before - y), o.ahead_m = length(after - y);
-  o.back = (before - y) / o.back_m, o.ahead = (after - y) / o.ahead_m;
+  o.back_m = length(before - y), o.ahead_m = ahead_fixed ? std::numeric_limits<double>::infinity() : length(after - y);
+  o.back = (before - y) / o.back_m, o.ahead = ahead_fixed ? *ahead_fixed : (after - y) / o.ahead_m;
   o.h = o.back * k.eta_from + o.ahead * k.eta_to;
   o.n = shading_normal(t, y, &o.normal_length);
   return o;
@@ -180,7 +182,14 @@ double largest(const Column& v, int n) {
   return m;
 }
 
-// The chain at its points y (y[0] = x, y[count + 1] = q): each crossing's triangle and local
+// Where a chain ends: at a point q, or (`direction`) towards a distant lamp along the unit q.
+struct ChainEnd {
+  Vec3 q;
+  bool direction = false;
+};
+
+// The chain at its points y (y[0] = x, y[count + 1] = q, or a metre past the last crossing towards
+// a distant lamp): each crossing's triangle and local
 // quantities, the constraints (two a crossing, along e1 and e2 of its triangle: the part of h
 // across the shading normal) and, once differentiated, their Jacobian.
 struct Linearised {
@@ -194,7 +203,7 @@ struct Linearised {
 // The chain's points and constraints, the Jacobian not yet (a Newton step's trial point is
 // mostly judged by its constraints alone). A crossing on the same triangle as in `before` takes
 // its triangle from there.
-Linearised evaluate(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c,
+Linearised evaluate(const RenderScene& s, const Vec3& x, const ChainEnd& end, const Chain& c,
                     const Linearised* before = nullptr) {
   Linearised l;
   l.y[0] = x;
@@ -205,12 +214,13 @@ Linearised evaluate(const RenderScene& s, const Vec3& x, const Vec3& q, const Ch
         known && known->geometry == h.geometry && known->primitive == h.primitive ? *known : triangle_of(s, h);
     l.y[static_cast<std::size_t>(i + 1)] = h.point;
   }
-  l.y[static_cast<std::size_t>(c.count + 1)] = q;
+  l.y[static_cast<std::size_t>(c.count + 1)] = end.direction ? l.y[static_cast<std::size_t>(c.count)] + end.q : end.q;
   for (int i = 1; i <= c.count; ++i) {
     const Triangle& t = l.tri[static_cast<std::size_t>(i - 1)];
     const CrossingLocal& o = l.local[static_cast<std::size_t>(i - 1)] =
         crossing_local(t, c.crossing[static_cast<std::size_t>(i - 1)], l.y[static_cast<std::size_t>(i - 1)],
-                       l.y[static_cast<std::size_t>(i)], l.y[static_cast<std::size_t>(i + 1)]);
+                       l.y[static_cast<std::size_t>(i)], l.y[static_cast<std::size_t>(i + 1)],
+                       end.direction && i == c.count ? &end.q : nullptr);
     const Vec3 across = o.h - o.n * dot(o.h, o.n);
     l.value[static_cast<std::size_t>(2 * i - 2)] = dot(across, t.e1);
     l.value[static_cast<std::size_t>(2 * i - 1)] = dot(across, t.e2);
@@ -255,8 +265,8 @@ void differentiate(Linearised& l, const Chain& c) {
   }
 }
 
-Linearised linearise(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c) {
-  Linearised l = evaluate(s, x, q, c);
+Linearised linearise(const RenderScene& s, const Vec3& x, const ChainEnd& end, const Chain& c) {
+  Linearised l = evaluate(s, x, end, c);
   differentiate(l, c);
   return l;
 }
@@ -311,19 +321,21 @@ std::optional<FirstSurface> first_surface(const RenderScene& s, const Vec3& x, c
   return FirstSurface{m->hit, m->seen};
 }
 
-std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q,
-                                std::uint64_t& rays) {
+namespace {
+
+// The crossings of the straight line from x along dir, short of q (a point `far_m` away: the
+// shadow ray's end), or to infinity (far_m infinite: a distant lamp's direction): seed_chain's.
+std::optional<Chain> seed_along(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                const Vec3& dir, const Vec3& q, double far_m, std::uint64_t& rays) {
   Chain c;
   c.inside_x = inside;
-  const double d = length(q - x);
-  if (!(d > 0.0)) return std::nullopt;
-  const Vec3 dir = (q - x) / d;
   Vec3 from = x;
   const Hit* from_hit = x_hit;
   for (;;) {
     bool gave_up = false;
-    const auto m = next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir,
-                                short_of(q, length(q - from)), inside, rays, &gave_up);
+    const double left_m = std::isinf(far_m) ? far_m : short_of(q, length(q - from));
+    const auto m =
+        next_surface(s, from_hit ? offset_ray_origin(*from_hit, dir) : from, dir, left_m, inside, rays, &gave_up);
     if (gave_up) return std::nullopt;
     if (!m) break;  // clear to the lamp
     if (c.count == kMaxChain || !chain_surface(s, *m)) return std::nullopt;
@@ -337,6 +349,20 @@ std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* 
   }
   if (c.count == 0) return std::nullopt;
   return c;
+}
+
+}  // namespace
+
+std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q,
+                                std::uint64_t& rays) {
+  const double d = length(q - x);
+  if (!(d > 0.0)) return std::nullopt;
+  return seed_along(s, x, x_hit, inside, (q - x) / d, q, d, rays);
+}
+
+std::optional<Chain> seed_chain_towards(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                        const Vec3& to_lamp, std::uint64_t& rays) {
+  return seed_along(s, x, x_hit, inside, to_lamp, x, std::numeric_limits<double>::infinity(), rays);
 }
 
 namespace {
@@ -368,7 +394,9 @@ double rounding_floor(const Linearised& l, int count) {
 
 }  // namespace
 
-bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c, std::uint64_t& rays) {
+namespace {
+
+bool solve(const RenderScene& s, const Vec3& x, const Hit* x_hit, const ChainEnd& q, Chain& c, std::uint64_t& rays) {
   const int n = 2 * c.count;
   Linearised l = linearise(s, x, q, c);
   for (int iteration = 0; iteration < 40; ++iteration) {
@@ -403,9 +431,20 @@ bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Ve
   return false;
 }
 
+}  // namespace
+
+bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c, std::uint64_t& rays) {
+  return solve(s, x, x_hit, ChainEnd{q}, c, rays);
+}
+
+bool solve_chain_towards(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& to_lamp, Chain& c,
+                         std::uint64_t& rays) {
+  return solve(s, x, x_hit, ChainEnd{to_lamp, true}, c, rays);
+}
+
 double chain_reverse_tube(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c) {
   const int n = 2 * c.count;
-  const Linearised l = linearise(s, x, q, c);
+  const Linearised l = linearise(s, x, ChainEnd{q}, c);
   const Vec3 last = c.crossing[static_cast<std::size_t>(c.count - 1)].hit.point;
   const Frame across(normalize(q - last));  // the patch at q, perpendicular to the last segment
   const Vec3 first = c.crossing[0].hit.point;
@@ -425,6 +464,26 @@ double chain_reverse_tube(const RenderScene& s, const Vec3& x, const Vec3& q, co
     turn[static_cast<std::size_t>(a)] = (dfirst - wi * dot(dfirst, wi)) / first_m;
   }
   return length(cross(turn[0], turn[1]));
+}
+
+double chain_beam_tube(const RenderScene& s, const Vec3& x, const Vec3& to_lamp, const Chain& c) {
+  const int n = 2 * c.count;
+  const Linearised l = linearise(s, x, ChainEnd{to_lamp, true}, c);
+  const Frame across(normalize(c.crossing[0].hit.point - x));  // the patch at x, across the first segment
+  const auto last_i = static_cast<std::size_t>(c.count - 1);
+  std::array<Vec3, 2> shift{};  // how the last crossing moves across the beam per metre x moves along s and t
+  for (int a = 0; a < 2; ++a) {
+    // (only the first crossing's constraints see x)
+    const auto dc = constraint_change(l.tri[0], c.crossing[0], l.local[0], a == 0 ? across.s : across.t, Vec3{}, Vec3{});
+    Column rhs{}, dy{};
+    rhs[0] = -dc[0];
+    rhs[1] = -dc[1];
+    if (!solve_linear(l.jacobian, rhs, n, dy)) return 0.0;
+    const Vec3 dlast = l.tri[last_i].e1 * dy[static_cast<std::size_t>(n - 2)] +
+                       l.tri[last_i].e2 * dy[static_cast<std::size_t>(n - 1)];
+    shift[static_cast<std::size_t>(a)] = dlast - to_lamp * dot(dlast, to_lamp);
+  }
+  return length(cross(shift[0], shift[1]));
 }
 
 }  // namespace bouguer

@@ -82,10 +82,20 @@ inline Chain reversed(const Chain& c) {
 std::optional<Chain> seed_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside, const Vec3& q,
                                 std::uint64_t& rays);
 
+// The same towards a distant lamp: the crossings of the line from x along the unit to_lamp, to
+// infinity (nothing where it meets none, or something else).
+std::optional<Chain> seed_chain_towards(const RenderScene& s, const Vec3& x, const Hit* x_hit, InsideSet inside,
+                                        const Vec3& to_lamp, std::uint64_t& rays);
+
 // Moves the chain's crossings until each refracts by its shading normal (the contract above);
 // false where Newton fails (no path near the straight line, total internal reflection, a crossing
 // that leaves its surface or a path that meets another first).
 bool solve_chain(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& q, Chain& c, std::uint64_t& rays);
+
+// The same for a distant lamp: the last crossing refracts into the fixed direction to_lamp (its
+// constraint's direction ahead is that, wherever the crossing moves).
+bool solve_chain_towards(const RenderScene& s, const Vec3& x, const Hit* x_hit, const Vec3& to_lamp, Chain& c,
+                         std::uint64_t& rays);
 
 // The shading normal of a mesh triangle at a point of its plane (its vertex normals interpolated
 // by the point's barycentrics, as RayScene's hits: the geometric normal without them or where they
@@ -96,5 +106,13 @@ Vec3 chain_shading_normal(const RenderScene& s, const Hit& on, const Vec3& point
 // (refracted at each crossing) pass through a patch at q perpendicular to the last segment, per
 // unit area of it, dω_x/dA⊥_q, from the implicit function theorem on the constraints.
 double chain_reverse_tube(const RenderScene& s, const Vec3& x, const Vec3& q, const Chain& c);
+
+// A chain solved towards a distant lamp: the cross-section of the lamp's parallel beam (across
+// to_lamp, on its side of the last crossing) whose rays, refracted at each crossing, pass through a
+// patch at x perpendicular to the first segment, per unit area of it: dA⊥_lamp/dA⊥_x, from the
+// implicit function theorem on the constraints with x moving. The irradiance across the beam at x
+// is the lamp's E times this (and the crossings' Fresnel and transmittance): flux through a tube,
+// no n². Through one plane it is cos θ_l/cos θ_x; through parallel planes the product of theirs.
+double chain_beam_tube(const RenderScene& s, const Vec3& x, const Vec3& to_lamp, const Chain& c);
 
 }  // namespace bouguer

@@ -19,24 +19,12 @@
 // The walk is the one random walk of integrators/walk.h; radiance.h is its visitor.
 // Path guiding (integrators/guiding.h): where the render control carries a trained guide, half the
 // directions at diffuse surfaces are drawn from it.
-// Light paths (render.light_paths; light.cpp): after each camera sample, its light path from a point
-// or spot lamp, splatted only where next-event estimation does not make it.
+// Light paths (render.light_paths; light.cpp): after each camera sample, its light path from a point,
+// spot or distant lamp, splatted only where next-event estimation does not make it.
 #include "bouguer/integrators/integrators.h"
 #include "bouguer/integrators/radiance.h"
 
 namespace bouguer {
-namespace {
-
-bool has_point_or_spot_lamp(const RenderScene& scene) {
-  for (const int index : scene.delta_lights) {
-    const Light& l = scene.lights[static_cast<std::size_t>(index)];
-    if (std::holds_alternative<PointLight>(l) || std::holds_alternative<SpotLight>(l)) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 void render_path(const RenderScene& scene, const RenderSettings& settings, FilmBuffer& film, PixelRegion region,
                  SampleRange range, const RenderControl& control, RenderStats& stats) {
   with_carried_count(settings.spectral, [&]<std::size_t N>(std::integral_constant<std::size_t, N>) {
@@ -45,7 +33,7 @@ void render_path(const RenderScene& scene, const RenderSettings& settings, FilmB
                                                    double dispersion_u, Rng& rng, std::uint64_t& rays) {
                              return path_radiance(v, ray, w, dispersion_u, rng, rays, guide);
                            },
-                           settings.light_paths && has_point_or_spot_lamp(scene), settings.shell_transport);
+                           settings.light_paths && !scene.delta_lights.empty(), settings.shell_transport);
   });
 }
 

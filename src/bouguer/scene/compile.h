@@ -104,7 +104,7 @@ struct RenderScene {
   // Next-event estimation draws one area light by power; every delta light and the environment
   // map are sampled at each event. Light paths start at any light, drawn by power.
   LightDistribution area_lights, emitters;
-  LightDistribution point_lamps;  // the point and spot lamps by power (the path tracer's light paths)
+  LightDistribution delta_lamps;  // the point, spot and distant lamps by power (the path tracer's light paths)
   std::vector<int> delta_lights;
   int environment_light = -1;
   int background_light = -1;  // the constant background (zero when an environment map is set)

@@ -102,16 +102,17 @@ void set_light_distributions(RenderScene& s) {
   std::vector<double> luminance_of(s.spectra.size(), 0.0);
   for (std::size_t i = 0; i < s.spectra.size(); ++i)
     if (const auto* sp = std::get_if<Spectrum>(&s.spectra[i].source)) luminance_of[i] = luminance(*sp);
-  std::vector<bool> area, point, all(s.lights.size(), true);
+  std::vector<bool> area, delta, all(s.lights.size(), true);
   s.light_power.clear();
   for (const Light& l : s.lights) {
     s.light_power.push_back(power(l, s.bounds, [&](int id) { return id < 0 ? 0.0 : luminance_of[static_cast<std::size_t>(id)]; }));
     area.push_back(on_a_surface(l));
-    point.push_back(std::holds_alternative<PointLight>(l) || std::holds_alternative<SpotLight>(l));
+    delta.push_back(std::holds_alternative<PointLight>(l) || std::holds_alternative<SpotLight>(l) ||
+                    std::holds_alternative<DistantLight>(l));
   }
   s.area_lights = LightDistribution::by_power(s.light_power, area);
   s.emitters = LightDistribution::by_power(s.light_power, all);
-  s.point_lamps = LightDistribution::by_power(s.light_power, point);
+  s.delta_lamps = LightDistribution::by_power(s.light_power, delta);
 }
 
 void set_camera(RenderScene& scene, const SceneDesc& desc, const CameraDesc& camera, const Source& where) {
