@@ -150,9 +150,8 @@ TEST(LightTracer, SeesThroughGlassAsThePathTracer) {
 }
 
 // The floor at the bottom of the pool above under a sun 35° from the vertical instead of the spot
-// (the floor in view far from the walls, whose light through the lit wall the path tracer does not
-// find: manifold.h): the path tracer reaches the sun through the water's flat top
-// (manifold.h: distant_light_through_plane), the light tracer's light subpaths refract in from it
+// (the floor in view far from the walls): the path tracer reaches the sun through the water's flat
+// top (manifold.h: distant_light_through_chains, one crossing), the light tracer's light subpaths refract in from it
 // (its camera connections through the same face); bdpt, whose camera subpath sees the floor
 // through the water, takes the path tracer's connection (Bdpt::through_glass) and agrees too.
 // What it catches: the beam's compression left out (cos θ_l/cos θ_x: 10 % bright) or a

@@ -157,7 +157,8 @@ std::array<double, kHeroCount> sun_at(const RenderScene& scene, const MediumPoin
 }
 
 // A sun through the flat top of the water (a box's face, a cylinder's cap) at a vertex in the
-// water (manifold.h: distant_light_through_plane): next-event estimation at a medium point gets
+// water (manifold.h: distant_light_through_chains for the box's face, distant_light_through_plane
+// for the cap): next-event estimation at a medium point gets
 // E·T·cos θ_l/cos θ_x times the phase function's value at every carried wavelength, to rounding,
 // for the sun at 0°, 40° and 70° from the vertical, at two depths (a sun's light does not fall
 // off), isotropic and Henyey–Greenstein g = 0.5 (the light travelling down the refracted line,

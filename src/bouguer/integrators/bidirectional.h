@@ -133,7 +133,7 @@ class Bdpt {
     }
     return l;
   }
-  // bdpt's next-event estimation through smooth glass (manifold.h) to the point and spot lamps, at
+  // bdpt's next-event estimation through smooth glass (manifold.h) to the point, spot and distant lamps, at
   // each non-specular vertex of the camera subpath that the camera sees through specular ones (a
   // liquid or a floor behind glass), up to the first two non-specular vertices side by side: there
   // it is the only strategy of the paths it makes, so they are not weighted (below, where it is
@@ -141,7 +141,7 @@ class Bdpt {
   SampledSpectrum<N> through_glass(const std::vector<Vertex<N>>& camera, const SampledSpectrum<N>& keep);
   SampledSpectrum<N> through_glass_at(const Vertex<N>& x, const SampledSpectrum<N>& keep);
   // Its mirror image on the light subpath: the light subpath's non-specular vertices reached from a
-  // point or spot lamp through specular ones along a path next-event estimation through glass
+  // point, spot or distant lamp through specular ones along a path next-event estimation through glass
   // does not make (a glass's or a mirror's reflection on the way: light_prefix.h), splatted to a
   // pinhole through smooth glass (splats.cpp), up to the first two non-specular vertices side by
   // side; unweighted for the same reason (below, where it is defined).

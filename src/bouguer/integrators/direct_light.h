@@ -86,8 +86,8 @@ enum class NextEvent : std::uint8_t {
   // The path tracer's: those and one direction of the environment map, each MIS-weighted against
   // the vertex's own sampling of its direction by the power heuristic.
   lights_and_map_weighted,
-  // The same, and a point or spot light that smooth interfaces hide (a flat face, a chain of mesh
-  // faces, an exact sphere), or a sun one flat face hides, reached through them (manifold.h), for
+  // The same, and a point, spot or distant light that smooth interfaces hide (a flat face, a chain
+  // of mesh faces, an exact sphere), reached through them (manifold.h), for
   // the path tracer alone: no other strategy of its
   // reaches those paths, where the bidirectional estimators' light subpaths do (their tails keep
   // lights_and_map_weighted; bdpt's one exception, where its light subpaths reach the vertex but

@@ -32,9 +32,9 @@ enum class PrefixVerdict {
 // zero where the half vector of a refraction is not valid, next-event estimation reads with the
 // camera's side, which a light path does not know there (such light stays missing, said in
 // rendering.md).
-// A distant lamp's (`sun`) path is measured from where its light subpath started, on the disk
-// across the scene it draws its rays from (`previous`), as a point lamp's from the lamp: the
-// tolerance next_event_makes allows the light path's float hits grows with it.
+// A distant lamp's (`sun`) path is measured from its first vertex; how far that lies from where
+// its light subpath started (`previous`, on the disk across the scene it draws its rays from) is
+// `start_m`, whose float rounding next_event_makes allows for (made_within_m).
 template <std::size_t N>
 struct LightPrefix {
   manifold_detail::DeltaLamp lamp;
@@ -42,11 +42,14 @@ struct LightPrefix {
   Vec3 previous = lamp.p;
   bool after_specular = false, reflected = false;
   int crossings = 0;
-  double path_m = 0.0;
+  double path_m = 0.0, start_m = -1.0;
   Vec3 nearest_lamp = {}, specular_normal = {}, specular_wo = {};
 
   PrefixVerdict add(const SceneView<N>& v, const Vertex<N>& x, const SampledWavelengths<N>& w, std::uint64_t& rays) {
-    path_m += length(x.point - previous);
+    if (sun && start_m < 0.0)
+      start_m = length(x.point - previous);
+    else
+      path_m += length(x.point - previous);
     previous = x.point;
     if (after_specular) {
       const bool same_side = (dot(specular_wo, specular_normal) > 0.0) == (dot(-x.wo, specular_normal) > 0.0);
@@ -68,8 +71,8 @@ struct LightPrefix {
       return vertex_f(v.scene, x, x.wo, wi, TransportMode::radiance);
     };
     auto medium_towards = [&](const Vec3& wi) { return vertex_medium_towards(x, wi); };
-    return next_event_makes(v, vertex_at(x), lamp, sun, nearest_lamp, path_m, crossings, towards, medium_towards, w,
-                            rays)
+    return next_event_makes(v, vertex_at(x), lamp, sun, nearest_lamp, path_m, std::max(start_m, 0.0), crossings,
+                            towards, medium_towards, w, rays)
                ? PrefixVerdict::made
                : PrefixVerdict::beyond;
   }

@@ -581,13 +581,12 @@ LightEnd<N> distant_lamp_end(const SceneView<N>& v, const DistantLight& sun, con
 // towards the lamp (solve_towards), add(l, last) taking each with its last crossing (nearest the
 // lamp): f·|cos θ| towards the first crossing, the irradiance
 // across the beam E times the beam tube (dA⊥_lamp/dA⊥_x), Fresnel at each crossing, every segment's
-// transmittance. Unweighted: no other strategy reaches a delta lamp. `followed`: whether some path
-// was clear up to its last crossing (the plane's tries go on to another face where none was).
+// transmittance. Unweighted: no other strategy reaches a delta lamp.
 template <std::size_t N, typename Towards, typename MediumTowards, typename Add>
 void distant_through(const SceneView<N>& v, const PathVertex& at, InsideSet inside, const Interface& f,
                      const DistantLight& sun, Towards towards, MediumTowards medium_towards,
                      const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                     Add add, bool* followed = nullptr) {
+                     Add add) {
   const RenderScene& s = v.scene;
   const Vec3 to_lamp = -normalize(sun.direction);
   const double eta_front = s.media[static_cast<std::size_t>(f.medium_front)].ior_reference;
@@ -601,7 +600,6 @@ void distant_through(const SceneView<N>& v, const PathVertex& at, InsideSet insi
     const Vec3 beyond = ys[static_cast<std::size_t>(paths.crossings - 1)] + to_lamp;
     const auto r = follow(v, at, inside, f, ys, paths.crossings, beyond, medium_towards, w, rng, rays);
     if (!r) continue;
-    if (followed) *followed = true;
     double vertex_pdf = 0.0;
     const SampledSpectrum<N> fv = towards(r->wi, vertex_pdf);
     if (fv.is_zero()) continue;
@@ -918,20 +916,26 @@ void distant_light_through_plane(const SceneView<N>& v, const PathVertex& at, co
   // (near an edge of a box of water: the straight line leaves by a side, the refracted one by the
   // top), that one's plane next, up to three tries (a path accepted is valid whatever face it
   // crosses: follow checks it, and the sun's line beyond).
+  SceneView<N> geometry = v;
+  geometry.visibility_only = true;
+  Rng unused(0, kManifoldStream);  // (nothing is drawn)
   Hit face = blocker;
   for (int tries = 0; tries < 3; ++tries) {
     if (find_caster(s, face.geometry)) return;
     if (!s.rays.analytic(face.geometry) && dot(face.shading_normal, face.normal) < 1.0 - 1e-9) return;
     const auto f = smooth_interface(s, face, surface_seen(s, face, inside));
     if (!f || f->shape != Interface::Shape::plane) return;
-    bool followed = false;
-    distant_through(v, at, inside, *f, sun, towards, medium_towards, w, path_r_u, rng, rays, add, &followed);
-    if (followed) return;
     const Paths p = solve_towards(*f, at.point, to_sun, s.media[static_cast<std::size_t>(f->medium_front)].ior_reference,
                                   s.media[static_cast<std::size_t>(f->medium_behind)].ior_reference);
     if (p.count == 0) return;
     const Vec3 wi = normalize(p.crossing[0][0] - at.point);
     if (at.hit && dot(wi, at.hit->normal) * dot(to_sun, at.hit->normal) <= 0.0) return;  // (its other side)
+    // Whether the path is clear to its crossing is the geometry's (next_event_makes asks the same):
+    // ratio tracking's estimate of 0 in a scattering medium must not send this on to another face.
+    if (follow(geometry, at, inside, *f, p.crossing[0], 1, p.crossing[0][0] + to_sun, medium_towards, w, unused, rays)) {
+      distant_through(v, at, inside, *f, sun, towards, medium_towards, w, path_r_u, rng, rays, add);
+      return;
+    }
     const auto next = s.rays.intersect(Ray{at.origin_towards(wi), wi});
     ++rays;
     if (!next || (next->geometry == face.geometry && dot(next->normal, face.normal) > 1.0 - 1e-9)) return;
@@ -1124,14 +1128,18 @@ SampledSpectrum<N> delta_light_through_interface(const SceneView<N>& v, const Pa
 
 // How near a solved path's last crossing must come to a light path's first (`nearest_lamp`) to be
 // the same path (next_event_makes): 1e-5 of the path's length (at least of the float rounding's
-// scale there), and at least 4 ray offsets a crossing: the light path's rays leave each crossing
+// scale there); at least 4 ray offsets a crossing: the light path's rays leave each crossing
 // from an origin offset off the surface (ray_offset_m, 4e-6 of the coordinates), which moves its
-// path up to about that much off the exact one; a sun's paths, measured from the disk its rays
-// start on a few centimetres away, came out 2e-7 to 1.5e-6 m off through a glass's wall (2e-6 to
-// 4e-5 of their length), and a tolerance of 1e-5 of it alone counted a fifth of them twice.
-inline double made_within_m(const RenderScene& s, const Vec3& nearest_lamp, double path_m, int crossings) {
-  return std::max(1e-5 * std::max(path_m, s.rays.rounding_scale_m(nearest_lamp)),
-                  4.0 * crossings * ray_offset_m(nearest_lamp));
+// path up to about that much off the exact one (a sun's paths through a glass's wall came out
+// 2e-7 to 1.5e-6 m off, 2e-6 to 4e-5 of their length, and a tolerance of 1e-5 of it alone counted
+// a fifth of them twice); and, for a sun, 1e-6 of how far its light subpath's first ray went
+// (`start_m`, from the disk it starts on: a float hit there is good to about 6e-8 of it, which in
+// a scene a kilometre across is more than the rest; measured from the disk, 1e-5 of the path
+// would have been millimetres there, enough to take two paths near a caustic's fold for one).
+inline double made_within_m(const RenderScene& s, const Vec3& nearest_lamp, double path_m, double start_m,
+                            int crossings) {
+  return std::max({1e-5 * std::max(path_m, s.rays.rounding_scale_m(nearest_lamp)),
+                   4.0 * crossings * ray_offset_m(nearest_lamp), 1e-6 * start_m});
 }
 
 // Whether the path tracer's next-event estimation at vertex `at` to delta lamp `lamp` (or, given
@@ -1139,8 +1147,8 @@ inline double made_within_m(const RenderScene& s, const Vec3& nearest_lamp, doub
 // path along which the lamp's light reached `at` refracted at each of `crossings` smooth
 // interfaces and reflected nowhere (a light path's first vertex that is not specular: from the
 // lamp through its first crossing, `nearest_lamp`, those refractions make one path; `path_m` its
-// length, a sun's from the disk its light subpath started on). With no crossing, always (the
-// straight shadow ray). Otherwise as direct_light_at asks:
+// length, a sun's from its first vertex, `start_m` how far that lay from the disk a sun's light
+// subpath started on). With no crossing, always (the straight shadow ray). Otherwise as direct_light_at asks:
 // through each caster, and where `towards` and a spot's profile are not zero along the straight
 // segment and its shadow ray is stopped by a smooth refracting interface, through that interface
 // (a sun's: distant_light_through_interface, every line it seeds);
@@ -1153,7 +1161,7 @@ inline double made_within_m(const RenderScene& s, const Vec3& nearest_lamp, doub
 // paths (render.light_paths) keep only what this does not make.
 template <std::size_t N, typename Towards, typename MediumTowards>
 bool next_event_makes(const SceneView<N>& v, const PathVertex& at, const manifold_detail::DeltaLamp& lamp,
-                      const DistantLight* sun, const Vec3& nearest_lamp, double path_m, int crossings,
+                      const DistantLight* sun, const Vec3& nearest_lamp, double path_m, double start_m, int crossings,
                       Towards towards, MediumTowards medium_towards, const SampledWavelengths<N>& w,
                       std::uint64_t& rays) {
   using namespace manifold_detail;
@@ -1167,7 +1175,7 @@ bool next_event_makes(const SceneView<N>& v, const PathVertex& at, const manifol
   const SampledSpectrum<N> one = SampledSpectrum<N>::constant(1.0f);
   auto end = [&](const Reach<N>& r) { return point_end(geometry, one, r, w, unused, rays); };
   auto made_at = [&](const Vec3& last) {
-    made = made || length(last - nearest_lamp) < made_within_m(s, nearest_lamp, path_m, crossings);
+    made = made || length(last - nearest_lamp) < made_within_m(s, nearest_lamp, path_m, start_m, crossings);
   };
   auto add = [&](const SampledSpectrum<N>&, const Reach<N>& r) { made_at(r.last.point); };
   if (sun) {  // (every line distant_light_through_interface seeds, as direct_light_at asks)

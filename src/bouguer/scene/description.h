@@ -58,15 +58,15 @@ struct RenderSettings {
   // kExitGuideContrast (exit_guide_enabled); set: on or off as said.
   std::optional<bool> exit_guide;
   // path: next-event estimation through smooth glass (integrators/manifold.h). Off: the path
-  // tracer as before it, lamps behind glass reached only by its own directions (point and spot
-  // lamps behind glass not at all).
+  // tracer as before it, lamps behind glass reached only by its own directions (point, spot and
+  // distant lamps behind glass not at all).
   bool manifold = true;
   // path: with `manifold`, area and spherical lamps hidden by smooth faces of meshes or by an exact
   // cylinder's side reached through them (integrators/manifold.h: area_light_through_chain,
   // area_light_through_cylinder). Unset: for lamps that subtend less than kLampChainSolidAngle from
   // the nearest such glass (RenderScene: Surface::small_lamp); set: for every lamp, or none.
   std::optional<bool> area_lamp_chains;
-  // path: also light paths from the point and spot lamps, connected to the camera straight or
+  // path: also light paths from the point, spot and distant lamps, connected to the camera straight or
   // through smooth glass, that add what next-event estimation does not make (light reflected inside
   // glass or by a mirror before its first diffuse or scattering vertex; integrators/light.cpp,
   // docs/rendering.md: what neither makes).
