@@ -16,6 +16,10 @@ bench/whole_milk_glass.sh and bench/hard_scenes.py write theirs from here).
            glass by the walks' refracted directions, and through chains of mesh faces)
   milk     the whole-milk tumbler of scenes/showcase/milk-and-juice.json alone on its sweep under the
            studio map, framed so that it fills most of the picture (#20's glass of whole milk)
+  milk_lamp  the same glass of milk with a point lamp (tungsten, up and to the right, whose light
+           reaches the milk only through the glass: next-event estimation solves the refractions)
+  milk_sun   the same with a sun (D65, which lights the sweep, and the milk through its open top
+           and through the glass's wall)
   bounce   a floor lit only by a small white patch that a lamp below it shines on (guiding's
            textbook case)
   rod      a lying rod of absorbing glass (an exact cylinder, 20 mm radius, 300 mm long, n = 1.5)
@@ -97,6 +101,18 @@ def milk():
     return scene
 
 
+def milk_lamp():
+    scene = milk()
+    scene["lights"] = [{"type": "point", "position": ["120 mm", "160 mm", "120 mm"], "spectrum": "A", "scale": 0.5}]
+    return scene
+
+
+def milk_sun():
+    scene = milk()
+    scene["lights"] = [{"type": "distant", "direction": [-0.4, -1, -0.3], "spectrum": "D65", "scale": 2}]
+    return scene
+
+
 def bounce():
     return {
         "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
@@ -131,8 +147,8 @@ def rod():
         "background": {"spectrum": "E", "scale": 0}}
 
 
-SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk, "bounce": bounce,
-          "rod": rod}
+SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk,
+          "milk_lamp": milk_lamp, "milk_sun": milk_sun, "bounce": bounce, "rod": rod}
 
 
 def scene(name):

@@ -1,13 +1,11 @@
 #!/usr/bin/env bash
 # Shell transport (#37, integrators/shell_hops.h) on and off for the path tracer, in one run of one
 # build, alternating: the glass of whole milk (bench/scenes.py's `milk`), a 10 mm whole-milk ball
-# under the same studio map, the glass again with a point lamp (tungsten, up and to the right,
-# whose light reaches the milk through the glass: the spheres' kept collisions connect to it, and
-# they keep clear of the glass by a margin) and with a sun (which lights the sweep, and the milk
-# through its open top and the glass's wall, docs/rendering.md). For each setting, PAIRS renders
-# of two seeds each (seeds 1-2, 3-4, ...):
-# the seconds of a render (its --stats-json, wall clock), the mean ΔE00 between the two seeds of a
-# pair (about √2 times one render's error: noise only, which is all an exact change can move), and
+# under the same studio map, the glass again with a point lamp (`milk_lamp`: the spheres' kept
+# collisions connect to it, and they keep clear of the glass by a margin) and with a sun
+# (`milk_sun`). For each setting, PAIRS renders of two seeds each (seeds 1-2, 3-4, ...): the
+# seconds of a render (its --stats-json, wall clock), the mean ΔE00 between the two seeds of a pair
+# (about √2 times one render's error: noise only, which is all an exact change can move), and
 # ΔE00² × seconds (lower is better; off / on is the efficiency gained). Reports only; figures in
 # docs/performance.md.
 #   bench/shell_transport.sh build/bouguer
@@ -21,7 +19,9 @@ threads=${THREADS:-2}
 repo=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-python3 "$repo/bench/scenes.py" "$tmp" milk
+python3 "$repo/bench/scenes.py" "$tmp" milk milk_lamp milk_sun
+mv "$tmp/milk_lamp.json" "$tmp/lamp.json"
+mv "$tmp/milk_sun.json" "$tmp/sun.json"
 # The ball: the milk scene's map and camera distance, its tumbler replaced by a 10 mm ball.
 python3 - "$tmp" <<'PY'
 import json, sys
@@ -30,11 +30,6 @@ d["objects"] = [{"name": "a 10 mm ball of whole milk", "shape": {"type": "sphere
                  "inside": "whole", "transform": [{"translate": [0, "45 mm", 0]}]}]
 d["camera"]["fov_deg"] = 12
 json.dump(d, open(sys.argv[1] + "/ball.json", "w"), indent=1)
-d = json.load(open(sys.argv[1] + "/milk.json"))
-d["lights"] = [{"type": "point", "position": ["120 mm", "160 mm", "120 mm"], "spectrum": "A", "scale": 0.5}]
-json.dump(d, open(sys.argv[1] + "/lamp.json", "w"), indent=1)
-d["lights"] = [{"type": "distant", "direction": [-0.4, -1, -0.3], "spectrum": "D65", "scale": 2}]
-json.dump(d, open(sys.argv[1] + "/sun.json", "w"), indent=1)
 PY
 seconds() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$1"; }
 echo "| scene | shell transport | seconds a render ($resolution, $spp spp, $threads threads) | mean ΔE00 seed to seed | ΔE00² × s |"

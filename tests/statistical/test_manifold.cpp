@@ -247,6 +247,61 @@ TEST(ManifoldNextEvent, SunThroughFlatLayersIsTheClosedForm) {
   }
 }
 
+// A split walk's connections through the interfaces, thinned (dense_media.h: split_walk_nee_share):
+// at a point in water, a point lamp in the same water (a shadow ray, S) and a sun through the
+// water's surface (a solve, T), each alone and together from direct_light_in_medium. Together
+// they are S + T; made with a share s of 1/4, each of 2000 draws is S (the through connection not
+// made) or S + T/s, to float rounding, and the draws that make it number 2000·s within 4 standard
+// deviations of the binomial. What it catches: the through connection not divided by the share
+// (S + T), the straight one divided too (S/s) or thinned with it (0), the share ignored (every
+// draw S + T) or the solve never made.
+TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectation) {
+  auto scene_with = [](const char* lights) {
+    return compile(parse_scene(fmt::format(R"({{
+      "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
+      "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
+      "world_medium": "vacuum",
+      "media": {{"water": {{"ior": {}}}}},
+      "objects": [{{"name": "water", "shape": {}, "inside": "water"}}],
+      "lights": [{}],
+      "background": {{"spectrum": "E", "scale": 0}}
+    }})", kN, kWaterBox, lights), "thinned_connections.json"));
+  };
+  constexpr const char* kLamp = R"({"type": "point", "position": [0.05, -0.04, 0], "spectrum": "D65", "scale": 0.001})";
+  constexpr const char* kSun = R"({"type": "distant", "direction": [0.64, -0.77, 0], "spectrum": "D65", "scale": 1})";
+  const RenderScene lamp = scene_with(kLamp), sun = scene_with(kSun),
+                    both = scene_with(fmt::format("{}, {}", kLamp, kSun).c_str());
+  const int medium = both.surfaces[0].medium_behind, nested = both.surfaces[0].nested;
+  ASSERT_GE(medium, 0);
+  const MediumPoint at{Vec3{0.02, -0.05, -0.03}, Vec3{0, -1, 0}, PhaseFunction{IsotropicPhase{}}, medium,
+                       nested >= 0 ? nested_bit(nested) : InsideSet{0}};
+  auto light_at = [&](const RenderScene& scene, double share, std::uint64_t stream) {
+    const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
+    const Camera camera(scene.camera);
+    const SceneView<kHeroCount> v{scene, tables, camera, 8};
+    const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
+    Rng rng(7, stream);
+    std::uint64_t rays = 0;
+    return direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true, share)[0];
+  };
+  const double straight = light_at(lamp, 1.0, 0), through = light_at(sun, 1.0, 0);
+  ASSERT_GT(straight, 0.0);
+  ASSERT_GT(through, 0.0);
+  EXPECT_NEAR(light_at(both, 1.0, 0), straight + through, 1e-5 * (straight + through));
+  constexpr int kDraws = 2000;
+  constexpr double kShare = 0.25;
+  int made = 0;
+  for (int i = 0; i < kDraws; ++i) {
+    const double l = light_at(both, kShare, static_cast<std::uint64_t>(i));
+    const bool with = std::abs(l - (straight + through / kShare)) <= 1e-5 * (straight + through / kShare);
+    EXPECT_TRUE(with || std::abs(l - straight) <= 1e-5 * straight) << i << ": " << l;
+    made += with;
+  }
+  std::printf("thinned connections through the water's surface: S %.6g, T %.6g; made %d of %d (share %.2f)\n",
+              straight, through, made, kDraws, kShare);
+  EXPECT_NEAR(made, kDraws * kShare, 4.0 * std::sqrt(kDraws * kShare * (1.0 - kShare)));
+}
+
 // A sun through a clear glass ball (n 1.5, σ_a 10 per m, radius R = 20 mm, an exact sphere: a
 // caster), traced forward in the plane through the ball's centre along the sun and the point: a ray
 // of the sun's beam at signed height h from that axis refracts in (and, for a point beyond the

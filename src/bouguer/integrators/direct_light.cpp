@@ -96,11 +96,17 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                    MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                    const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
                                    NextEvent next_event, const ThroughInterfaces* through = nullptr,
-                                   bool delta_only = false) {
+                                   bool delta_only = false, double through_share = 1.0) {
   const RenderScene& s = v.scene;
   const bool mis = next_event != NextEvent::lights;
   const bool environment = next_event != NextEvent::lights && !delta_only;
-  const bool interfaces = next_event == NextEvent::lights_map_and_interfaces;
+  // The lamps' connections through the interfaces, made with probability through_share and
+  // divided by it (dense_media.h: split_walk_nee_share); a number drawn only where it is below 1
+  // and there is a lamp (a scene lit by its map alone draws as before).
+  const bool interfaces = next_event == NextEvent::lights_map_and_interfaces &&
+                          (through_share >= 1.0 || (s.delta_lights.empty() && s.area_lights.empty()) ||
+                           rng.next_double() < through_share);
+  SampledSpectrum<N> beyond;  // what those connections bring
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
   auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
@@ -115,7 +121,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   if (interfaces && !s.casters.empty()) {
     Rng side(rng.next_u32(), kManifoldStream);
     const double v1 = side.next_double(), v2 = side.next_double();
-    sum += through_casters(v, at, towards, medium_towards, chosen, v1, v2, w, path_r_u, side, rays);
+    beyond += through_casters(v, at, towards, medium_towards, chosen, v1, v2, w, path_r_u, side, rays);
   }
   if (chosen) {
     const auto& [index, p_choice] = *chosen;
@@ -143,10 +149,10 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
         const Vec3 y = at.point + li->wi * li->distance_m;
         const double point_pdf = p_choice * pdf_point(light, at.point, y);
         if (glass || f.is_zero())
-          sum += area_light_through_chain(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng, rays);
+          beyond += area_light_through_chain(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng, rays);
         if (s.glass_cylinders)
-          sum += area_light_through_cylinder(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng,
-                                             rays);
+          beyond += area_light_through_cylinder(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u,
+                                                rng, rays);
       }
     }
   }
@@ -164,8 +170,8 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                     interfaces ? &glass : nullptr, interfaces ? &blocker : nullptr))
       sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
     else if (glass)  // through the interface to the lamp (manifold.h)
-      sum += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards,
-                                           medium_towards, w, path_r_u, rng, rays);
+      beyond += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards,
+                                              medium_towards, w, path_r_u, rng, rays);
   }
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
@@ -199,6 +205,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
       }
     }
   }
+  if (!beyond.is_zero()) sum += beyond * static_cast<float>(1.0 / std::min(1.0, through_share));
   return sum;
 }
 
@@ -223,7 +230,7 @@ namespace {
 template <std::size_t N>
 SampledSpectrum<N> in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
                              const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays, bool through_interfaces,
-                             bool delta_only) {
+                             bool delta_only, double through_share) {
   // Light arriving along −wi leaves the event along −direction, back along the camera walk.
   auto phase_towards = [&](const Vec3& wi, double& phase_pdf) {
     phase_pdf = phase_value(at.phase, -wi, -at.direction);
@@ -232,7 +239,7 @@ SampledSpectrum<N> in_medium(const SceneView<N>& v, const MediumPoint& at, const
   return direct_light_at(
       v, PathVertex{at.x, nullptr, at.inside}, phase_towards, [&](const Vec3&) { return at.medium; }, w, path_r_u,
       rng, rays, through_interfaces ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted,
-      nullptr, delta_only);
+      nullptr, delta_only, through_share);
 }
 
 }  // namespace
@@ -240,15 +247,15 @@ SampledSpectrum<N> in_medium(const SceneView<N>& v, const MediumPoint& at, const
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          bool through_interfaces) {
-  return in_medium(v, at, w, path_r_u, rng, rays, through_interfaces, false);
+                                          bool through_interfaces, double through_share) {
+  return in_medium(v, at, w, path_r_u, rng, rays, through_interfaces, false, through_share);
 }
 
 template <std::size_t N>
 SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          bool through_interfaces) {
-  return in_medium(v, at, w, path_r_u, rng, rays, through_interfaces, true);
+                                          bool through_interfaces, double through_share) {
+  return in_medium(v, at, w, path_r_u, rng, rays, through_interfaces, true, through_share);
 }
 
 #define BOUGUER_DIRECT_LIGHT_INSTANTIATE(N) \
@@ -258,9 +265,9 @@ SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoi
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
       const ThroughInterfaces*); \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const MediumPoint&, \
-      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool); \
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool, double); \
   template SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>&, const MediumPoint&, \
-      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool);
+      const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool, double);
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kFullBins)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(3)
 BOUGUER_DIRECT_LIGHT_INSTANTIATE(kHeroCount)

@@ -110,10 +110,12 @@ SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const Sur
 // The same at a scattering event of a camera walk: the phase function in place of the BSDF, by the
 // path tracer's strategies (NextEvent::lights_and_map_weighted; with through_interfaces,
 // lights_map_and_interfaces).
+// through_share: the probability with which the lamps' connections through the interfaces are
+// made (divided by it): a split walk's in a dense medium (dense_media.h: split_walk_nee_share).
 template <std::size_t N>
 SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          bool through_interfaces = false);
+                                          bool through_interfaces = false, double through_share = 1.0);
 
 // Only the point, spot and distant lamps of direct_light_in_medium, reached as it reaches them
 // (through the interfaces with through_interfaces): the connections shell transport keeps where
@@ -122,6 +124,6 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
 template <std::size_t N>
 SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
-                                          bool through_interfaces = false);
+                                          bool through_interfaces = false, double through_share = 1.0);
 
 }  // namespace bouguer

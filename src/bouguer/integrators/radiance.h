@@ -177,6 +177,7 @@ struct Radiance {
   GuideTrail trail = {};
   SurfaceDistance near = {};
   float bin_weight = 1.0f;
+  bool split_walk = false;  // a walk of one wavelength from a split (dense_media.h: split_walk_nee_share)
   // Its next-event estimation: the path tracer's own adds lamps behind one smooth interface
   // (direct_light.h: NextEvent::lights_map_and_interfaces), a bidirectional tail does not.
   NextEvent next_event = NextEvent::lights_and_map_weighted;
@@ -268,7 +269,7 @@ struct Radiance {
         SampledSpectrum<N> beta = state.beta;
         beta[static_cast<std::size_t>(w.single)] = hop.kept_beta;
         add(beta * delta_lights_in_medium(v, at, w, state.mis.r_u, rng, rays,
-                                          next_event == NextEvent::lights_map_and_interfaces) *
+                                          next_event == NextEvent::lights_map_and_interfaces, through_share(medium)) *
             static_cast<float>(hop.collisions / q));
       }
     }
@@ -348,7 +349,7 @@ struct Radiance {
   // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
-    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight,
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight, true,
                     next_event, casters, chains, cylinders, guide, here, learning};
   }
   void join(const Radiance& child) {
@@ -384,6 +385,12 @@ struct Radiance {
     return true;
   }
 
+  // The share of a medium vertex's connections through the interfaces that are made
+  // (dense_media.h: split_walk_nee_share).
+  double through_share(int medium) const {
+    return split_walk ? split_walk_nee_share(scattering_medium(v.scene, medium)->phase) : 1.0;
+  }
+
   // A scattering event at `point`; its throughput, medium and nested set are the walk's state's.
   bool medium_vertex(const Vec3& point) {
     const RenderScene& scene = v.scene;
@@ -394,11 +401,14 @@ struct Radiance {
     casters.start(through_casters(), point);
     chains.start(through_chains(), point, nullptr, state.inside);
     cylinders.start(through_cylinders(), point, nullptr, state.inside);
-    // Thinned deep in a dense medium, where it finds nothing (dense_media.h: nee_probability_in_medium).
+    // Thinned deep in a dense medium, where it finds nothing, and through the interfaces along a
+    // split walk's direction memory (dense_media.h: nee_probability_in_medium, split_walk_nee_share).
     const double q = nee_probability_in_medium(v, medium, point, w, near);
     if (q >= 1.0 || rng.next_double() < q)
-      add(state.beta * direct_light_in_medium(v, at, w, state.mis.r_u, rng, rays,
-                                                          next_event == NextEvent::lights_map_and_interfaces) * static_cast<float>(1.0 / q));
+      add(state.beta *
+          direct_light_in_medium(v, at, w, state.mis.r_u, rng, rays, next_event == NextEvent::lights_map_and_interfaces,
+                                 through_share(medium)) *
+          static_cast<float>(1.0 / q));
     // Near the boundary, through it (exit_guide.h: ExitGuide). Its numbers come from a stream of its
     // own, so the walk's moves on by one however many the connection takes.
     // (None where the walk could not cross one more surface.)
