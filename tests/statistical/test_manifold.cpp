@@ -247,59 +247,106 @@ TEST(ManifoldNextEvent, SunThroughFlatLayersIsTheClosedForm) {
   }
 }
 
-// A split walk's connections through the interfaces, thinned (dense_media.h: split_walk_nee_share):
-// at a point in water, a point lamp in the same water (a shadow ray, S) and a sun through the
-// water's surface (a solve, T), each alone and together from direct_light_in_medium. Together
-// they are S + T; made with a share s of 1/4, each of 2000 draws is S (the through connection not
-// made) or S + T/s, to float rounding, and the draws that make it number 2000·s within 4 standard
-// deviations of the binomial. What it catches: the through connection not divided by the share
-// (S + T), the straight one divided too (S/s) or thinned with it (0), the share ignored (every
-// draw S + T) or the solve never made.
+// A split walk's connections through the interfaces, thinned (dense_media.h: split_walk_nee_share),
+// from direct_light_in_medium at a point in water with a point lamp in the same water (a shadow
+// ray: S) and a lamp beyond the water's surface (T). Through a box's face (a chain: a sun) and an
+// exact ball's surface (a caster: a point lamp), where T draws no number: each lamp alone and
+// together, S + T; made with a share s of 1/4, each of 2000 draws is S (not made) or S + T/s, to
+// float rounding, and the draws that make it number 2000·s within 4 standard deviations of the
+// binomial. A small area lamp above the box's face (through a chain from the point drawn on it):
+// the mean of 4000 draws with the share the mean of 4000 without, within 4 standard errors. A
+// scene without lamps draws no number for it (the stream after the call the same). What it
+// catches: a connection through the interfaces not divided by the share (S + T), the straight one
+// divided too (S/s) or thinned with it (0), the share ignored (every draw S + T), a route (caster,
+// chain, area lamp's chain) left out of the thinning or its division, and a number drawn where
+// nothing can be thinned (the images lit by a map alone would all change).
 TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectation) {
-  auto scene_with = [](const char* lights) {
+  constexpr const char* kBall = R"({"type": "sphere", "radius": 0.2})";
+  auto scene_with = [](const char* water, const std::string& lights, const char* lamp_object = "") {
     return compile(parse_scene(fmt::format(R"({{
       "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
       "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
       "world_medium": "vacuum",
       "media": {{"water": {{"ior": {}}}}},
-      "objects": [{{"name": "water", "shape": {}, "inside": "water"}}],
+      "objects": [{{"name": "water", "shape": {}, "inside": "water"}}{}],
       "lights": [{}],
       "background": {{"spectrum": "E", "scale": 0}}
-    }})", kN, kWaterBox, lights), "thinned_connections.json"));
+    }})", kN, water, lamp_object, lights), "thinned_connections.json"));
   };
-  constexpr const char* kLamp = R"({"type": "point", "position": [0.05, -0.04, 0], "spectrum": "D65", "scale": 0.001})";
-  constexpr const char* kSun = R"({"type": "distant", "direction": [0.64, -0.77, 0], "spectrum": "D65", "scale": 1})";
-  const RenderScene lamp = scene_with(kLamp), sun = scene_with(kSun),
-                    both = scene_with(fmt::format("{}, {}", kLamp, kSun).c_str());
-  const int medium = both.surfaces[0].medium_behind, nested = both.surfaces[0].nested;
-  ASSERT_GE(medium, 0);
-  const MediumPoint at{Vec3{0.02, -0.05, -0.03}, Vec3{0, -1, 0}, PhaseFunction{IsotropicPhase{}}, medium,
-                       nested >= 0 ? nested_bit(nested) : InsideSet{0}};
-  auto light_at = [&](const RenderScene& scene, double share, std::uint64_t stream) {
+  constexpr const char* kInside = R"({"type": "point", "position": [0.05, -0.04, 0], "spectrum": "D65", "scale": 0.001})";
+  const MediumPoint base{Vec3{0.02, -0.05, -0.03}, Vec3{0, -1, 0}, PhaseFunction{IsotropicPhase{}}, -1, InsideSet{0}};
+  auto at_in = [&](const RenderScene& scene) {
+    MediumPoint at = base;
+    at.medium = scene.surfaces[0].medium_behind;
+    const int nested = scene.surfaces[0].nested;
+    at.inside = nested >= 0 ? nested_bit(nested) : InsideSet{0};
+    return at;
+  };
+  // What the connections bring at the first hero wavelength, from stream `stream`; `after`: the
+  // stream's next number once they are made.
+  auto light_at = [&](const RenderScene& scene, double share, std::uint64_t stream, std::uint32_t* after = nullptr) {
     const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
     const Camera camera(scene.camera);
-    const SceneView<kHeroCount> v{scene, tables, camera, 8};
+    SceneView<kHeroCount> v{scene, tables, camera, 8};
+    v.area_lamp_chains = true;
     const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
     Rng rng(7, stream);
     std::uint64_t rays = 0;
-    return direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true, share)[0];
+    const double l = direct_light_in_medium(v, at_in(scene), w, SampledSpectrum<kHeroCount>::constant(1.0f), rng,
+                                            rays, true, share)[0];
+    if (after) *after = rng.next_u32();
+    return l;
   };
-  const double straight = light_at(lamp, 1.0, 0), through = light_at(sun, 1.0, 0);
-  ASSERT_GT(straight, 0.0);
-  ASSERT_GT(through, 0.0);
-  EXPECT_NEAR(light_at(both, 1.0, 0), straight + through, 1e-5 * (straight + through));
-  constexpr int kDraws = 2000;
   constexpr double kShare = 0.25;
-  int made = 0;
-  for (int i = 0; i < kDraws; ++i) {
-    const double l = light_at(both, kShare, static_cast<std::uint64_t>(i));
-    const bool with = std::abs(l - (straight + through / kShare)) <= 1e-5 * (straight + through / kShare);
-    EXPECT_TRUE(with || std::abs(l - straight) <= 1e-5 * straight) << i << ": " << l;
-    made += with;
+  for (const auto& [water, beyond, what] :
+       {std::tuple{kWaterBox, R"({"type": "distant", "direction": [0.64, -0.77, 0], "spectrum": "D65", "scale": 1})",
+                   "a sun through a box's face"},
+        std::tuple{kBall, R"({"type": "point", "position": [0.1, 0.3, 0], "spectrum": "D65", "scale": 0.01})",
+                   "a point lamp through an exact ball"}}) {
+    const RenderScene lamp = scene_with(water, kInside), far = scene_with(water, beyond),
+                      both = scene_with(water, fmt::format("{}, {}", kInside, beyond));
+    ASSERT_GE(at_in(both).medium, 0);
+    const double straight = light_at(lamp, 1.0, 0), through = light_at(far, 1.0, 0);
+    ASSERT_GT(straight, 0.0) << what;
+    ASSERT_GT(through, 0.0) << what;
+    EXPECT_NEAR(light_at(both, 1.0, 0), straight + through, 1e-5 * (straight + through)) << what;
+    constexpr int kDraws = 2000;
+    int made = 0;
+    for (int i = 0; i < kDraws; ++i) {
+      const double l = light_at(both, kShare, static_cast<std::uint64_t>(i));
+      const bool with = std::abs(l - (straight + through / kShare)) <= 1e-5 * (straight + through / kShare);
+      EXPECT_TRUE(with || std::abs(l - straight) <= 1e-5 * straight) << what << ", draw " << i << ": " << l;
+      made += with;
+    }
+    std::printf("thinned connections, %s: S %.6g, T %.6g; made %d of %d (share %.2f)\n", what, straight, through,
+                made, kDraws, kShare);
+    EXPECT_NEAR(made, kDraws * kShare, 4.0 * std::sqrt(kDraws * kShare * (1.0 - kShare))) << what;
   }
-  std::printf("thinned connections through the water's surface: S %.6g, T %.6g; made %d of %d (share %.2f)\n",
-              straight, through, made, kDraws, kShare);
-  EXPECT_NEAR(made, kDraws * kShare, 4.0 * std::sqrt(kDraws * kShare * (1.0 - kShare)));
+  {  // an area lamp through the box's face
+    const RenderScene scene = scene_with(kWaterBox, kInside, R"(, {"name": "panel", "shape": {"type": "quad",
+      "size": [0.04, 0.04]}, "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0.15, 0.25, 0]}],
+      "emission": {"spectrum": "D65", "scale": 50}})");
+    constexpr int kDraws = 4000;
+    std::array<test::Estimate, 2> e;
+    for (const double share : {1.0, kShare}) {
+      std::vector<double> l;
+      for (int i = 0; i < kDraws; ++i) l.push_back(light_at(scene, share, static_cast<std::uint64_t>(100000 + i)));
+      e[share < 1.0] = test::mean_estimate(l);
+    }
+    const double straight = light_at(scene_with(kWaterBox, kInside), 1.0, 0);
+    const double se = std::hypot(e[0].standard_error, e[1].standard_error);
+    std::printf("an area lamp through a box's face: %.6g ± %.2g whole, %.6g ± %.2g thinned (the lamp in the water "
+                "alone %.6g)\n", e[0].mean, e[0].standard_error, e[1].mean, e[1].standard_error, straight);
+    EXPECT_GT(e[0].mean, 1.2 * straight) << "the panel's light through the face is not resolved";
+    EXPECT_NEAR(e[1].mean, e[0].mean, 4.0 * se);
+  }
+  {  // without lamps: no number drawn
+    const RenderScene scene = scene_with(kWaterBox, "");
+    std::uint32_t whole = 0, thinned = 0;
+    light_at(scene, 1.0, 3, &whole);
+    light_at(scene, kShare, 3, &thinned);
+    EXPECT_EQ(whole, thinned) << "a number drawn to thin connections in a scene without lamps";
+  }
 }
 
 // A sun through a clear glass ball (n 1.5, σ_a 10 per m, radius R = 20 mm, an exact sphere: a

@@ -37,7 +37,9 @@ inline constexpr double kNeeFloor = 1.0 / 64.0;
 // In whole milk (g 0.864: a share of 0.136) in a glass at 32×24 (docs/performance.md): 2.9 times
 // the efficiency under a sun, 1.7 times under a point lamp; under the studio map alone, as before.
 // A back-scattering medium (g < 0) keeps every connection; one nearly all forward (g near 1) keeps
-// kNeeFloor of them, as deep in a medium, so that no connection weighs more than 64 times.
+// kNeeFloor of them, as deep in a medium, so that this share weighs a connection at most 64 times
+// over (the depth's q comes on top of it). Only in the medium the walk split at: a split walk that
+// leaves it for a thin one scatters there a few times, where its connections are worth making.
 inline double split_walk_nee_share(const PhaseFunction& phase) {
   return std::clamp(1.0 - mean_cosine(phase), kNeeFloor, 1.0);
 }

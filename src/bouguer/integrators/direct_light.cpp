@@ -101,12 +101,14 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   const bool mis = next_event != NextEvent::lights;
   const bool environment = next_event != NextEvent::lights && !delta_only;
   // The lamps' connections through the interfaces, made with probability through_share and
-  // divided by it (dense_media.h: split_walk_nee_share); a number drawn only where it is below 1
-  // and there is a lamp (a scene lit by its map alone draws as before).
-  const bool interfaces = next_event == NextEvent::lights_map_and_interfaces &&
-                          (through_share >= 1.0 || (s.delta_lights.empty() && s.area_lights.empty()) ||
-                           rng.next_double() < through_share);
-  SampledSpectrum<N> beyond;  // what those connections bring
+  // divided by it (dense_media.h: split_walk_nee_share). A number is drawn only where the share is
+  // below 1 and there are lamps and glass (a scene lit by its map alone, or without glass, draws as
+  // before); the factor is exactly 1 where nothing is thinned, so those images keep their bits.
+  const bool thinned = through_share < 1.0 && next_event == NextEvent::lights_map_and_interfaces &&
+                       s.smooth_glass && !(s.delta_lights.empty() && (delta_only || s.area_lights.empty()));
+  const bool interfaces =
+      next_event == NextEvent::lights_map_and_interfaces && (!thinned || rng.next_double() < through_share);
+  const float beyond = thinned ? static_cast<float>(1.0 / through_share) : 1.0f;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
   auto light_ratio = [&](const Transmission<N>& t) { return mean_ratio(s, path_r_u, t.ratios.r_l); };
@@ -121,7 +123,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   if (interfaces && !s.casters.empty()) {
     Rng side(rng.next_u32(), kManifoldStream);
     const double v1 = side.next_double(), v2 = side.next_double();
-    beyond += through_casters(v, at, towards, medium_towards, chosen, v1, v2, w, path_r_u, side, rays);
+    sum += through_casters(v, at, towards, medium_towards, chosen, v1, v2, w, path_r_u, side, rays) * beyond;
   }
   if (chosen) {
     const auto& [index, p_choice] = *chosen;
@@ -149,10 +151,12 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
         const Vec3 y = at.point + li->wi * li->distance_m;
         const double point_pdf = p_choice * pdf_point(light, at.point, y);
         if (glass || f.is_zero())
-          beyond += area_light_through_chain(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng, rays);
+          sum += area_light_through_chain(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng, rays) *
+                 beyond;
         if (s.glass_cylinders)
-          beyond += area_light_through_cylinder(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u,
-                                                rng, rays);
+          sum += area_light_through_cylinder(v, at, light, y, point_pdf, towards, medium_towards, w, path_r_u, rng,
+                                             rays) *
+                 beyond;
       }
     }
   }
@@ -170,8 +174,9 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                     interfaces ? &glass : nullptr, interfaces ? &blocker : nullptr))
       sum += f * (radiance * t->tr * static_cast<float>(li->factor)) * (1.0f / light_ratio(*t));
     else if (glass)  // through the interface to the lamp (manifold.h)
-      beyond += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards,
-                                              medium_towards, w, path_r_u, rng, rays);
+      sum += delta_light_through_interface(v, at, s.lights[static_cast<std::size_t>(index)], blocker, towards,
+                                           medium_towards, w, path_r_u, rng, rays) *
+             beyond;
   }
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
@@ -205,7 +210,6 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
       }
     }
   }
-  if (!beyond.is_zero()) sum += beyond * static_cast<float>(1.0 / std::min(1.0, through_share));
   return sum;
 }
 

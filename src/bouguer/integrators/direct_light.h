@@ -120,7 +120,7 @@ SampledSpectrum<N> direct_light_in_medium(const SceneView<N>& v, const MediumPoi
 // Only the point, spot and distant lamps of direct_light_in_medium, reached as it reaches them
 // (through the interfaces with through_interfaces): the connections shell transport keeps where
 // it leaves a sphere's vertices out (shell_hops.h), whose other strategies the walk's own
-// directions stand for.
+// directions stand for; those through the interfaces with through_share as above.
 template <std::size_t N>
 SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoint& at, const SampledWavelengths<N>& w,
                                           const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,

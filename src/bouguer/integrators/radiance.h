@@ -177,7 +177,9 @@ struct Radiance {
   GuideTrail trail = {};
   SurfaceDistance near = {};
   float bin_weight = 1.0f;
-  bool split_walk = false;  // a walk of one wavelength from a split (dense_media.h: split_walk_nee_share)
+  // A walk of one wavelength from a split: the dense medium it split at (dense_media.h:
+  // split_walk_nee_share, which holds there alone), or −1.
+  int split_medium = -1;
   // Its next-event estimation: the path tracer's own adds lamps behind one smooth interface
   // (direct_light.h: NextEvent::lights_map_and_interfaces), a bidirectional tail does not.
   NextEvent next_event = NextEvent::lights_and_map_weighted;
@@ -254,7 +256,8 @@ struct Radiance {
   // it kept a collision (a scene with point, spot or distant lamps), the connections to those lamps
   // its n collisions would have made, estimated by n times the kept one's, thinned as the analog
   // walk thins its own deep in a medium (dense_media.h): made with probability q = min(1, n·q₁),
-  // q₁ the one vertex's, and divided by it, so the sphere makes as many as its vertices would.
+  // q₁ the one vertex's, and divided by it, so the sphere makes as many as its vertices would;
+  // those through glass with the split walk's share of them as well (through_share).
   // Where the sphere takes the path past kMaxScatterings, only the collisions before the limit
   // connect, as the analog walk's would: the kept one if it is one of them.
   bool hopped(const ShellHop& hop) {
@@ -349,7 +352,7 @@ struct Radiance {
   // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
-    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight, true,
+    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight, s.medium,
                     next_event, casters, chains, cylinders, guide, here, learning};
   }
   void join(const Radiance& child) {
@@ -385,10 +388,11 @@ struct Radiance {
     return true;
   }
 
-  // The share of a medium vertex's connections through the interfaces that are made
-  // (dense_media.h: split_walk_nee_share).
+  // The share of a medium vertex's connections through the interfaces that are made: a split
+  // walk's in the medium it split at (dense_media.h: split_walk_nee_share), all of them elsewhere.
   double through_share(int medium) const {
-    return split_walk ? split_walk_nee_share(scattering_medium(v.scene, medium)->phase) : 1.0;
+    return medium >= 0 && medium == split_medium ? split_walk_nee_share(scattering_medium(v.scene, medium)->phase)
+                                                 : 1.0;
   }
 
   // A scattering event at `point`; its throughput, medium and nested set are the walk's state's.
