@@ -96,7 +96,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                    MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                    const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
                                    NextEvent next_event, const ThroughInterfaces* through = nullptr,
-                                   bool delta_only = false, double through_share = 1.0) {
+                                   bool delta_only = false, double through_share = 1.0, bool in_sealed = false) {
   const RenderScene& s = v.scene;
   const bool mis = next_event != NextEvent::lights;
   const bool environment = next_event != NextEvent::lights && !delta_only;
@@ -178,9 +178,12 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                            medium_towards, w, path_r_u, rng, rays) *
              beyond;
   }
+  // (From inside a sealed medium the map's shadow ray always stops at its boundary: SceneMedium::
+  // sealed. Its numbers are drawn all the same, so the rest of the sample is as it was.)
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
-    const auto li = sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
+    const auto li =
+        in_sealed ? std::nullopt : sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
     // Into a medium that only absorbs, the shadow ray still goes: it gets nothing where it would
     // leave the scene in the medium (an infinite path: travel gives 0), but it may leave the medium
     // through an index-matched boundary, as the walk's own direction does (skipping it lost that
@@ -243,7 +246,7 @@ SampledSpectrum<N> in_medium(const SceneView<N>& v, const MediumPoint& at, const
   return direct_light_at(
       v, PathVertex{at.x, nullptr, at.inside}, phase_towards, [&](const Vec3&) { return at.medium; }, w, path_r_u,
       rng, rays, through_interfaces ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted,
-      nullptr, delta_only, through_share);
+      nullptr, delta_only, through_share, v.scene.media[static_cast<std::size_t>(at.medium)].sealed);
 }
 
 }  // namespace

@@ -139,6 +139,11 @@ struct SceneMedium {
   // medium that is only ever in front of surfaces (an `outside` that nothing encloses) is open to
   // infinity, where a walk ends at a ray that escapes: walk_deep (integrators/walk.h) leaves it alone.
   bool enclosed = false;
+  // Enclosed, not the world's, and of an index no other medium of a surface shares: every
+  // boundary of it refracts (or is opaque), so a straight shadow ray from inside it to the
+  // environment map always stops at one and brings nothing (compile.cpp: mark_sealed_media;
+  // direct_light.cpp skips that ray, drawing its sample's numbers still).
+  bool sealed = false;
 };
 
 // The index a path sees: the reference index until it has kept a single wavelength, after a

@@ -655,6 +655,29 @@ bool indices_match(const RenderScene& s, int a, int b) {
   return !ma.dispersive && !mb.dispersive && ma.ior_reference == mb.ior_reference;
 }
 
+namespace {
+
+// SceneMedium::sealed: a path's medium changes only at a surface, and a shadow ray crosses one
+// only where its two sides' indices match (indices_match); where no medium on any surface, nor the
+// world's, matches this one's, a ray that starts inside it stops at the first surface that leaves
+// it (a mesh object's inside is closed: check_closed).
+void mark_sealed_media(RenderScene& s) {
+  std::vector<bool> used(s.media.size(), false);
+  used[static_cast<std::size_t>(s.world_medium)] = true;
+  for (const Surface& surface : s.surfaces)
+    for (const int m : {surface.medium_front, surface.medium_behind})
+      if (m >= 0) used[static_cast<std::size_t>(m)] = true;
+  for (std::size_t m = 0; m < s.media.size(); ++m) {
+    SceneMedium& medium = s.media[m];
+    if (!medium.enclosed || static_cast<int>(m) == s.world_medium) continue;
+    medium.sealed = true;
+    for (std::size_t k = 0; k < s.media.size(); ++k)
+      if (k != m && used[k] && indices_match(s, static_cast<int>(m), static_cast<int>(k))) medium.sealed = false;
+  }
+}
+
+}  // namespace
+
 RenderScene compile(const SceneDesc& desc) {
   RenderScene s;
   s.file = desc.file;
@@ -663,6 +686,7 @@ RenderScene compile(const SceneDesc& desc) {
   s.environment = desc.environment_map;
   lower_media(s, desc);
   add_geometry(s, desc);
+  mark_sealed_media(s);
   add_lights(s, desc);
   add_lights_distributions(s);
   add_casters(s);
