@@ -138,19 +138,53 @@ TEST(ManifoldNextEvent, PointLampUnderFlatWaterLightsTheCeilingAsTheClosedFormSa
   }
 }
 
-// What next-event estimation at a medium point `at` of `scene` gets from its one distant lamp (the
-// path tracer's, through the interfaces), over the lamp's irradiance, at each of the hero
-// wavelengths (0.3 of the way along the spectrum).
-std::array<double, kHeroCount> sun_at(const RenderScene& scene, const MediumPoint& at) {
+// Water of index kN (`water`: kWaterBox, kWaterCylinder or another shape) in vacuum, lit by
+// `lights` (the JSON array's entries), `more` added to its objects (a leading comma), no
+// background: compiled.
+RenderScene water_with(const char* water, const std::string& lights, const char* more = "") {
+  return compile(parse_scene(fmt::format(R"({{
+    "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
+    "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
+    "world_medium": "vacuum",
+    "media": {{"water": {{"ior": {}}}}},
+    "objects": [{{"name": "water", "shape": {}, "inside": "water"}}{}],
+    "lights": [{}],
+    "background": {{"spectrum": "E", "scale": 0}}
+  }})", kN, water, more, lights), "water_with.json"));
+}
+
+// A medium point at x inside the scene's first object (its contents, its nested bit), the walk
+// having arrived going down.
+MediumPoint in_first_object(const RenderScene& scene, const Vec3& x, const PhaseFunction& phase) {
+  const Surface& s = scene.surfaces[0];
+  return MediumPoint{x, Vec3{0, -1, 0}, phase, s.medium_behind, s.nested >= 0 ? nested_bit(s.nested) : InsideSet{0}};
+}
+
+// Next-event estimation at a medium point `at` of `scene` (the path tracer's, through the
+// interfaces, those connections made with probability `share`; area lamps through chains), at the
+// hero wavelengths 0.3 of the way along the spectrum, from `rng`; `after`: the stream's next
+// number once it is done.
+SampledSpectrum<kHeroCount> next_event_at(const RenderScene& scene, const MediumPoint& at, Rng rng,
+                                          double share = 1.0, std::uint32_t* after = nullptr) {
   const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
   const Camera camera(scene.camera);
-  const SceneView<kHeroCount> v{scene, tables, camera, 8};
+  SceneView<kHeroCount> v{scene, tables, camera, 8};
+  v.area_lamp_chains = true;
   const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
-  const SampledSpectrum<kHeroCount> sun = tables.at(std::get<DistantLight>(scene.lights[0]).irradiance, w);
-  Rng rng(1, 2);
   std::uint64_t rays = 0;
   const SampledSpectrum<kHeroCount> l =
-      direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true);
+      direct_light_in_medium(v, at, w, SampledSpectrum<kHeroCount>::constant(1.0f), rng, rays, true, share);
+  if (after) *after = rng.next_u32();
+  return l;
+}
+
+// What next-event estimation at `at` gets from the scene's one distant lamp, over the lamp's
+// irradiance, at each hero wavelength.
+std::array<double, kHeroCount> sun_at(const RenderScene& scene, const MediumPoint& at) {
+  const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
+  const SampledSpectrum<kHeroCount> sun =
+      tables.at(std::get<DistantLight>(scene.lights[0]).irradiance, tables.wavelengths(0.3));
+  const SampledSpectrum<kHeroCount> l = next_event_at(scene, at, Rng(1, 2));
   std::array<double, kHeroCount> out{};
   for (std::size_t k = 0; k < kHeroCount; ++k) out[k] = l[k] / sun[k];
   return out;
@@ -171,17 +205,10 @@ TEST(ManifoldNextEvent, SunThroughFlatWaterIsTheClosedForm) {
   for (const auto& [water, what] : {std::pair{kWaterBox, "a box's face"}, std::pair{kWaterCylinder, "a cylinder's cap"}})
     for (const double theta_deg : {0.0, 40.0, 70.0}) {
       const double theta = theta_deg * std::numbers::pi / 180.0;
-      const RenderScene scene = compile(parse_scene(fmt::format(R"({{
-        "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
-        "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
-        "world_medium": "vacuum",
-        "media": {{"water": {{"ior": {}}}}},
-        "objects": [{{"name": "water", "shape": {}, "inside": "water"}}],
-        "lights": [{{"type": "distant", "direction": [{}, {}, 0], "spectrum": "D65", "scale": 1}}],
-        "background": {{"spectrum": "E", "scale": 0}}
-      }})", kN, water, std::sin(theta), -std::cos(theta)), "sun_over_water.json"));
-      const int medium = scene.surfaces[0].medium_behind, nested = scene.surfaces[0].nested;
-      ASSERT_GE(medium, 0);
+      const RenderScene scene = water_with(
+          water, fmt::format(R"({{"type": "distant", "direction": [{}, {}, 0], "spectrum": "D65", "scale": 1}})",
+                             std::sin(theta), -std::cos(theta)));
+      ASSERT_GE(scene.surfaces[0].medium_behind, 0);
       const double cos_x = std::sqrt(1.0 - std::pow(std::sin(theta) / kN, 2.0));
       const double t = 1.0 - fresnel_dielectric(std::cos(theta), cos_x, 1.0, kN);
       for (const double g : {0.0, 0.5}) {
@@ -189,9 +216,7 @@ TEST(ManifoldNextEvent, SunThroughFlatWaterIsTheClosedForm) {
         const double hg = (1.0 - g * g) / (4.0 * std::numbers::pi * std::pow(1.0 + g * g + 2.0 * g * cos_x, 1.5));
         const double expected = t * std::cos(theta) / cos_x * hg;
         for (const double depth_m : {0.01, 0.15}) {
-          const MediumPoint at{Vec3{0.02, -depth_m, -0.03}, Vec3{0, -1, 0}, phase, medium,
-                               nested >= 0 ? nested_bit(nested) : InsideSet{0}};
-          const auto l = sun_at(scene, at);
+          const auto l = sun_at(scene, in_first_object(scene, Vec3{0.02, -depth_m, -0.03}, phase));
           std::printf("sun through %s, %.0f deg, g %.1f, %.0f mm deep: closed form %.6f, found %.6f (over E)\n", what,
                       theta_deg, g, depth_m * 1e3, expected, l[0]);
           for (std::size_t k = 0; k < kHeroCount; ++k)
@@ -231,16 +256,13 @@ TEST(ManifoldNextEvent, SunThroughFlatLayersIsTheClosedForm) {
       "lights": [{{"type": "distant", "direction": [{}, {}, 0], "spectrum": "D65", "scale": 1}}],
       "background": {{"spectrum": "E", "scale": 0}}
     }})", kN, kGlass, kSigma, kSigma, kWaterBox, kPane_m, std::sin(theta), -std::cos(theta)), "sun_over_pane.json"));
-    const int medium = scene.surfaces[0].medium_behind, nested = scene.surfaces[0].nested;
-    ASSERT_GE(medium, 0);
+    ASSERT_GE(scene.surfaces[0].medium_behind, 0);
     const double sin_a = std::sin(theta), cos_a = std::cos(theta);
     const double cos_g = std::sqrt(1.0 - std::pow(sin_a / kGlass, 2.0)), cos_w = std::sqrt(1.0 - std::pow(sin_a / kN, 2.0));
     const double t = (1.0 - fresnel_dielectric(cos_a, cos_g, 1.0, kGlass)) *
                      (1.0 - fresnel_dielectric(cos_g, cos_a, kGlass, 1.0)) * (1.0 - fresnel_dielectric(cos_a, cos_w, 1.0, kN));
     const double expected = t * std::exp(-kSigma * kPane_m / cos_g) * cos_a / cos_w / (4.0 * std::numbers::pi);
-    const MediumPoint at{Vec3{0.02, -0.03, -0.01}, Vec3{0, -1, 0}, PhaseFunction{IsotropicPhase{}}, medium,
-                         nested >= 0 ? nested_bit(nested) : InsideSet{0}};
-    const auto l = sun_at(scene, at);
+    const auto l = sun_at(scene, in_first_object(scene, Vec3{0.02, -0.03, -0.01}, PhaseFunction{IsotropicPhase{}}));
     std::printf("sun through a pane over water, %.0f deg: closed form %.7f, found %.7f (over E), %.1e off\n", theta_deg,
                 expected, l[0], l[0] / expected - 1.0);
     for (std::size_t k = 0; k < kHeroCount; ++k) EXPECT_NEAR(l[k], expected, 2e-5 * expected) << theta_deg << " deg, " << k;
@@ -262,40 +284,12 @@ TEST(ManifoldNextEvent, SunThroughFlatLayersIsTheClosedForm) {
 // nothing can be thinned (the images lit by a map alone would all change).
 TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectation) {
   constexpr const char* kBall = R"({"type": "sphere", "radius": 0.2})";
-  auto scene_with = [](const char* water, const std::string& lights, const char* lamp_object = "") {
-    return compile(parse_scene(fmt::format(R"({{
-      "camera": {{"position": [0, 1, 1], "look_at": [0, 0, 0], "resolution": [4, 4]}},
-      "render": {{"integrator": "path", "spectral": "hero", "spp": 1}},
-      "world_medium": "vacuum",
-      "media": {{"water": {{"ior": {}}}}},
-      "objects": [{{"name": "water", "shape": {}, "inside": "water"}}{}],
-      "lights": [{}],
-      "background": {{"spectrum": "E", "scale": 0}}
-    }})", kN, water, lamp_object, lights), "thinned_connections.json"));
-  };
   constexpr const char* kInside = R"({"type": "point", "position": [0.05, -0.04, 0], "spectrum": "D65", "scale": 0.001})";
-  const MediumPoint base{Vec3{0.02, -0.05, -0.03}, Vec3{0, -1, 0}, PhaseFunction{IsotropicPhase{}}, -1, InsideSet{0}};
-  auto at_in = [&](const RenderScene& scene) {
-    MediumPoint at = base;
-    at.medium = scene.surfaces[0].medium_behind;
-    const int nested = scene.surfaces[0].nested;
-    at.inside = nested >= 0 ? nested_bit(nested) : InsideSet{0};
-    return at;
-  };
-  // What the connections bring at the first hero wavelength, from stream `stream`; `after`: the
-  // stream's next number once they are made.
-  auto light_at = [&](const RenderScene& scene, double share, std::uint64_t stream, std::uint32_t* after = nullptr) {
-    const SpectralTables<kHeroCount> tables(scene.spectra, SpectralMode::hero);
-    const Camera camera(scene.camera);
-    SceneView<kHeroCount> v{scene, tables, camera, 8};
-    v.area_lamp_chains = true;
-    const SampledWavelengths<kHeroCount> w = tables.wavelengths(0.3);
-    Rng rng(7, stream);
-    std::uint64_t rays = 0;
-    const double l = direct_light_in_medium(v, at_in(scene), w, SampledSpectrum<kHeroCount>::constant(1.0f), rng,
-                                            rays, true, share)[0];
-    if (after) *after = rng.next_u32();
-    return l;
+  // What the connections bring at the first hero wavelength at a point in the water, from stream
+  // `stream`; `after`: the stream's next number once they are made.
+  auto light_at = [](const RenderScene& scene, double share, std::uint64_t stream, std::uint32_t* after = nullptr) {
+    const MediumPoint at = in_first_object(scene, Vec3{0.02, -0.05, -0.03}, PhaseFunction{IsotropicPhase{}});
+    return static_cast<double>(next_event_at(scene, at, Rng(7, stream), share, after)[0]);
   };
   constexpr double kShare = 0.25;
   for (const auto& [water, beyond, what] :
@@ -303,9 +297,9 @@ TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectati
                    "a sun through a box's face"},
         std::tuple{kBall, R"({"type": "point", "position": [0.1, 0.3, 0], "spectrum": "D65", "scale": 0.01})",
                    "a point lamp through an exact ball"}}) {
-    const RenderScene lamp = scene_with(water, kInside), far = scene_with(water, beyond),
-                      both = scene_with(water, fmt::format("{}, {}", kInside, beyond));
-    ASSERT_GE(at_in(both).medium, 0);
+    const RenderScene lamp = water_with(water, kInside), far = water_with(water, beyond),
+                      both = water_with(water, fmt::format("{}, {}", kInside, beyond));
+    ASSERT_GE(both.surfaces[0].medium_behind, 0);
     const double straight = light_at(lamp, 1.0, 0), through = light_at(far, 1.0, 0);
     ASSERT_GT(straight, 0.0) << what;
     ASSERT_GT(through, 0.0) << what;
@@ -323,7 +317,7 @@ TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectati
     EXPECT_NEAR(made, kDraws * kShare, 4.0 * std::sqrt(kDraws * kShare * (1.0 - kShare))) << what;
   }
   {  // an area lamp through the box's face
-    const RenderScene scene = scene_with(kWaterBox, kInside, R"(, {"name": "panel", "shape": {"type": "quad",
+    const RenderScene scene = water_with(kWaterBox, kInside, R"(, {"name": "panel", "shape": {"type": "quad",
       "size": [0.04, 0.04]}, "transform": [{"rotate_deg": [90, [1, 0, 0]]}, {"translate": [0.15, 0.25, 0]}],
       "emission": {"spectrum": "D65", "scale": 50}})");
     constexpr int kDraws = 4000;
@@ -333,7 +327,7 @@ TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectati
       for (int i = 0; i < kDraws; ++i) l.push_back(light_at(scene, share, static_cast<std::uint64_t>(100000 + i)));
       e[share < 1.0] = test::mean_estimate(l);
     }
-    const double straight = light_at(scene_with(kWaterBox, kInside), 1.0, 0);
+    const double straight = light_at(water_with(kWaterBox, kInside), 1.0, 0);
     const double se = std::hypot(e[0].standard_error, e[1].standard_error);
     std::printf("an area lamp through a box's face: %.6g ± %.2g whole, %.6g ± %.2g thinned (the lamp in the water "
                 "alone %.6g)\n", e[0].mean, e[0].standard_error, e[1].mean, e[1].standard_error, straight);
@@ -341,7 +335,7 @@ TEST(ManifoldNextEvent, ConnectionsThroughTheInterfacesThinnedKeepTheirExpectati
     EXPECT_NEAR(e[1].mean, e[0].mean, 4.0 * se);
   }
   {  // without lamps: no number drawn
-    const RenderScene scene = scene_with(kWaterBox, "");
+    const RenderScene scene = water_with(kWaterBox, "");
     std::uint32_t whole = 0, thinned = 0;
     light_at(scene, 1.0, 3, &whole);
     light_at(scene, kShare, 3, &thinned);
