@@ -24,32 +24,17 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # shellcheck disable=SC2086
 python3 "$repo/bench/scenes.py" "$tmp" $scenes
-seconds() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$1"; }
+# shellcheck source=bench/seed_pairs.sh
+source "$repo/bench/seed_pairs.sh"
 echo "| scene | build | seconds a render ($resolution, $spp spp, $threads threads) | mean ΔE00 seed to seed | ΔE00² × s |"
 echo "|---|---|---|---|---|"
 for scene in $scenes; do
   declare -A secs=() gaps=()
   for pair in $(seq 1 "$pairs"); do
     for i in "${!bins[@]}"; do  # alternating, so a busy machine slows every build alike
-      for seed in $((2 * pair - 1)) $((2 * pair)); do
-        "${bins[$i]}" render "$tmp/$scene.json" --resolution "$resolution" --spp "$spp" --seed "$seed" \
-          --threads "$threads" --quiet -o "$tmp/r-$i-$seed.pfm" --stats-json "$tmp/s-$i-$seed.json"
-        secs[$i]="${secs[$i]:-} $(seconds "$tmp/s-$i-$seed.json")"
-      done
-      gap=$("${bins[$i]}" compare "$tmp/r-$i-$((2 * pair - 1)).pfm" "$tmp/r-$i-$((2 * pair)).pfm" |
-            sed -n 's/.*mean \([0-9.]*\).*/\1/p')
-      gaps[$i]="${gaps[$i]:-} $gap"
+      render_pair "$i" "${bins[$i]}" "$tmp/$scene.json" "$pair"
     done
   done
-  for i in "${!bins[@]}"; do
-    python3 - "$scene" "${bins[$i]}" "${secs[$i]}" "${gaps[$i]}" <<'PY'
-import sys
-s = [float(x) for x in sys.argv[3].split()]
-g = [float(x) for x in sys.argv[4].split()]
-ms, mg = sum(s) / len(s), sum(g) / len(g)
-print(f"| {sys.argv[1]} | {sys.argv[2]} | {ms:.2f} ({min(s):.2f}–{max(s):.2f}) | "
-      f"{mg:.2f} ({' '.join(f'{x:.2f}' for x in g)}) | {mg * mg * ms:.3g} |")
-PY
-  done
+  for i in "${!bins[@]}"; do pair_row "$scene" "${bins[$i]}" "$i"; done
   unset secs gaps
 done

@@ -31,7 +31,8 @@ d["objects"] = [{"name": "a 10 mm ball of whole milk", "shape": {"type": "sphere
 d["camera"]["fov_deg"] = 12
 json.dump(d, open(sys.argv[1] + "/ball.json", "w"), indent=1)
 PY
-seconds() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['seconds'])" "$1"; }
+# shellcheck source=bench/seed_pairs.sh
+source "$repo/bench/seed_pairs.sh"
 echo "| scene | shell transport | seconds a render ($resolution, $spp spp, $threads threads) | mean ΔE00 seed to seed | ΔE00² × s |"
 echo "|---|---|---|---|---|"
 for scene in ${SCENES:-milk ball lamp sun}; do
@@ -42,25 +43,10 @@ for scene in ${SCENES:-milk ball lamp sun}; do
   declare -A secs=() gaps=()
   for pair in $(seq 1 "$pairs"); do
     for setting in true false; do  # alternating, so a busy machine slows both alike
-      for seed in $((2 * pair - 1)) $((2 * pair)); do
-        "$bin" render "$tmp/$scene-$setting.json" --resolution "$resolution" --spp "$spp" --seed "$seed" \
-          --threads "$threads" --quiet -o "$tmp/r-$setting-$seed.pfm" --stats-json "$tmp/s-$setting-$seed.json"
-        secs[$setting]="${secs[$setting]:-} $(seconds "$tmp/s-$setting-$seed.json")"
-      done
-      gap=$("$bin" compare "$tmp/r-$setting-$((2 * pair - 1)).pfm" "$tmp/r-$setting-$((2 * pair)).pfm" |
-            sed -n 's/.*mean \([0-9.]*\).*/\1/p')
-      gaps[$setting]="${gaps[$setting]:-} $gap"
+      render_pair "$setting" "$bin" "$tmp/$scene-$setting.json" "$pair"
     done
   done
-  for setting in true false; do
-    python3 - "$scene" "$setting" "${secs[$setting]}" "${gaps[$setting]}" <<'PY'
-import sys
-s = [float(x) for x in sys.argv[3].split()]
-g = [float(x) for x in sys.argv[4].split()]
-ms, mg = sum(s) / len(s), sum(g) / len(g)
-print(f"| {sys.argv[1]} | {'on' if sys.argv[2] == 'true' else 'off'} | {ms:.2f} ({min(s):.2f}–{max(s):.2f}) | "
-      f"{mg:.2f} ({' '.join(f'{x:.2f}' for x in g)}) | {mg * mg * ms:.3g} |")
-PY
-  done
+  pair_row "$scene" on true
+  pair_row "$scene" off false
   unset secs gaps
 done
