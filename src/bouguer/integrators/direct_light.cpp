@@ -104,10 +104,10 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   // divided by it (dense_media.h: split_walk_nee_share). A number is drawn only where the share is
   // below 1 and there are lamps and glass (a scene lit by its map alone, or without glass, draws as
   // before); the factor is exactly 1 where nothing is thinned, so those images keep their bits.
-  const bool thinned = through_share < 1.0 && next_event == NextEvent::lights_map_and_interfaces &&
-                       s.smooth_glass && !(s.delta_lights.empty() && (delta_only || s.area_lights.empty()));
-  const bool interfaces =
-      next_event == NextEvent::lights_map_and_interfaces && (!thinned || rng.next_double() < through_share);
+  const bool manifold = next_event == NextEvent::lights_map_and_interfaces;
+  const bool thinned = manifold && through_share < 1.0 && s.smooth_glass &&
+                       !(s.delta_lights.empty() && (delta_only || s.area_lights.empty()));
+  const bool interfaces = manifold && (!thinned || rng.next_double() < through_share);
   const float beyond = thinned ? static_cast<float>(1.0 / through_share) : 1.0f;
   // A strategy's mixture density over the carried wavelengths is its own density times the mean
   // of its ratios: the path's so far times the connection's own (1 without scattering media).
