@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The benchmark scenes of #37, in one place (bench/manifold.sh, bench/guiding.sh,
-bench/whole_milk_glass.sh, bench/shell_transport.sh, bench/dense_connections.sh and
-bench/hard_scenes.py write theirs from here).
+bench/whole_milk_glass.sh, bench/shell_transport.sh, bench/dense_connections.sh,
+bench/milk_noise.sh and bench/hard_scenes.py write theirs from here).
 
     python3 bench/scenes.py OUTDIR NAME...     writes OUTDIR/NAME.json for each NAME
 
