@@ -21,6 +21,8 @@ bench/milk_noise.sh and bench/hard_scenes.py write theirs from here).
            reaches the milk only through the glass: next-event estimation solves the refractions)
   milk_sun   the same with a sun (D65, which lights the sweep, and the milk through its open top
            and through the glass's wall)
+  glassware  scenes/examples/studio-glassware.json: a cobalt ball, a yellow glass block and a
+           tumbler of red wine on a white sweep under the studio map (the product shot)
   bounce   a floor lit only by a small white patch that a lamp below it shines on (guiding's
            textbook case)
   rod      a lying rod of absorbing glass (an exact cylinder, 20 mm radius, 300 mm long, n = 1.5)
@@ -114,6 +116,10 @@ def milk_sun():
     return scene
 
 
+def glassware():
+    return _load("scenes/examples/studio-glassware.json")
+
+
 def bounce():
     return {
         "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
@@ -149,7 +155,7 @@ def rod():
 
 
 SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk,
-          "milk_lamp": milk_lamp, "milk_sun": milk_sun, "bounce": bounce, "rod": rod}
+          "milk_lamp": milk_lamp, "milk_sun": milk_sun, "glassware": glassware, "bounce": bounce, "rod": rod}
 
 
 def scene(name):

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bouguer/integrators/exit_guide.h"
 #include "bouguer/integrators/manifold.h"
@@ -19,8 +20,8 @@ double area_light_pdf(const RenderScene& scene, const Hit& hit, const Vec3& from
   return scene.area_lights.pmf[index] * pdf_li(scene.lights[index], from, wi, hit.point);
 }
 
-double environment_pdf(const RenderScene& scene, const Vec3& d) {
-  return scene.environment ? scene.environment->pdf(d) : 0.0;
+double environment_pdf(const RenderScene& scene, const Vec3& d, int lobe) {
+  return scene.environment ? scene.environment->pdf(d, lobe) : 0.0;
 }
 
 template <std::size_t N>
@@ -88,6 +89,22 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
 
 namespace {
 
+// The map's sample from its lobe (lights/environment.h), as sample_li draws from the map's own
+// density with lobe < 0.
+std::optional<LightLiSample> environment_li(const RenderScene& s, const Vec3& at, double u1, double u2, int lobe) {
+  const Light& light = s.lights[static_cast<std::size_t>(s.environment_light)];
+  if (lobe < 0) return sample_li(light, at, u1, u2);
+  const auto e = s.environment->sample(u1, u2, lobe);
+  if (!e) return std::nullopt;
+  LightLiSample li;  // (as sample_li makes the map's: infinitely far, no delta, factor 1)
+  li.wi = e->wi;
+  li.distance_m = std::numeric_limits<double>::infinity();
+  li.pdf = e->pdf;
+  li.factor = 1.0;
+  li.texel = e->texel;
+  return li;
+}
+
 // Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
 // vertex's f·|cos θ| (or phase value) towards wi and the density with which the vertex itself
 // would sample wi; medium_towards(wi) the medium wi leaves into.
@@ -96,7 +113,8 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
                                    MediumTowards medium_towards, const SampledWavelengths<N>& w,
                                    const SampledSpectrum<N>& path_r_u, Rng& rng, std::uint64_t& rays,
                                    NextEvent next_event, const ThroughInterfaces* through = nullptr,
-                                   bool delta_only = false, double through_share = 1.0, bool in_sealed = false) {
+                                   bool delta_only = false, double through_share = 1.0, bool in_sealed = false,
+                                   int lobe = -1) {
   const RenderScene& s = v.scene;
   const bool mis = next_event != NextEvent::lights;
   const bool environment = next_event != NextEvent::lights && !delta_only;
@@ -182,8 +200,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   // sealed. Its numbers are drawn all the same, so the rest of the sample is as it was.)
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
-    const auto li =
-        in_sealed ? std::nullopt : sample_li(s.lights[static_cast<std::size_t>(s.environment_light)], at.point, ue1, ue2);
+    const auto li = in_sealed ? std::nullopt : environment_li(s, at.point, ue1, ue2, lobe);
     // Into a medium that only absorbs, the shadow ray still goes: it gets nothing where it would
     // leave the scene in the medium (an infinite path: travel gives 0), but it may leave the medium
     // through an index-matched boundary, as the walk's own direction does (skipping it lost that
@@ -221,14 +238,14 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
-                                std::uint64_t& rays, NextEvent next_event, const ThroughInterfaces* through) {
+                                std::uint64_t& rays, NextEvent next_event, const ThroughInterfaces* through, int lobe) {
   auto bsdf_towards = [&](const Vec3& wi, double& bsdf_pdf) {
     bsdf_pdf = e.pdf(wo, wi);
     return e.eval(wo, wi, TransportMode::radiance);
   };
   return direct_light_at(
       v, PathVertex{hit.point, &hit, e.inside}, bsdf_towards, [&](const Vec3& wi) { return e.medium_towards(wi); }, w,
-      path_r_u, rng, rays, next_event, through);
+      path_r_u, rng, rays, next_event, through, false, 1.0, false, lobe);
 }
 
 namespace {
@@ -270,7 +287,7 @@ SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>& v, const MediumPoi
       int, const SampledWavelengths<N>&, Rng&, std::uint64_t&, std::span<const double>, bool*, Hit*); \
   template SampledSpectrum<N> direct_light(const SceneView<N>&, const Hit&, const SurfaceEvent<N>&, const Vec3&, \
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, NextEvent, \
-      const ThroughInterfaces*); \
+      const ThroughInterfaces*, int); \
   template SampledSpectrum<N> direct_light_in_medium(const SceneView<N>&, const MediumPoint&, \
       const SampledWavelengths<N>&, const SampledSpectrum<N>&, Rng&, std::uint64_t&, bool, double); \
   template SampledSpectrum<N> delta_lights_in_medium(const SceneView<N>&, const MediumPoint&, \

@@ -34,7 +34,8 @@ double spectral_power_heuristic(const RenderScene& scene, double pdf_a, const Sa
 // Solid-angle density with which next-event estimation at `from` reaches this emitter hit (for
 // MIS), and the one for a direction that escapes to the environment map.
 double area_light_pdf(const RenderScene& scene, const Hit& hit, const Vec3& from, const Vec3& wi);
-double environment_pdf(const RenderScene& scene, const Vec3& d);
+// `lobe`: the map's lobe next-event estimation drew from there (environment_lobe), −1 the map's own.
+double environment_pdf(const RenderScene& scene, const Vec3& d, int lobe = -1);
 
 // Where a connection (to a light or the camera) starts: a surface hit, whose rays leave from its
 // offset origin while lengths are measured from the hit point itself, or a point inside a medium.
@@ -97,15 +98,25 @@ enum class NextEvent : std::uint8_t {
   lights_map_and_interfaces,
 };
 
+// The map's lobe (lights/environment.h) for next-event estimation at a surface event seen from
+// wo: at a diffuse surface, about the shading normal on wo's side; −1 (the map's own density)
+// elsewhere. The path tracer draws from it (radiance.h); a bidirectional tail keeps the map's own.
+template <std::size_t N>
+int environment_lobe(const RenderScene& scene, const SurfaceEvent<N>& e, const Vec3& wo) {
+  if (!scene.environment || !std::holds_alternative<DiffuseReflection<N>>(e.bsdf)) return -1;
+  return scene.environment->lobe(dot(e.frame.n, wo) >= 0.0 ? e.frame.n : -e.frame.n);
+}
+
 // Direct light at a non-specular surface event, towards wo, by the strategies `next_event`
-// names. Shadow rays go as transmission() says; with `through`, the environment's goes on through the smooth interfaces
-// that block it (exit_guide.h: surface_exit_guide). path_r_u: the path's unidirectional ratios so far
-// (all 1 outside scattering media).
+// names; the map drawn from its `lobe` (environment_lobe; −1: the map's own density). Shadow rays
+// go as transmission() says; with `through`, the environment's goes on through the smooth
+// interfaces that block it (exit_guide.h: surface_exit_guide). path_r_u: the path's
+// unidirectional ratios so far (all 1 outside scattering media).
 template <std::size_t N>
 SampledSpectrum<N> direct_light(const SceneView<N>& v, const Hit& hit, const SurfaceEvent<N>& e, const Vec3& wo,
                                 const SampledWavelengths<N>& w, const SampledSpectrum<N>& path_r_u, Rng& rng,
                                 std::uint64_t& rays, NextEvent next_event,
-                                const ThroughInterfaces* through = nullptr);
+                                const ThroughInterfaces* through = nullptr, int lobe = -1);
 
 // The same at a scattering event of a camera walk: the phase function in place of the BSDF, by the
 // path tracer's strategies (NextEvent::lights_and_map_weighted; with through_interfaces,

@@ -85,7 +85,7 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
 }
 
 double exit_guide_pdf(const RenderScene& scene, const ExitGuide& guide, const Vec3& wi) {
-  if (guide.from_surface) return environment_pdf(scene, wi);
+  if (guide.from_surface) return environment_pdf(scene, wi, guide.lobe);
   const double cos_in = dot(wi, guide.normal);
   if (!guide.active() || !(cos_in > 0.0)) return 0.0;
   const double cos_out = cos_theta_transmitted(cos_in, guide.eta, 1.0);

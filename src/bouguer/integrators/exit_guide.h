@@ -72,7 +72,8 @@ bool exit_guide_runs(const SceneView<N>& v) {
 struct ExitGuide {
   Vec3 normal;       // the guessed plane's, out of the medium
   double eta = 0.0;  // the medium's index over the world's; 0: no guide here
-  bool from_surface = false;  // set at a surface vertex (below): the map's own density, no plane
+  bool from_surface = false;  // set at a surface vertex (below): the map's density, no plane
+  int lobe = -1;  // a surface's: the map's lobe its next-event estimation drew from (direct_light.h)
   bool active() const { return eta > 0.0; }
 };
 template <std::size_t N>
@@ -90,7 +91,7 @@ ExitGuide exit_guide_at(const SceneView<N>& v, int medium, const Vec3& x, const 
 // biased). The walk's own paths that leave the same way (a BSDF direction, refractions only, no
 // scattering medium, no wavelength kept at a dispersive interface on the way) are weighted against
 // it as unblocked ones are against next-event estimation (radiance.h, walk.h).
-inline ExitGuide surface_exit_guide() { return {Vec3{}, 1.0, true}; }
+inline ExitGuide surface_exit_guide(int lobe) { return {Vec3{}, 1.0, true, lobe}; }
 // The guide a walk carries from its last medium or non-specular surface vertex (walk.h:
 // GuidesExits; the path tracer's visitor holds it, radiance.h), the direction drawn there and its
 // phase or BSDF density: a walk that leaves from there through smooth interfaces only, to the map,

@@ -194,6 +194,12 @@ struct Radiance {
   std::vector<GuideRecord>* learning = nullptr;
   std::vector<PendingRecord> pending = {};
   std::size_t drawn = 0;
+  // The map's lobe next-event estimation drew from at the last non-specular surface vertex
+  // (direct_light.h: environment_lobe), which a direction drawn there to the map is weighted
+  // against; −1 after a medium vertex or none. Only the path tracer's own walk draws from lobes
+  // (map_lobes); a bidirectional tail keeps the map's own density.
+  int env_lobe = -1;
+  bool map_lobes = false;
 
   DirectionGuide direction_guide() const { return here; }
   // Guided: diffuse surfaces (a glossy lobe narrower than the guide's cells is better drawn by
@@ -315,7 +321,8 @@ struct Radiance {
       if (arrived == 0.0) {
         if (trail.guide.active()) weight = against_the_guide();
       } else if (scene.environment) {
-        weight = spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d), state.mis.r_l);
+        weight = spectral_power_heuristic(scene, arrived, state.mis.r_u, environment_pdf(scene, d, env_lobe),
+                                          state.mis.r_l);
       }
       add(x.beta * escaped(v, -1, d, w) * static_cast<float>(weight / mean_ratio(scene, state.mis.r_u)));
       return;
@@ -352,8 +359,11 @@ struct Radiance {
   // A walk of one wavelength from here on (walk.h: the split at a dense chromatic medium), adding
   // to nothing yet; join() takes what it found.
   Radiance split(WalkState<N>& s, const SampledWavelengths<N>& wk, Rng& r, float weight) const {
-    return Radiance{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight, s.medium,
-                    next_event, casters, chains, cylinders, guide, here, learning};
+    Radiance child{v, wk, s, r, rays, previous, {}, surfaces, scatterings, dispersed_keep, trail, near, weight, s.medium,
+                   next_event, casters, chains, cylinders, guide, here, learning};
+    child.env_lobe = env_lobe;
+    child.map_lobes = map_lobes;
+    return child;
   }
   void join(const Radiance& child) {
     child.finish_learning();
@@ -373,9 +383,10 @@ struct Radiance {
       // surface_exit_guide; the walk keeps the guide for the direction it draws next).
       const bool guided = surfaces < v.max_depth && exit_guide_runs(v);
       const ThroughInterfaces through{v.max_depth - surfaces, state.crossings};
+      env_lobe = map_lobes ? environment_lobe(v.scene, x.event, x.wo) : -1;
       add(x.beta * direct_light(v, x.hit, x.event, x.wo, w, state.mis.r_u, rng, rays,
-                                next_event, guided ? &through : nullptr));
-      if (guided) trail.guide = surface_exit_guide();
+                                next_event, guided ? &through : nullptr, env_lobe));
+      if (guided) trail.guide = surface_exit_guide(env_lobe);
       casters.start(through_casters(), x.point);
       chains.start(through_chains(), x.point, &x.hit, x.event.inside);
       cylinders.start(through_cylinders(), x.point, &x.hit, x.event.inside);
@@ -402,6 +413,7 @@ struct Radiance {
     const int medium = state.medium;
     // (the direction it arrived along: the walk replaces the ray's after this)
     const MediumPoint at{point, state.ray.direction, scattering_medium(scene, medium)->phase, medium, state.inside};
+    env_lobe = -1;  // (next-event estimation in a medium draws from the map's own density)
     casters.start(through_casters(), point);
     chains.start(through_chains(), point, nullptr, state.inside);
     cylinders.start(through_cylinders(), point, nullptr, state.inside);
@@ -457,6 +469,7 @@ SampledSpectrum<N> path_radiance(const SceneView<N>& v, const Ray& ray, SampledW
   state.cone_spread_rad = cone.spread_rad;
   Radiance<N> li{v, w, state, rng, rays, ray.origin, {}, 0, 0};
   li.next_event = v.manifold ? NextEvent::lights_map_and_interfaces : NextEvent::lights_and_map_weighted;
+  li.map_lobes = true;
   li.guide = guide;
   li.learning = learning;
   random_walk(v, WalkMedia{}, TransportMode::radiance, state, w, rng, rays, li);

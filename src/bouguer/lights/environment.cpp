@@ -19,6 +19,60 @@ int find_interval(const double* cdf, int n, double u) {
   const double* it = std::upper_bound(cdf, cdf + n + 1, u);
   return std::clamp(static_cast<int>(it - cdf) - 1, 0, n - 1);
 }
+
+// Lobe k's normal (the map's convention for φ, without its rotation): rows at θ = π·r/(rows − 1),
+// columns at φ = 2π·c/columns (environment.h).
+Vec3 lobe_normal(int k) {
+  const int r = k / kLobeColumns, c = k % kLobeColumns;
+  const double theta = kPi * r / (kLobeRows - 1), phi = 2.0 * kPi * c / kLobeColumns;
+  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+}
+
+// The cells and lobes of a map whose texel probabilities are set (environment.h: Lobes).
+void build_lobes(EnvironmentMap& m) {
+  if (m.total_weight <= 0.0) return;
+  const int cx = std::min(kCellColumns, m.width), cy = std::min(kCellRows, m.height);
+  const int w = m.width, h = m.height;
+  m.cell_column_start.resize(cx + 1);
+  m.cell_row_start.resize(cy + 1);
+  for (int a = 0; a <= cx; ++a) m.cell_column_start[a] = (a * w + cx - 1) / cx;
+  for (int b = 0; b <= cy; ++b) m.cell_row_start[b] = (b * h + cy - 1) / cy;
+  m.cell_row_cdf.assign(static_cast<std::size_t>(cx) * (h + 1), 0.0);
+  const int cells = cx * cy;
+  std::vector<double> mass(cells, 0.0);
+  std::vector<Vec3> mean(cells);
+  for (int a = 0; a < cx; ++a) {
+    double* cdf = &m.cell_row_cdf[static_cast<std::size_t>(a) * (h + 1)];
+    for (int b = 0; b < cy; ++b)
+      for (int j = m.cell_row_start[b]; j < m.cell_row_start[b + 1]; ++j) {
+        double row = 0.0;
+        for (int i = m.cell_column_start[a]; i < m.cell_column_start[a + 1]; ++i) {
+          const double p = m.texel_probability[static_cast<std::size_t>(j) * w + i];
+          row += p;
+          if (p > 0.0) mean[b * cx + a] += m.direction(i + 0.5, j + 0.5) * p;
+        }
+        cdf[j + 1] = cdf[j] + row;
+        mass[b * cx + a] += row;
+      }
+  }
+  const int lobes = kLobeRows * kLobeColumns;
+  m.lobe_cdf.assign(static_cast<std::size_t>(lobes) * (cells + 1), 0.0);
+  m.lobe_factor.assign(static_cast<std::size_t>(lobes) * cells, 0.0);
+  for (int k = 0; k < lobes; ++k) {
+    const Vec3 n = lobe_normal(k);
+    double* cdf = &m.lobe_cdf[static_cast<std::size_t>(k) * (cells + 1)];
+    double* factor = &m.lobe_factor[static_cast<std::size_t>(k) * cells];
+    for (int c = 0; c < cells; ++c) {
+      const double l = length(mean[c]);
+      const double g = (l > 0.0 ? std::max(0.0, dot(n, mean[c] / l) + kLobeSlack) : 0.0) + kLobeFloor;
+      factor[c] = g;
+      cdf[c + 1] = cdf[c] + mass[c] * g;
+    }
+    const double total = cdf[cells];  // (≥ kLobeFloor: the masses sum to 1)
+    for (int c = 0; c <= cells; ++c) cdf[c] /= total;
+    for (int c = 0; c < cells; ++c) factor[c] /= total;
+  }
+}
 }  // namespace
 
 EnvironmentMap make_environment(int width, int height, const std::vector<float>& rgb, double scale,
@@ -70,6 +124,7 @@ EnvironmentMap make_environment(int width, int height, const std::vector<float>&
     for (double& c : m.row_cdf) c /= m.total_weight;
     for (double& p : m.texel_probability) p /= m.total_weight;
   }
+  build_lobes(m);
   return m;
 }
 
@@ -105,6 +160,19 @@ Vec3 EnvironmentMap::direction(double column, double row) const {
   return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
 }
 
+namespace {
+// The sample at continuous texel coordinates (row, column) inside texel t, drawn with the map's
+// texel probability times `factor` (a lobe's; 1: the map's own).
+std::optional<EnvironmentMap::Sample> texel_sample(const EnvironmentMap& m, int t, double row, double column,
+                                                   double factor) {
+  const double sin_theta = std::sin(kPi * row / m.height);
+  if (sin_theta <= 0.0) return std::nullopt;
+  // Density in image space p_t·W·H; dω = 2π² sin θ du dv.
+  return EnvironmentMap::Sample{m.direction(column, row),
+                                m.texel_probability[t] * factor * m.width * m.height / (2.0 * kPi * kPi * sin_theta), t};
+}
+}  // namespace
+
 std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u2) const {
   if (total_weight <= 0.0) return std::nullopt;
   const int j = find_interval(row_cdf.data(), height, u1);
@@ -116,10 +184,56 @@ std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u
   // texel, uniform in (φ, θ).
   const double row = j + std::clamp((u1 - row_cdf[j]) / (row_cdf[j + 1] - row_cdf[j]), 0.0, 1.0);
   const double column = i + std::clamp((u2 - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0, 1.0);
-  const double sin_theta = std::sin(kPi * row / height);
-  if (sin_theta <= 0.0) return std::nullopt;
-  // Density in image space p_t·W·H; dω = 2π² sin θ du dv.
-  return Sample{direction(column, row), texel_probability[t] * width * height / (2.0 * kPi * kPi * sin_theta), t};
+  return texel_sample(*this, t, row, column, 1.0);
+}
+
+int EnvironmentMap::lobe(const Vec3& n) const {
+  if (lobe_cdf.empty()) return -1;
+  // The nearest row and column centre.
+  const double theta = std::acos(std::clamp(n.y, -1.0, 1.0));
+  const int r = std::clamp(static_cast<int>(std::lround(theta / kPi * (kLobeRows - 1))), 0, kLobeRows - 1);
+  double u = std::atan2(n.x, -n.z) / (2.0 * kPi);
+  u -= std::floor(u);
+  const int c = static_cast<int>(std::lround(u * kLobeColumns)) % kLobeColumns;
+  return r * kLobeColumns + c;
+}
+
+std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u2, int lobe) const {
+  if (lobe < 0 || lobe_cdf.empty()) return sample(u1, u2);
+  const int cx = static_cast<int>(cell_column_start.size()) - 1, cy = static_cast<int>(cell_row_start.size()) - 1;
+  const int cells = cx * cy;
+  const double* cell_cdf = &lobe_cdf[static_cast<std::size_t>(lobe) * (cells + 1)];
+  const int c = find_interval(cell_cdf, cells, u1);
+  const int a = c % cx, b = c / cx;
+  // Within the cell, a row by its density there (u1's place within the cell's interval), then a
+  // column of that row by the row's own CDF restricted to the cell's columns.
+  const double u = std::clamp((u1 - cell_cdf[c]) / (cell_cdf[c + 1] - cell_cdf[c]), 0.0, 1.0);
+  const double* rows = &cell_row_cdf[static_cast<std::size_t>(a) * (height + 1)];
+  const int r0 = cell_row_start[b], r1 = cell_row_start[b + 1];
+  const double at_row = rows[r0] + u * (rows[r1] - rows[r0]);
+  const int j = r0 + find_interval(rows + r0, r1 - r0, at_row);
+  const double* cdf = &column_cdf[static_cast<std::size_t>(j) * (width + 1)];
+  const int i0 = cell_column_start[a], i1 = cell_column_start[a + 1];
+  const double at_column = cdf[i0] + u2 * (cdf[i1] - cdf[i0]);
+  const int i = i0 + find_interval(cdf + i0, i1 - i0, at_column);
+  const int t = j * width + i;
+  if (texel_probability[t] <= 0.0) return std::nullopt;
+  const double row = j + std::clamp((at_row - rows[j]) / (rows[j + 1] - rows[j]), 0.0, 1.0);
+  const double column = i + std::clamp((at_column - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0, 1.0);
+  return texel_sample(*this, t, row, column, lobe_factor[static_cast<std::size_t>(lobe) * cells + c]);
+}
+
+double EnvironmentMap::pdf(const Vec3& d, int lobe) const {
+  if (lobe < 0 || lobe_cdf.empty()) return pdf(d);
+  const int cx = static_cast<int>(cell_column_start.size()) - 1, cy = static_cast<int>(cell_row_start.size()) - 1;
+  const int t = texel(d);
+  const int i = t % width, j = t / width;
+  // (The cell of a column or row: the last start at or before it.)
+  const int a = static_cast<int>(std::upper_bound(cell_column_start.begin(), cell_column_start.end(), i) -
+                                 cell_column_start.begin()) - 1;
+  const int b = static_cast<int>(std::upper_bound(cell_row_start.begin(), cell_row_start.end(), j) -
+                                 cell_row_start.begin()) - 1;
+  return pdf(d) * lobe_factor[static_cast<std::size_t>(lobe) * (cx * cy) + b * cx + a];
 }
 
 double EnvironmentMap::pdf(const Vec3& d) const {
