@@ -41,16 +41,29 @@ void build_lobes(EnvironmentMap& m) {
   const int cells = cx * cy;
   std::vector<double> mass(cells, 0.0);
   std::vector<Vec3> mean(cells);
+  // The texels' middle directions, as EnvironmentMap::direction gives them, from one sine and
+  // cosine per column and per row (a large map has tens of millions of texels).
+  std::vector<double> sin_phi(w), cos_phi(w), sin_theta(h), cos_theta(h);
+  for (int i = 0; i < w; ++i) {
+    const double phi = 2.0 * kPi * (i + 0.5) / w - kPi + m.rotate_rad;
+    sin_phi[i] = std::sin(phi), cos_phi[i] = std::cos(phi);
+  }
+  for (int j = 0; j < h; ++j) {
+    const double theta = kPi * (j + 0.5) / h;
+    sin_theta[j] = std::sin(theta), cos_theta[j] = std::cos(theta);
+  }
   for (int a = 0; a < cx; ++a) {
     double* cdf = &m.cell_row_cdf[static_cast<std::size_t>(a) * (h + 1)];
     for (int b = 0; b < cy; ++b)
       for (int j = m.cell_row_start[b]; j < m.cell_row_start[b + 1]; ++j) {
         double row = 0.0;
+        Vec3 sum;
         for (int i = m.cell_column_start[a]; i < m.cell_column_start[a + 1]; ++i) {
           const double p = m.texel_probability[static_cast<std::size_t>(j) * w + i];
           row += p;
-          if (p > 0.0) mean[b * cx + a] += m.direction(i + 0.5, j + 0.5) * p;
+          sum += Vec3{sin_phi[i] * p, 0.0, -cos_phi[i] * p};
         }
+        mean[b * cx + a] += Vec3{sum.x * sin_theta[j], row * cos_theta[j], sum.z * sin_theta[j]};
         cdf[j + 1] = cdf[j] + row;
         mass[b * cx + a] += row;
       }
