@@ -37,7 +37,7 @@ void build_lobes(EnvironmentMap& m) {
   m.cell_row_start.resize(cy + 1);
   for (int a = 0; a <= cx; ++a) m.cell_column_start[a] = (a * w + cx - 1) / cx;
   for (int b = 0; b <= cy; ++b) m.cell_row_start[b] = (b * h + cy - 1) / cy;
-  m.cell_row_cdf.assign(static_cast<std::size_t>(cx) * (h + 1), 0.0);
+  m.cell_row_cdf.assign(static_cast<std::size_t>(cx) * (h + cy), 0.0);
   const int cells = cx * cy;
   std::vector<double> mass(cells, 0.0);
   std::vector<Vec3> mean(cells);
@@ -52,10 +52,12 @@ void build_lobes(EnvironmentMap& m) {
     const double theta = kPi * (j + 0.5) / h;
     sin_theta[j] = std::sin(theta), cos_theta[j] = std::cos(theta);
   }
-  for (int a = 0; a < cx; ++a) {
-    double* cdf = &m.cell_row_cdf[static_cast<std::size_t>(a) * (h + 1)];
-    for (int b = 0; b < cy; ++b)
-      for (int j = m.cell_row_start[b]; j < m.cell_row_start[b + 1]; ++j) {
+  for (int a = 0; a < cx; ++a)
+    for (int b = 0; b < cy; ++b) {
+      // (each cell's sum from 0: a dim cell below a bright one keeps its precision)
+      const int r0 = m.cell_row_start[b];
+      double* cdf = &m.cell_row_cdf[static_cast<std::size_t>(a) * (h + cy) + r0 + b] - r0;
+      for (int j = r0; j < m.cell_row_start[b + 1]; ++j) {
         double row = 0.0;
         Vec3 sum;
         for (int i = m.cell_column_start[a]; i < m.cell_column_start[a + 1]; ++i) {
@@ -67,7 +69,7 @@ void build_lobes(EnvironmentMap& m) {
         cdf[j + 1] = cdf[j] + row;
         mass[b * cx + a] += row;
       }
-  }
+    }
   const int lobes = kLobeRows * kLobeColumns;
   m.lobe_cdf.assign(static_cast<std::size_t>(lobes) * (cells + 1), 0.0);
   m.lobe_factor.assign(static_cast<std::size_t>(lobes) * cells, 0.0);
@@ -174,6 +176,9 @@ Vec3 EnvironmentMap::direction(double column, double row) const {
 }
 
 namespace {
+// Where x lies in [lo, hi), in [0, 1] (the middle where rounding left the interval empty).
+double place(double x, double lo, double hi) { return hi > lo ? std::clamp((x - lo) / (hi - lo), 0.0, 1.0) : 0.5; }
+
 // The sample at continuous texel coordinates (row, column) inside texel t, drawn with the map's
 // texel probability times `factor` (a lobe's; 1: the map's own).
 std::optional<EnvironmentMap::Sample> texel_sample(const EnvironmentMap& m, int t, double row, double column,
@@ -211,29 +216,28 @@ int EnvironmentMap::lobe(const Vec3& n) const {
   return r * kLobeColumns + c;
 }
 
-std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u2, int lobe) const {
+std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u2, double u3, int lobe) const {
   if (lobe < 0 || lobe_cdf.empty()) return sample(u1, u2);
   const int cx = static_cast<int>(cell_column_start.size()) - 1, cy = static_cast<int>(cell_row_start.size()) - 1;
   const int cells = cx * cy;
   const double* cell_cdf = &lobe_cdf[static_cast<std::size_t>(lobe) * (cells + 1)];
   const int c = find_interval(cell_cdf, cells, u1);
   const int a = c % cx, b = c / cx;
-  // Within the cell, a row by its density there (u1's place within the cell's interval), then a
-  // column of that row by the row's own CDF restricted to the cell's columns.
-  const double u = std::clamp((u1 - cell_cdf[c]) / (cell_cdf[c + 1] - cell_cdf[c]), 0.0, 1.0);
-  const double* rows = &cell_row_cdf[static_cast<std::size_t>(a) * (height + 1)];
+  // Within the cell, a row by its density there (u2), then a column of that row by the row's own
+  // CDF restricted to the cell's columns (u3); each number's place within its interval places the
+  // point within the texel.
   const int r0 = cell_row_start[b], r1 = cell_row_start[b + 1];
-  const double at_row = rows[r0] + u * (rows[r1] - rows[r0]);
-  const int j = r0 + find_interval(rows + r0, r1 - r0, at_row);
+  const double* rows = &cell_row_cdf[static_cast<std::size_t>(a) * (height + cy) + r0 + b];
+  const double at_row = u2 * rows[r1 - r0];
+  const int jj = find_interval(rows, r1 - r0, at_row), j = r0 + jj;
   const double* cdf = &column_cdf[static_cast<std::size_t>(j) * (width + 1)];
   const int i0 = cell_column_start[a], i1 = cell_column_start[a + 1];
-  const double at_column = cdf[i0] + u2 * (cdf[i1] - cdf[i0]);
+  const double at_column = cdf[i0] + u3 * (cdf[i1] - cdf[i0]);
   const int i = i0 + find_interval(cdf + i0, i1 - i0, at_column);
   const int t = j * width + i;
   if (texel_probability[t] <= 0.0) return std::nullopt;
-  const double row = j + std::clamp((at_row - rows[j]) / (rows[j + 1] - rows[j]), 0.0, 1.0);
-  const double column = i + std::clamp((at_column - cdf[i]) / (cdf[i + 1] - cdf[i]), 0.0, 1.0);
-  return texel_sample(*this, t, row, column, lobe_factor[static_cast<std::size_t>(lobe) * cells + c]);
+  return texel_sample(*this, t, j + place(at_row, rows[jj], rows[jj + 1]), i + place(at_column, cdf[i], cdf[i + 1]),
+                      lobe_factor[static_cast<std::size_t>(lobe) * cells + c]);
 }
 
 double EnvironmentMap::pdf(const Vec3& d, int lobe) const {

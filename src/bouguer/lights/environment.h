@@ -24,8 +24,8 @@
 // probabilities, then a point within the texel as above. Its density is the map's times
 // g_kc / Σ_c P_c·g_kc: exact, positive wherever the map's is (the floor), and a function of the
 // direction and the lobe alone, so that MIS weighs a BSDF direction against it (the lobe is the
-// surface's, kept by the path: integrators/radiance.h). Under a studio map a lit floor's noise
-// from its cosine (0.48 of the mean a sample with the map's own density) falls to about a third.
+// surface's, kept by the path: integrators/radiance.h). Under the studio map a lit floor's noise
+// a sample falls from 0.50 of its mean to 0.35: half the variance (docs/performance.md).
 inline constexpr int kCellColumns = 32, kCellRows = 16;
 inline constexpr int kLobeRows = 17, kLobeColumns = 32;
 inline constexpr double kLobeSlack = 0.1, kLobeFloor = 0.02;
@@ -59,9 +59,10 @@ struct EnvironmentMap {
   // much the map's own sampling has to win (integrators/events.h: the exit guide). 1 where dark.
   double contrast = 1.0;
   // The lobes (above): the cells' first columns and rows (cell_columns + 1, cell_rows + 1 entries),
-  // per column of cells the running sum of each texel row's density within its columns
-  // (cell_columns × (height + 1)), per lobe the CDF over the cells (lobes × (cells + 1), cells
-  // row by row) and the density's factor per cell (lobes × cells). Empty where the map is black.
+  // per cell the running sum from 0 of its texel rows' density within its columns (cell (a, b)'s
+  // rows + 1 entries from a·(height + cell_rows) + first row + b), per lobe the CDF over the cells
+  // (lobes × (cells + 1), cells row by row) and the density's factor per cell (lobes × cells).
+  // Empty where the map is black.
   std::vector<int> cell_column_start, cell_row_start;
   std::vector<double> cell_row_cdf, lobe_cdf, lobe_factor;
 
@@ -78,7 +79,9 @@ struct EnvironmentMap {
   // The lobe a surface with this normal (unit, on the side the light arrives from) draws from; −1
   // where the map has none (black). sample and pdf with a lobe < 0 are the map's own.
   int lobe(const Vec3& normal) const;
-  std::optional<Sample> sample(double u1, double u2, int lobe) const;
+  // (Three numbers: the cell, the row within it, the column within the row; each also places the
+  // point within its interval.)
+  std::optional<Sample> sample(double u1, double u2, double u3, int lobe) const;
   double pdf(const Vec3& world_direction, int lobe) const;
 };
 
