@@ -20,12 +20,17 @@ int find_interval(const double* cdf, int n, double u) {
   return std::clamp(static_cast<int>(it - cdf) - 1, 0, n - 1);
 }
 
-// Lobe k's normal (the map's convention for φ, without its rotation): rows at θ = π·r/(rows − 1),
-// columns at φ = 2π·c/columns (environment.h).
+// The direction at θ from +y and φ from −z towards +x (environment.h's convention).
+Vec3 lat_long_direction(double theta, double phi) {
+  const double s = std::sin(theta);
+  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+}
+
+// Lobe k's normal (without the map's rotation): rows at θ = π·r/(rows − 1), columns at
+// φ = 2π·c/columns (environment.h).
 Vec3 lobe_normal(int k) {
   const int r = k / kLobeColumns, c = k % kLobeColumns;
-  const double theta = kPi * r / (kLobeRows - 1), phi = 2.0 * kPi * c / kLobeColumns;
-  return {std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+  return lat_long_direction(kPi * r / (kLobeRows - 1), 2.0 * kPi * c / kLobeColumns);
 }
 
 // The cells and lobes of a map whose texel probabilities are set (environment.h: Lobes).
@@ -41,8 +46,8 @@ void build_lobes(EnvironmentMap& m) {
   const int cells = cx * cy;
   std::vector<double> mass(cells, 0.0);
   std::vector<Vec3> mean(cells);
-  // The texels' middle directions, as EnvironmentMap::direction gives them, from one sine and
-  // cosine per column and per row (a large map has tens of millions of texels).
+  // The texels' middle directions (lat_long_direction, as EnvironmentMap::direction gives them),
+  // from one sine and cosine per column and per row (a large map has tens of millions of texels).
   std::vector<double> sin_phi(w), cos_phi(w), sin_theta(h), cos_theta(h);
   for (int i = 0; i < w; ++i) {
     const double phi = 2.0 * kPi * (i + 0.5) / w - kPi + m.rotate_rad;
@@ -73,13 +78,18 @@ void build_lobes(EnvironmentMap& m) {
   const int lobes = kLobeRows * kLobeColumns;
   m.lobe_cdf.assign(static_cast<std::size_t>(lobes) * (cells + 1), 0.0);
   m.lobe_factor.assign(static_cast<std::size_t>(lobes) * cells, 0.0);
+  std::vector<bool> aimed(cells);  // (a cell whose mean direction has a length: most do)
+  for (int c = 0; c < cells; ++c) {
+    const double l = length(mean[c]);
+    aimed[c] = l > 0.0;
+    if (aimed[c]) mean[c] = mean[c] / l;
+  }
   for (int k = 0; k < lobes; ++k) {
     const Vec3 n = lobe_normal(k);
     double* cdf = &m.lobe_cdf[static_cast<std::size_t>(k) * (cells + 1)];
     double* factor = &m.lobe_factor[static_cast<std::size_t>(k) * cells];
     for (int c = 0; c < cells; ++c) {
-      const double l = length(mean[c]);
-      const double g = (l > 0.0 ? std::max(0.0, dot(n, mean[c] / l) + kLobeSlack) : 0.0) + kLobeFloor;
+      const double g = (aimed[c] ? std::max(0.0, dot(n, mean[c]) + kLobeSlack) : 0.0) + kLobeFloor;
       factor[c] = g;
       cdf[c + 1] = cdf[c] + mass[c] * g;
     }
@@ -170,9 +180,7 @@ int EnvironmentMap::texel(const Vec3& d) const {
 }
 
 Vec3 EnvironmentMap::direction(double column, double row) const {
-  const double phi = 2.0 * kPi * column / width - kPi + rotate_rad, theta = kPi * row / height;
-  const double s = std::sin(theta);
-  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+  return lat_long_direction(kPi * row / height, 2.0 * kPi * column / width - kPi + rotate_rad);
 }
 
 namespace {
@@ -240,6 +248,16 @@ std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(double u1, double u
                       lobe_factor[static_cast<std::size_t>(lobe) * cells + c]);
 }
 
+namespace {
+// The map's own density at d, in texel t = m.texel(d).
+double texel_density(const EnvironmentMap& m, const Vec3& d, int t) {
+  if (m.total_weight <= 0.0) return 0.0;
+  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - d.y * d.y));
+  if (sin_theta <= 0.0) return 0.0;
+  return m.texel_probability[t] * m.width * m.height / (2.0 * kPi * kPi * sin_theta);
+}
+}  // namespace
+
 double EnvironmentMap::pdf(const Vec3& d, int lobe) const {
   if (lobe < 0 || lobe_cdf.empty()) return pdf(d);
   const int cx = static_cast<int>(cell_column_start.size()) - 1, cy = static_cast<int>(cell_row_start.size()) - 1;
@@ -250,14 +268,9 @@ double EnvironmentMap::pdf(const Vec3& d, int lobe) const {
                                  cell_column_start.begin()) - 1;
   const int b = static_cast<int>(std::upper_bound(cell_row_start.begin(), cell_row_start.end(), j) -
                                  cell_row_start.begin()) - 1;
-  return pdf(d) * lobe_factor[static_cast<std::size_t>(lobe) * (cx * cy) + b * cx + a];
+  return texel_density(*this, d, t) * lobe_factor[static_cast<std::size_t>(lobe) * (cx * cy) + b * cx + a];
 }
 
-double EnvironmentMap::pdf(const Vec3& d) const {
-  if (total_weight <= 0.0) return 0.0;
-  const double sin_theta = std::sqrt(std::max(0.0, 1.0 - d.y * d.y));
-  if (sin_theta <= 0.0) return 0.0;
-  return texel_probability[texel(d)] * width * height / (2.0 * kPi * kPi * sin_theta);
-}
+double EnvironmentMap::pdf(const Vec3& d) const { return texel_density(*this, d, texel(d)); }
 
 }  // namespace bouguer
