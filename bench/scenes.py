@@ -120,6 +120,28 @@ def glassware():
     return _load("scenes/examples/studio-glassware.json")
 
 
+def _glassware_sweep(pbr):
+    """The product shot with its sweep made of glTF's metallic-roughness material `pbr`."""
+    scene = glassware()
+    for o in scene["objects"]:
+        if o["name"] == "white sweep":
+            del o["material"]
+            o["pbr"] = pbr
+    return scene
+
+
+def glassware_mr():  # part metal: the metallic-roughness BRDF itself
+    return _glassware_sweep({"base_color": [0.8, 0.8, 0.8], "metallic": 0.3, "roughness": 0.5})
+
+
+def glassware_metal():  # metallic 1: a rough conductor
+    return _glassware_sweep({"base_color": [0.9, 0.9, 0.9], "metallic": 1, "roughness": 0.6})
+
+
+def glassware_gloss():  # a glossier conductor
+    return _glassware_sweep({"base_color": [0.8, 0.8, 0.8], "metallic": 1, "roughness": 0.3})
+
+
 def bounce():
     return {
         "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
@@ -155,7 +177,8 @@ def rod():
 
 
 SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk,
-          "milk_lamp": milk_lamp, "milk_sun": milk_sun, "glassware": glassware, "bounce": bounce, "rod": rod}
+          "milk_lamp": milk_lamp, "milk_sun": milk_sun, "glassware": glassware,
+          "glassware_mr": glassware_mr, "glassware_metal": glassware_metal, "glassware_gloss": glassware_gloss, "bounce": bounce, "rod": rod}
 
 
 def scene(name):

@@ -21,7 +21,9 @@
 // directions whose weight phase/(α·p_guide + (1−α)·phase) runs from about 0.1 to 2 under a forward
 // phase function, and over the hundreds of events of a dense walk those weights multiply into a
 // tail no sample count reaches: the dense white furnace (g = 0.85, 550 events a path) read 0.07
-// for 1 at 16 spp. Guiding there needs the product with the phase function (Herholz et al. 2019).
+// for 1 at 16 spp. The product with the phase function (Herholz et al. 2019), drawn by resampling,
+// was measured on the whole-milk glass and taken back (docs/performance.md): its weights multiply
+// over the walk too.
 //
 // Deterministic: an iteration's samples are seeded by (seed, iteration, pixel, sample) as the
 // render's are, its records are added band by band of 16 rows, in pixel and sample order, to trees

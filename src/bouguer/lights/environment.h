@@ -12,8 +12,8 @@
 // Sampling: a texel with probability p_t ∝ luminance × sin θ (≈ its solid angle), then uniformly
 // in (φ, θ) within it; the solid-angle density is p_t · W H / (2π² sin θ) at the sampled θ.
 //
-// Lobes: next-event estimation at a diffuse surface (integrators/direct_light.cpp) draws from the
-// map times about the surface's cosine. The image is cut into cells (kCellColumns × kCellRows
+// Lobes: next-event estimation at a surface that only reflects (integrators/direct_light.h:
+// environment_lobe) draws from the map times about the surface's cosine. The image is cut into cells (kCellColumns × kCellRows
 // blocks of texels), and the directions of normals into kLobeRows × kLobeColumns bins, each a
 // "lobe" (its rows centred on θ = 0, 11.25°, …, 180° from +y and its columns on φ = 0, 11.25°, …,
 // so that floors, ceilings and walls facing an axis have a lobe of their own); lobe k draws cell c
