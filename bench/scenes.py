@@ -142,6 +142,28 @@ def glassware_gloss():  # a glossier conductor
     return _glassware_sweep({"base_color": [0.8, 0.8, 0.8], "metallic": 1, "roughness": 0.3})
 
 
+def glassware_frosted():  # the three glass objects' surfaces rough (GGX α 0.2)
+    scene = glassware()
+    for o in scene["objects"]:
+        if "inside" in o:
+            o["roughness"] = 0.2
+    return scene
+
+
+def frosted_ball():
+    """A close-up of a faintly blue glass ball with rough surfaces (GGX α 0.3) under the studio map."""
+    scene = glassware()
+    return {
+        "camera": {"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [64, 64]},
+        "render": {"integrator": "path", "spectral": "full", "max_depth": 64},
+        "world_medium": "vacuum",
+        "media": {"glass": {"ior": 1.5, "absorption": {"unit": "attenuation_per_m", "wavelength_nm": [380, 780],
+                                                         "value": [5, 20]}}},
+        "objects": [{"name": "ball", "shape": {"type": "sphere", "radius": "20 mm"}, "inside": "glass",
+                     "roughness": 0.3}],
+        "background": scene["background"]}
+
+
 def bounce():
     return {
         "camera": {"position": [0, 0.6, 1.2], "look_at": [0, 0, 0], "fov_deg": 40, "resolution": [96, 72]},
@@ -178,7 +200,8 @@ def rod():
 
 SCENES = {"ball": ball, "caustic": caustic, "tumbler": tumbler, "softbox": softbox, "milk": milk,
           "milk_lamp": milk_lamp, "milk_sun": milk_sun, "glassware": glassware,
-          "glassware_mr": glassware_mr, "glassware_metal": glassware_metal, "glassware_gloss": glassware_gloss, "bounce": bounce, "rod": rod}
+          "glassware_mr": glassware_mr, "glassware_metal": glassware_metal, "glassware_gloss": glassware_gloss,
+          "glassware_frosted": glassware_frosted, "frosted_ball": frosted_ball, "bounce": bounce, "rod": rod}
 
 
 def scene(name):

@@ -101,14 +101,17 @@ enum class NextEvent : std::uint8_t {
 // The map's lobe (lights/environment.h) for next-event estimation at a surface event seen from
 // wo: at a surface that only reflects (diffuse, a rough conductor, glTF's metallic-roughness),
 // about the shading normal on wo's side, since f·cos θ carries the cosine whatever the lobe's
-// shape; −1 (the map's own density) at a surface that also transmits. The path tracer draws from
+// shape; at a rough interface, about its outward normal from either side (the map lies outside the
+// closed object, and a direction into it meets the object's far side). The path tracer draws from
 // it (radiance.h); a bidirectional tail keeps the map's own.
 template <std::size_t N>
 int environment_lobe(const RenderScene& scene, const SurfaceEvent<N>& e, const Vec3& wo) {
-  const bool reflects_only =
-      std::holds_alternative<DiffuseReflection<N>>(e.bsdf) || std::holds_alternative<MetallicRoughness<N>>(e.bsdf) ||
-      (std::holds_alternative<ConductorReflection<N>>(e.bsdf) && std::get<ConductorReflection<N>>(e.bsdf).alpha > 0.0);
-  if (!scene.environment || !reflects_only) return -1;
+  if (!scene.environment) return -1;
+  if (std::holds_alternative<RoughDielectric>(e.bsdf)) return scene.environment->lobe(e.frame.n);
+  const auto* metal = std::get_if<ConductorReflection<N>>(&e.bsdf);
+  const bool reflects_only = std::holds_alternative<DiffuseReflection<N>>(e.bsdf) ||
+                             std::holds_alternative<MetallicRoughness<N>>(e.bsdf) || (metal && metal->alpha > 0.0);
+  if (!reflects_only) return -1;
   return scene.environment->lobe(dot(e.frame.n, wo) >= 0.0 ? e.frame.n : -e.frame.n);
 }
 
