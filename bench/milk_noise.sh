@@ -9,8 +9,10 @@
 #   black sweep       the sweep's reflectance 0 (the milk lit by the map alone, not by the sweep)
 #   ink in the glass  the milk replaced by an absorbing liquid (only the glass's reflections left)
 # For each: the seconds of one render, the mean ΔE00 between the two seeds of a pair over the
-# frame, ΔE00² × seconds, and in the milk's pixels (the middle of the glass) the mean luminance Y
-# and the standard deviation of one sample's Y (from the pairs' differences), absolute and over Y.
+# frame, ΔE00² × seconds, that mean from lightness alone and from colour alone (bouguer compare:
+# per pixel the two add in quadrature), and in the milk's pixels (the middle of the glass) the mean
+# luminance Y and the standard deviation of one sample's Y (from the pairs' differences), absolute
+# and over Y.
 # Reports only; the figures are in docs/performance.md ("Where the whole-milk glass's noise comes
 # from").
 #   bench/milk_noise.sh build/bouguer
@@ -121,11 +123,20 @@ print(f"{mean:.3f} | {sigma:.3f} | {sigma / mean:.2f}" if mean > 0 else "- | - |
 PY
 }
 
+# The frame's mean ΔE00 between TAG's seeds from lightness alone and from colour alone, over its pairs.
+parts() {
+  for p in $(seq 1 "$pairs"); do "$bin" compare "$tmp/r-$1-$((2 * p - 1)).pfm" "$tmp/r-$1-$((2 * p)).pfm" --json; done |
+    python3 -c "
+import json, sys
+d = [json.loads(line) for line in sys.stdin]
+print(f\"{sum(x['mean_lightness'] for x in d) / len(d):.2f} | {sum(x['mean_colour'] for x in d) / len(d):.2f}\")"
+}
+
 echo "milk_noise: $resolution, $spp spp, $threads threads, $pairs pair(s) of seeds"
-echo "| variant | seconds (range) | frame ΔE00 between seeds (each pair) | ΔE00² × s | milk: Y | one sample's σ(Y) | σ(Y)/Y |"
-echo "|---|---|---|---|---|---|---|"
+echo "| variant | seconds (range) | frame ΔE00 between seeds (each pair) | ΔE00² × s | of it, lightness alone | colour alone | milk: Y | one sample's σ(Y) | σ(Y)/Y |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for tag in studio noguide flat flatguide black ink; do
   for pair in $(seq 1 "$pairs"); do render_pair "$tag" "$bin" "$tmp/$tag.json" "$pair"; done
   row=$(pair_row "$tag" "" "$tag" | sed 's/ |  | / | /')
-  echo "${row% |} | $(milk_noise "$tag") |"
+  echo "${row% |} | $(parts "$tag") | $(milk_noise "$tag") |"
 done

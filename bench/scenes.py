@@ -23,6 +23,12 @@ bench/milk_noise.sh and bench/hard_scenes.py write theirs from here).
            and through the glass's wall)
   glassware  scenes/examples/studio-glassware.json: a cobalt ball, a yellow glass block and a
            tumbler of red wine on a white sweep under the studio map (the product shot)
+  glassware_mr, glassware_metal, glassware_gloss  the product shot with its sweep glTF's
+           metallic-roughness (30 % metal, roughness 0.5), a rough metal (metallic 1, roughness
+           0.6) and a glossier one (roughness 0.3): the map's lobes at reflecting surfaces
+  glassware_frosted  the product shot with every interface of its three objects rough (α 0.2; the
+           wine's surface too)
+  frosted_ball  a close-up of a faintly blue glass ball with rough surfaces (α 0.3) under the studio map
   bounce   a floor lit only by a small white patch that a lamp below it shines on (guiding's
            textbook case)
   rod      a lying rod of absorbing glass (an exact cylinder, 20 mm radius, 300 mm long, n = 1.5)
@@ -142,7 +148,7 @@ def glassware_gloss():  # a glossier conductor
     return _glassware_sweep({"base_color": [0.8, 0.8, 0.8], "metallic": 1, "roughness": 0.3})
 
 
-def glassware_frosted():  # the three glass objects' surfaces rough (GGX α 0.2)
+def glassware_frosted():  # every interface of the three objects rough (GGX α 0.2), the wine's surface too
     scene = glassware()
     for o in scene["objects"]:
         if "inside" in o:
@@ -152,7 +158,7 @@ def glassware_frosted():  # the three glass objects' surfaces rough (GGX α 0.2)
 
 def frosted_ball():
     """A close-up of a faintly blue glass ball with rough surfaces (GGX α 0.3) under the studio map."""
-    scene = glassware()
+    studio = glassware()["background"]
     return {
         "camera": {"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [64, 64]},
         "render": {"integrator": "path", "spectral": "full", "max_depth": 64},
@@ -161,7 +167,7 @@ def frosted_ball():
                                                          "value": [5, 20]}}},
         "objects": [{"name": "ball", "shape": {"type": "sphere", "radius": "20 mm"}, "inside": "glass",
                      "roughness": 0.3}],
-        "background": scene["background"]}
+        "background": studio}
 
 
 def bounce():

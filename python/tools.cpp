@@ -145,6 +145,7 @@ py::dict compare(const py::array_t<float, py::array::c_style | py::array::forcec
   py::dict out;
   out["delta_e"] = map;
   out["mean"] = d.mean, out["median"] = d.median, out["p95"] = d.p95, out["max"] = d.max, out["rmse"] = d.rmse;
+  out["mean_lightness"] = d.mean_lightness, out["mean_colour"] = d.mean_colour;
   return out;
 }
 

@@ -79,6 +79,8 @@ def test_compare_gives_a_delta_e_map():
     assert d["delta_e"].shape == (4, 5)
     assert d["delta_e"][1, 2] > 1.0 and np.count_nonzero(d["delta_e"]) == 1
     assert d["max"] == d["delta_e"][1, 2]
+    # (a greener pixel of nearly the same luminance: mostly colour)
+    assert 0.0 < d["mean_lightness"] < d["mean_colour"] <= d["mean"] * 1.001
     assert bouguer.compare(a, a)["max"] == 0.0
     with pytest.raises(bouguer.Error, match="size"):
         bouguer.compare(a, b[:2])

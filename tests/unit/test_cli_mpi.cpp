@@ -6,6 +6,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <stdlib.h>
+
+#include <stdexcept>
+#include <system_error>
+
 #include "support/test_support.h"
 
 namespace bouguer {
@@ -37,15 +42,26 @@ std::vector<std::string> render_args(const std::string& scene, const fs::path& o
   return args;
 }
 
-// mpirun with one command line per group of ranks: {{ranks, args}, ...} joined by ':'.
+// mpirun with one command line per group of ranks: {{ranks, args}, ...} joined by ':'. Each job
+// keeps its session directory in a folder of its own (orte_tmpdir_base): ctest runs two of these
+// tests at once, and Open MPI 4's jobs share /tmp/ompi.<host>.<uid>, which one job's cleanup can
+// remove while the other creates its own inside it ("A call to mkdir was unable to create the
+// desired directory", open-mpi/ompi#8510; a fresh clone's `make test` failed so). Under /tmp, short:
+// the folder also holds PMIx's socket, whose path has a length limit.
 test::RunResult mpirun(const std::vector<std::pair<int, std::vector<std::string>>>& groups) {
+  std::string base = (fs::temp_directory_path() / "bouguer-ompi-XXXXXX").string();
+  if (!mkdtemp(base.data())) throw std::runtime_error("mkdtemp failed for " + base);
   std::vector<std::string> args = kMpirunOptions;
+  args.insert(args.end(), {"--mca", "orte_tmpdir_base", base});
   for (std::size_t i = 0; i < groups.size(); ++i) {
     if (i > 0) args.push_back(":");
     args.insert(args.end(), {"-np", std::to_string(groups[i].first)});
     args.insert(args.end(), groups[i].second.begin(), groups[i].second.end());
   }
-  return test::run_program(std::string(kMpiexec), args);
+  test::RunResult r = test::run_program(std::string(kMpiexec), args);
+  std::error_code ignored;
+  fs::remove_all(base, ignored);
+  return r;
 }
 
 class MpiRender : public ::testing::TestWithParam<std::tuple<const char*, int>> {};

@@ -182,7 +182,8 @@ TEST(CliCompare, ZeroForIdenticalImagesAndPositiveForTheRgbApproach) {
                                        (dir / "pair.png").string()});
   ASSERT_EQ(diff.exit_code, 0) << diff.err;
   const auto j = nlohmann::json::parse(diff.out);
-  for (const char* key : {"mean", "median", "p95", "max", "rmse"}) EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"mean", "median", "p95", "max", "rmse", "mean_lightness", "mean_colour"})
+    EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_GT(j["max"].get<double>(), 1.0);
   EXPECT_LE(j["median"].get<double>(), j["p95"].get<double>());
   EXPECT_TRUE(fs::exists(dir / "heat.png"));

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "bouguer/core/frame.h"
+#include "bouguer/integrators/direct_light.h"
 #include "bouguer/io/image_io.h"
 #include "bouguer/materials/surface_bsdf.h"
 #include "bouguer/render/render.h"
@@ -271,7 +272,8 @@ void floor_under_a_random_sky(const std::string& material, int spp, double toler
       for (int b = 0; b < n; ++b) {  // the sphere, uniform in (φ, cos θ)
         const double phi = 2 * kPi * (a + 0.5) / n, y = -1.0 + 2.0 * (b + 0.5) / n, s = std::sqrt(1 - y * y);
         const Vec3 d{s * std::cos(phi), y, s * std::sin(phi)};
-        if (dot(normal, d) > 0.0) expected = expected + texels[env.texel(d)] * (f_cos(normal, wo, d) * (2 * kPi / n) * (2.0 / n));
+        if (dot(normal, d) > 0.0)
+          expected = expected + texels[env.texel(d)] * (f_cos(normal, wo, d) * (2 * kPi / n) * (2.0 / n));
       }
     const std::string scene = fmt::format(R"({{
       "camera": {{"type": "orthographic", "position": [0, 1, 0], "look_at": [0, 0, 0], "up": [0, 0, -1],
@@ -325,6 +327,48 @@ TEST(Environment, RoughMetalFloorUnderARandomSkyWithASun) {
                              return static_cast<double>(eval(Bsdf<3>{metal}, f.to_local(wo), f.to_local(wi),
                                                              TransportMode::radiance)[0]);
                            });
+}
+
+// Which lobe next-event estimation draws the map from at each kind of surface (direct_light.h:
+// environment_lobe): about the normal on wo's side where the surface only reflects (diffuse,
+// metallic-roughness, a rough metal), about the front (outward) normal from either side at a rough
+// interface, the map's own density (−1) at a specular surface and in a scene without a map. The
+// floors above would pass with −1 everywhere (they check the estimate, not its noise).
+TEST(Environment, EachSurfaceDrawsFromItsLobe) {
+  const fs::path map = write_map("lobes.exr", 32, 16, [](int x, int y) { return Vec3{0.1 + x, 1.0 + y, 2.0}; });
+  auto compiled = [](const std::string& background) {
+    return compile(parse_scene(fmt::format(R"({{
+      "camera": {{"position": [0, 0, 1], "look_at": [0, 0, 0], "fov_deg": 30, "resolution": [4, 4]}},
+      "objects": [{{"name": "floor", "shape": {{"type": "quad", "size": [1, 1]}},
+                    "material": {{"type": "diffuse", "reflectance": 0.5}}}}],
+      "background": {}
+    }})",
+                                           background),
+                               fs::path(BOUGUER_TEST_TMP) / "lobes.json"));
+  };
+  const RenderScene scene = compiled(fmt::format(R"({{"environment": "{}"}})", map.string()));
+  const RenderScene plain = compiled(R"({"spectrum": "D65", "scale": 1})");
+  ASSERT_TRUE(scene.environment);
+  const EnvironmentMap& env = *scene.environment;
+  const Vec3 n = normalize(Vec3{0.3, 0.8, -0.2}), above = normalize(Vec3{0.1, 1.0, 0.4}), below = -above;
+  const auto grey = SampledSpectrum<3>::constant(0.5f);
+  const std::vector<std::pair<const char*, Bsdf<3>>> reflecting = {
+      {"diffuse", DiffuseReflection<3>{grey}},
+      {"metallic-roughness", MetallicRoughness<3>{grey, 0.5, 0.36}},
+      {"rough metal", ConductorReflection<3>{grey, SampledSpectrum<3>::constant(3.0f), 1.0, 0.3}}};
+  for (const auto& [name, bsdf] : reflecting) {
+    const SurfaceEvent<3> e{Frame(n), bsdf};
+    EXPECT_EQ(environment_lobe(scene, e, above), env.lobe(n)) << name;
+    EXPECT_EQ(environment_lobe(scene, e, below), env.lobe(-n)) << name;
+    EXPECT_EQ(environment_lobe(plain, e, above), -1) << name;
+  }
+  const SurfaceEvent<3> frosted{Frame(n), RoughDielectric{RoughDielectricBsdf{{0.3}, 1.0, 1.5}}};
+  EXPECT_EQ(environment_lobe(scene, frosted, above), env.lobe(n));
+  EXPECT_EQ(environment_lobe(scene, frosted, below), env.lobe(n));
+  EXPECT_NE(env.lobe(n), env.lobe(-n));
+  for (const Bsdf<3>& specular : {Bsdf<3>{SmoothDielectric{1.0, 1.5}}, Bsdf<3>{ThinDielectric<3>{1.5, grey}},
+                                   Bsdf<3>{ConductorReflection<3>{grey, grey, 1.0, 0.0}}})
+    EXPECT_EQ(environment_lobe(scene, SurfaceEvent<3>{Frame(n), specular}, above), -1);
 }
 
 // A rough glass ball in a uniform white map renders like the same ball under a constant D65

@@ -12,12 +12,13 @@
 // Sampling: a texel with probability p_t ∝ luminance × sin θ (≈ its solid angle), then uniformly
 // in (φ, θ) within it; the solid-angle density is p_t · W H / (2π² sin θ) at the sampled θ.
 //
-// Lobes: next-event estimation at a surface that only reflects (integrators/direct_light.h:
-// environment_lobe) draws from the map times about the surface's cosine. The image is cut into cells (kCellColumns × kCellRows
-// blocks of texels), and the directions of normals into kLobeRows × kLobeColumns bins, each a
-// "lobe" (its rows centred on θ = 0, 11.25°, …, 180° from +y and its columns on φ = 0, 11.25°, …,
-// so that floors, ceilings and walls facing an axis have a lobe of their own); lobe k draws cell c
-// with probability ∝ P_c·g_kc, P_c the cell's share of the map's density and
+// Lobes: next-event estimation at a non-specular surface (integrators/direct_light.h:
+// environment_lobe says which) draws from the map times about the surface's cosine. The image is
+// cut into cells (kCellColumns × kCellRows blocks of texels), and the directions of normals into
+// kLobeRows × kLobeColumns bins, each a "lobe" (its rows centred on θ = 0, 11.25°, …, 180° from +y
+// and its columns on φ = 0, 11.25°, …, so that floors, ceilings and walls facing an axis have a
+// lobe of their own); lobe k draws cell c with probability ∝ P_c·g_kc, P_c the cell's share of the
+// map's density and
 // g_kc = max(0, n_k·m_c + kLobeSlack) + kLobeFloor (n_k the lobe's normal, m_c the cell's
 // power-weighted mean direction; the slack for the normals a lobe stands for and the directions a
 // cell spans), then a texel within the cell by the map's own

@@ -31,7 +31,7 @@ ImageDifference compare_images(const Film& a, const Film& b) {
   ImageDifference d;
   d.width = a.width;
   d.height = a.height;
-  double sum = 0.0, squared = 0.0;
+  double sum = 0.0, squared = 0.0, lightness = 0.0, colour = 0.0;
   for (int y = 0; y < a.height; ++y)
     for (int x = 0; x < a.width; ++x) {
       const Vec3f pa = a.rgb_at(x, y), pb = b.rgb_at(x, y);
@@ -39,10 +39,13 @@ ImageDifference compare_images(const Film& a, const Film& b) {
         if (!std::isfinite(pa[c]) || !std::isfinite(pb[c]))
           fail("pixel ({}, {}) of the {} image is not finite ({}): a difference needs finite images", x, y,
                std::isfinite(pa[c]) ? "second" : "first", std::isfinite(pa[c]) ? pb[c] : pa[c]);
-      const double e = delta_e00(Vec3{pa.x, pa.y, pa.z}, Vec3{pb.x, pb.y, pb.z});
+      const Lab la = lab_of(Vec3{pa.x, pa.y, pa.z}), lb = lab_of(Vec3{pb.x, pb.y, pb.z});
+      const double e = ciede2000(la, lb);
       if (!std::isfinite(e)) fail("pixel ({}, {}): the colour difference is not finite", x, y);
       d.delta_e.push_back(e);
       sum += e;
+      lightness += ciede2000(la, Lab{lb.L, la.a, la.b});
+      colour += ciede2000(la, Lab{la.L, lb.a, lb.b});
       d.max = std::max(d.max, e);
       for (int c = 0; c < 3; ++c) {
         const double diff = double(pa[c]) - double(pb[c]);  // in float, 3e38 squared would overflow
@@ -51,6 +54,8 @@ ImageDifference compare_images(const Film& a, const Film& b) {
     }
   const auto n = static_cast<double>(d.delta_e.size());
   d.mean = n > 0 ? sum / n : 0.0;
+  d.mean_lightness = n > 0 ? lightness / n : 0.0;
+  d.mean_colour = n > 0 ? colour / n : 0.0;
   d.median = percentile(d.delta_e, 0.5);
   d.p95 = percentile(d.delta_e, 0.95);
   d.rmse = n > 0 ? std::sqrt(squared / (3.0 * n)) : 0.0;

@@ -12,6 +12,13 @@ struct ImageDifference {
   std::vector<double> delta_e;  // per pixel, row-major from the top
   double mean = 0, median = 0, p95 = 0, max = 0;
   double rmse = 0;  // root mean square difference of the linear RGB values, all pixels and channels
+  // Which of the two a difference is, lightness or colour: the mean CIEDE2000 with only L* taken
+  // from B (A's a*, b*), and with only a*, b* taken from B (A's L*). Per pixel the two add in
+  // quadrature to the whole (CIEDE2000's lightness term stands apart from its chroma and hue
+  // terms); their means do not add up to `mean`. Near white, CIEDE2000 weighs a colour difference
+  // more than a lightness one (S_L grows with |L* − 50|, S_C only with chroma), so a spectral
+  // render's noise there is mostly colour.
+  double mean_lightness = 0, mean_colour = 0;
 };
 
 ImageDifference compare_images(const Film& a, const Film& b);
