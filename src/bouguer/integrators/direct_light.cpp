@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "bouguer/integrators/exit_guide.h"
 #include "bouguer/integrators/manifold.h"
@@ -89,22 +88,11 @@ std::optional<Transmission<N>> transmission(const SceneView<N>& v, const PathVer
 
 namespace {
 
-// The map's sample from its lobe (lights/environment.h), as sample_li draws from the map's own
-// density with lobe < 0.
-// (A lobe takes a third number, from `rng`: environment.h.)
-std::optional<LightLiSample> environment_li(const RenderScene& s, const Vec3& at, double u1, double u2, int lobe,
-                                            Rng& rng) {
-  const Light& light = s.lights[static_cast<std::size_t>(s.environment_light)];
-  if (lobe < 0) return sample_li(light, at, u1, u2);
-  const auto e = s.environment->sample(u1, u2, rng.next_double(), lobe);
-  if (!e) return std::nullopt;
-  LightLiSample li;  // (as sample_li makes the map's: infinitely far, no delta, factor 1)
-  li.wi = e->wi;
-  li.distance_m = std::numeric_limits<double>::infinity();
-  li.pdf = e->pdf;
-  li.factor = 1.0;
-  li.texel = e->texel;
-  return li;
+// The map's sample from its lobe (lights/light.h: sample_environment_li); a lobe takes a third
+// number, from `rng` (the map's own density draws none, as before the lobes).
+std::optional<LightLiSample> environment_li(const RenderScene& s, double u1, double u2, int lobe, Rng& rng) {
+  const auto& light = std::get<EnvironmentLight>(s.lights[static_cast<std::size_t>(s.environment_light)]);
+  return sample_environment_li(light, u1, u2, lobe >= 0 ? rng.next_double() : 0.0, lobe);
 }
 
 // Direct light at a path vertex (a surface or a point in a medium): towards(wi, pdf) gives the
@@ -202,7 +190,7 @@ SampledSpectrum<N> direct_light_at(const SceneView<N>& v, const PathVertex& at, 
   // sealed. Its numbers are drawn all the same, so the rest of the sample is as it was.)
   if (environment && s.environment_light >= 0) {
     const double ue1 = rng.next_double(), ue2 = rng.next_double();
-    const auto li = in_sealed ? std::nullopt : environment_li(s, at.point, ue1, ue2, lobe, rng);
+    const auto li = in_sealed ? std::nullopt : environment_li(s, ue1, ue2, lobe, rng);
     // Into a medium that only absorbs, the shadow ray still goes: it gets nothing where it would
     // leave the scene in the medium (an infinite path: travel gives 0), but it may leave the medium
     // through an index-matched boundary, as the walk's own direction does (skipping it lost that

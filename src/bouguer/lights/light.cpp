@@ -160,7 +160,12 @@ std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double
     return li_sample(-d->direction, kInf, 1.0, true, 1.0, d->irradiance);
   if (const auto* b = std::get_if<BackgroundLight>(&light))
     return li_sample(uniform_sphere(u1, u2), kInf, 1.0 / (4.0 * kPi), false, 1.0, b->radiance);
-  const auto e = std::get<EnvironmentLight>(light).map->sample(u1, u2);
+  return sample_environment_li(std::get<EnvironmentLight>(light), u1, u2, 0.0, -1);
+}
+
+std::optional<LightLiSample> sample_environment_li(const EnvironmentLight& light, double u1, double u2, double u3,
+                                                   int lobe) {
+  const auto e = lobe < 0 ? light.map->sample(u1, u2) : light.map->sample(u1, u2, u3, lobe);
   if (!e) return std::nullopt;
   LightLiSample s = li_sample(e->wi, kInf, e->pdf, false, 1.0, -1);
   s.texel = e->texel;

@@ -127,6 +127,11 @@ struct LightLeSample {
 };
 
 std::optional<LightLiSample> sample_li(const Light& light, const Vec3& p, double u1, double u2);
+// The map's sample from its lobe `lobe` (lights/environment.h: the map times about a surface's
+// cosine; u3 places the row and the texel) or, with lobe < 0, from its own density, as sample_li
+// draws it (u3 unused). The path tracer's next-event estimation at a surface draws from a lobe.
+std::optional<LightLiSample> sample_environment_li(const EnvironmentLight& light, double u1, double u2, double u3,
+                                                   int lobe);
 // A point drawn uniformly by area on an area light's triangle, for connections that reach it
 // along a path other than the straight line (integrators/manifold.h, which draws on a spherical
 // lamp's facing cap itself): the point and the density per m². Nothing for other lights.
