@@ -46,7 +46,8 @@ int run_compare(const CompareCli& o) {
     fmt::print("CIEDE2000 over {} pixels: mean {:.3f}  median {:.3f}  p95 {:.3f}  max {:.3f}  (RMSE linear RGB {:.4g})\n",
                d.delta_e.size(), d.mean, d.median, d.p95, d.max, d.rmse);
     // (no "mean " on this line: bench scripts read the first line's with sed)
-    fmt::print("  its average from lightness alone {:.3f}, from colour alone {:.3f}\n", d.mean_lightness, d.mean_colour);
+    fmt::print("  its average from lightness alone {:.3f}, from colour alone {:.3f}\n", d.mean_lightness,
+               d.mean_colour);
   }
   return 0;
 }

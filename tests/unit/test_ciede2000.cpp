@@ -49,7 +49,8 @@ TEST(Compare, SplitsLightnessFromColour) {
   EXPECT_GT(d.mean, 1.0);
   EXPECT_NEAR(d.mean_lightness, d.mean, 1e-9);
   EXPECT_NEAR(d.mean_colour, 0.0, 1e-9);
-  const double y_red = linear_rgb_to_xyz(kRec709, {1.0, 0.0, 0.0}).y, y_green = linear_rgb_to_xyz(kRec709, {0.0, 1.0, 0.0}).y;
+  const double y_red = linear_rgb_to_xyz(kRec709, {1.0, 0.0, 0.0}).y;
+  const double y_green = linear_rgb_to_xyz(kRec709, {0.0, 1.0, 0.0}).y;
   const float red = 0.5f, green = static_cast<float>(0.5 * y_red / y_green);
   a.set_rgb(0, 0, {red, 0.0f, 0.0f});
   b.set_rgb(0, 0, {0.0f, green, 0.0f});
@@ -66,7 +67,8 @@ TEST(Compare, SplitsLightnessFromColour) {
   d = compare_images(c, e);
   EXPECT_GT(d.mean_lightness, 1.0);
   EXPECT_GT(d.mean_colour, 1.0);
-  EXPECT_NEAR(d.mean * d.mean, d.mean_lightness * d.mean_lightness + d.mean_colour * d.mean_colour, 1e-9 * d.mean * d.mean);
+  EXPECT_NEAR(d.mean * d.mean, d.mean_lightness * d.mean_lightness + d.mean_colour * d.mean_colour,
+              1e-9 * d.mean * d.mean);
 }
 
 }  // namespace

@@ -295,6 +295,14 @@ void floor_under_a_random_sky(const std::string& material, int spp, double toler
   }
 }
 
+// f·cos θ of a colour-neutral BSDF in world directions, at a surface event about the normal n (its
+// own eval: not shaded, so the BSDF's in the frame about n).
+std::function<double(const Vec3&, const Vec3&, const Vec3&)> f_cos_of(const Bsdf<3>& bsdf) {
+  return [bsdf](const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    return static_cast<double>(SurfaceEvent<3>{Frame(n), bsdf}.eval(wo, wi, TransportMode::radiance)[0]);
+  };
+}
+
 // A diffuse floor, R = 0.5: weighted against the map's own density instead of the lobe's, the
 // floor under the sky without its sun came out 27 % bright, level or tilted.
 TEST(Environment, DiffuseFloorUnderARandomSkyWithASun) {
@@ -307,26 +315,17 @@ TEST(Environment, DiffuseFloorUnderARandomSkyWithASun) {
 // about the floor's normal. Weighted against the map's own density, it came out 27 % bright
 // without the sun, level or tilted, as the diffuse floor did.
 TEST(Environment, MetallicRoughnessFloorUnderARandomSkyWithASun) {
-  const MetallicRoughness<3> mr{SampledSpectrum<3>::constant(0.5f), 0.5, 0.36};
   floor_under_a_random_sky(R"("pbr": {"base_color": [0.5, 0.5, 0.5], "metallic": 0.5, "roughness": 0.6})", 256, 0.01,
-                           [&](const Vec3& n, const Vec3& wo, const Vec3& wi) {
-                             const Frame f(n);
-                             return static_cast<double>(eval(Bsdf<3>{mr}, f.to_local(wo), f.to_local(wi),
-                                                             TransportMode::radiance)[0]);
-                           });
+                           f_cos_of(MetallicRoughness<3>{SampledSpectrum<3>::constant(0.5f), 0.5, 0.36}));
 }
 
 // And a rough conductor (n 0.2, k 3, α 0.3: a glossy metal), the third surface that draws from the
 // lobe; 1024 spp, where its sky alone read 0.8 % dark in red at 256. Weighted against the map's
 // own density: 23 % bright level, 18 % tilted, without the sun.
 TEST(Environment, RoughMetalFloorUnderARandomSkyWithASun) {
-  const ConductorReflection<3> metal{SampledSpectrum<3>::constant(0.2f), SampledSpectrum<3>::constant(3.0f), 1.0, 0.3};
-  floor_under_a_random_sky(R"("material": {"type": "conductor", "n": 0.2, "k": 3.0, "roughness": 0.3})", 1024, 0.01,
-                           [&](const Vec3& n, const Vec3& wo, const Vec3& wi) {
-                             const Frame f(n);
-                             return static_cast<double>(eval(Bsdf<3>{metal}, f.to_local(wo), f.to_local(wi),
-                                                             TransportMode::radiance)[0]);
-                           });
+  floor_under_a_random_sky(
+      R"("material": {"type": "conductor", "n": 0.2, "k": 3.0, "roughness": 0.3})", 1024, 0.01,
+      f_cos_of(ConductorReflection<3>{SampledSpectrum<3>::constant(0.2f), SampledSpectrum<3>::constant(3.0f), 1.0, 0.3}));
 }
 
 // Which lobe next-event estimation draws the map from at each kind of surface (direct_light.h:

@@ -18,11 +18,10 @@
 // kLobeRows × kLobeColumns bins, each a "lobe" (its rows centred on θ = 0, 11.25°, …, 180° from +y
 // and its columns on φ = 0, 11.25°, …, so that floors, ceilings and walls facing an axis have a
 // lobe of their own); lobe k draws cell c with probability ∝ P_c·g_kc, P_c the cell's share of the
-// map's density and
-// g_kc = max(0, n_k·m_c + kLobeSlack) + kLobeFloor (n_k the lobe's normal, m_c the cell's
-// power-weighted mean direction; the slack for the normals a lobe stands for and the directions a
-// cell spans), then a texel within the cell by the map's own
-// probabilities, then a point within the texel as above. Its density is the map's times
+// map's density and g_kc = max(0, n_k·m_c + kLobeSlack) + kLobeFloor (n_k the lobe's normal, m_c
+// the cell's power-weighted mean direction; the slack for the normals a lobe stands for and the
+// directions a cell spans), then a texel within the cell by the map's own probabilities, then a
+// point within the texel as above. Its density is the map's times
 // g_kc / Σ_c P_c·g_kc: exact, positive wherever the map's is (the floor), and a function of the
 // direction and the lobe alone, so that MIS weighs a BSDF direction against it (the lobe is the
 // surface's, kept by the path: integrators/radiance.h). Under the studio map a lit floor's noise
