@@ -111,7 +111,8 @@ class SpectralTables {
   // The wavelength kept at a dispersive interface by carried index j (full: uniform in bin j).
   double kept_wavelength_nm(const SampledWavelengths<N>& w, int j, double u) const;
   // The radiance of an environment texel (environment.h): its RGB lifted to a spectrum times D65
-  // at the wavelengths (full: D65's bin means); rgb3 takes the texel's RGB directly.
+  // at the wavelengths (full: D65's bin means; a walk of one wavelength gets its bin alone, zeros
+  // elsewhere, as transmittance()); rgb3 takes the texel's RGB directly.
   SampledSpectrum<N> environment(const EnvironmentMap& map, int texel, const SampledWavelengths<N>& w) const;
   // Linear Rec.709 of one sample's spectrum at its wavelengths.
   Vec3 to_linear_rgb(const SampledSpectrum<N>& l, const SampledWavelengths<N>& w) const {
