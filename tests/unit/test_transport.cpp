@@ -43,7 +43,9 @@ bool bit_identical(const Film& a, const Film& b) {
 // the surface, exp(3 − τ_R) below, 1/64 from τ_R = 3 + ln 64 on; 1 near a point light and where
 // the least-scattering wavelength sees the surface within reach; the single wavelength's σ_s in a
 // walk of one wavelength. Reusing the last query (SurfaceDistance) gives the same probability as a fresh
-// one along a walk of small steps.
+// one along a walk of small steps where the bound decides; between, near the last query, the
+// probability from its nearest point's plane (near_surface_m) is a fresh query's below a flat face,
+// and close to it below the ball's curved one.
 // A 10 mm ball of a scattering medium (σ_s over 400–700 nm, an optional density), one light.
 RenderScene ball_of_medium(const char* sigma, const char* density, const char* lights, const char* shape = "") {
   return compile(parse_scene(fmt::format(R"({{
@@ -98,21 +100,56 @@ TEST(NeeProbability, FollowsTheDistanceToTheSurfacesAndTheLights) {
       R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})");
   const SceneView<kHeroCount> vv{varying, tables, camera, 8};
   EXPECT_DOUBLE_EQ(q_at(vv, {0, 0, 0}, w), 1.0);
-  // Reuse: a walk of 2000 steps of 0.4 mm from the centre, clamped to the ball.
-  SurfaceDistance reused;
-  std::mt19937_64 rng(3);
-  std::normal_distribution<double> step(0.0, 0.4e-3);
-  Vec3 x{};
-  int queries_saved = 0;
-  for (int i = 0; i < 2000; ++i) {
-    x = x + Vec3{step(rng), step(rng), step(rng)};
-    if (length(x) > 0.0095) x = x * (0.0095 / length(x));
-    const SurfaceDistance before = reused;
-    EXPECT_DOUBLE_EQ(nee_probability_in_medium(v, milky, x, w, reused), q_at(v, x, w)) << i;
-    if (before.centre == reused.centre && before.radius_m == reused.radius_m) ++queries_saved;
-  }
-  std::printf("NEE probability: %d of 2000 steps reused the last distance query\n", queries_saved);
-  EXPECT_GT(queries_saved, 500);
+  // Reuse: a walk of 2000 steps of 0.4 mm from the centre, clamped to the ball. Where the bound
+  // decides (q = 1 or the floor), the same as a fresh query; between, near the last query, from
+  // the plane through its nearest point, which inside the ball overstates the distance at x by
+  // √(ρ² + t²) − ρ at most (ρ ≥ 0.8 mm from the centre where the bound cannot decide, t ≤ 2 mm
+  // from the last query): 1.35 mm, a factor e^±1.35 on q. A plane on the wrong side (q = 1 for
+  // the floor's 1/64, e^4.2) or a stale distance would leave it.
+  auto walk = [&](const SceneView<kHeroCount>& view, double radius_m, double tolerance, const char* what) {
+    SurfaceDistance reused;
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> step(0.0, 0.4e-3);
+    Vec3 x{};
+    int reused_bound = 0, planes = 0;
+    for (int i = 0; i < 2000; ++i) {
+      x = x + Vec3{step(rng), step(rng), step(rng)};
+      if (length(x) > radius_m) x = x * (radius_m / length(x));
+      const SurfaceDistance before = reused;
+      const double q = nee_probability_in_medium(view, milky, x, w, reused), fresh = q_at(view, x, w);
+      if (before.centre == reused.centre && before.radius_m == reused.radius_m) {
+        const double moved = length(x - before.centre);
+        if (before.radius_m + moved <= 0.003 || before.radius_m - moved >= (3.0 + std::log(64.0)) / 1000.0) {
+          ++reused_bound;
+          EXPECT_DOUBLE_EQ(q, fresh) << what << i;
+        } else {
+          planes += q > kNeeFloor && q < 1.0;
+          EXPECT_NEAR(std::log(q), std::log(fresh), tolerance) << what << i;
+        }
+      } else {
+        EXPECT_DOUBLE_EQ(q, fresh) << what << i;
+      }
+    }
+    std::printf("NEE probability (%s): of 2000 steps %d reused the bound, %d the plane (1/64 < q < 1)\n", what,
+                reused_bound, planes);
+    EXPECT_GT(reused_bound, 100) << what;
+    EXPECT_GT(planes, 300) << what;
+  };
+  walk(v, 0.0095, 1.4, "a ball");
+  // Below a flat face the plane is exact: the same walk in a slab 200 mm wide and 20 mm thick,
+  // 5 mm below its top face (its bottom and sides always farther than the top).
+  const RenderScene slab = compile(parse_scene(R"({
+      "camera": {"position": [0, 0, 0.1], "look_at": [0, 0, 0], "fov_deg": 5, "resolution": [4, 4]},
+      "media": {"milky": {"ior": 1.33, "scattering": {"unit": "attenuation_per_m", "wavelength_nm": [400, 700],
+                "value": [1000, 1000], "phase": {"type": "henyey_greenstein", "g": 0.8}}}},
+      "objects": [{"name": "slab", "shape": {"type": "box", "size": ["200 mm", "200 mm", "20 mm"]},
+                   "transform": [{"translate": [0, 0, "-5 mm"]}], "inside": "milky"}],
+      "lights": [{"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"}]
+    })", "nee_slab.json"));
+  const SpectralTables<kHeroCount> slab_tables(slab.spectra, SpectralMode::hero);
+  const SceneView<kHeroCount> vb{slab, slab_tables, camera, 8};
+  ASSERT_EQ(vb.scene.surfaces[0].medium_behind, milky);
+  walk(vb, 0.0045, 1e-9, "below a flat face");
 }
 
 // The exit guide (integrators/events.h: ExitGuide) under a map that is bright in one patch and

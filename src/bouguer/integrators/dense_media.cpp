@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace bouguer {
 
@@ -68,6 +69,20 @@ double nee_floor_m(double sigma_per_m) { return (kNeeFullDepth - std::log(kNeeFl
 
 }  // namespace
 
+namespace {
+// The distance from x to the nearest point or spot lamp (infinite without one): next-event
+// estimation connects in full near one, as near a surface.
+double point_lamp_distance_m(const RenderScene& scene, const Vec3& x) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const int index : scene.delta_lights) {
+    const Light& light = scene.lights[static_cast<std::size_t>(index)];
+    if (const auto* p = std::get_if<PointLight>(&light)) d = std::min(d, length(x - p->position_m));
+    if (const auto* s = std::get_if<SpotLight>(&light)) d = std::min(d, length(x - s->position_m));
+  }
+  return d;
+}
+}  // namespace
+
 // A fresh point query at x, as far as the thinning of next-event estimation needs to look.
 template <std::size_t N>
 void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_per_m, SurfaceDistance& last,
@@ -76,12 +91,8 @@ void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_p
   last.centre = x;
   last.cap_m = cap_m;
   last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest, &last.nearest_geometry);
-  last.radius_m = last.surface_m;
-  for (const int index : v.scene.delta_lights) {
-    const Light& light = v.scene.lights[static_cast<std::size_t>(index)];
-    if (const auto* p = std::get_if<PointLight>(&light)) last.radius_m = std::min(last.radius_m, length(x - p->position_m));
-    if (const auto* s = std::get_if<SpotLight>(&light)) last.radius_m = std::min(last.radius_m, length(x - s->position_m));
-  }
+  if (last.surface_m > 0.0) last.away = (x - last.nearest) / last.surface_m;
+  last.radius_m = std::min(last.surface_m, point_lamp_distance_m(v.scene, x));
 }
 
 template <std::size_t N>
@@ -95,6 +106,13 @@ double nee_probability_in_medium(const SceneView<N>& v, int medium, const Vec3& 
     const double moved = length(x - last.centre);
     if (last.radius_m + moved <= full_m) return 1.0;  // (a capped radius is larger than full_m)
     if (last.radius_m - moved >= floor_m) return kNeeFloor;
+    // Where the bound cannot decide, near the last query: the distance to its nearest point's plane
+    // (near_surface_m), as a probability of the walk's own state needs no more to stay exact.
+    const double near_m = near_surface_m(last, x, sigma_per_m);
+    if (near_m >= 0.0) {
+      const double r = std::min(near_m, point_lamp_distance_m(v.scene, x));
+      return std::clamp(std::exp(kNeeFullDepth - sigma_per_m * r), kNeeFloor, 1.0);
+    }
   }
   query_surface_distance(v, x, sigma_per_m, last);
   return std::clamp(std::exp(kNeeFullDepth - sigma_per_m * last.radius_m), kNeeFloor, 1.0);
