@@ -175,7 +175,8 @@ void report(const char* name, double sigma_per_m, double r_m, Coupling coupling,
     const double angle = number(seed, 99, 0, 0) - 0.5;
     const Vec p{r_m * std::cos(angle) * (1 - 1e-12), r_m * std::sin(angle) * (1 - 1e-12), 0};
     const Vec inward = -1.0 * Vec{std::cos(angle), std::sin(angle), 0};
-    const Vec d = normalize(inward + Vec{0, (number(seed, 99, 0, 1) - 0.5) * 0.6, (number(seed, 99, 0, 2) - 0.5) * 0.6});
+    const Vec spread{0, (number(seed, 99, 0, 1) - 0.5) * 0.6, (number(seed, 99, 0, 2) - 0.5) * 0.6};
+    const Vec d = normalize(inward + spread);
     const Exit x = walk(sigma_per_m, r_m, seed, coupling, p, d);
     const Exit y = walk(kSigmaRedPerM, r_m, seed, coupling, p, d);
     if (!x.left || !y.left) continue;
@@ -186,8 +187,8 @@ void report(const char* name, double sigma_per_m, double r_m, Coupling coupling,
   }
   const double m1 = s1 / n, m2 = s2 / n;
   const double corr = (s12 / n - m1 * m2) / std::sqrt((s11 / n - m1 * m1) * (s22 / n - m2 * m2));
-  std::printf("| %-11s | %4.2f | %5.0f | %5.3f | %5.3f | %5.3f %5.3f |\n", name, sigma_per_m / kSigmaRedPerM, r_m * 1000,
-              corr, static_cast<double>(same) / n, m1, m2);
+  std::printf("| %-11s | %4.2f | %5.0f | %5.3f | %5.3f | %5.3f %5.3f |\n", name, sigma_per_m / kSigmaRedPerM,
+              r_m * 1000, corr, static_cast<double>(same) / n, m1, m2);
 }
 
 }  // namespace
@@ -197,7 +198,8 @@ int main(int argc, char** argv) {
   std::printf("%d pairs a row, sigma_2 = %.0f per m, g = %.3f\n\n", pairs, kSigmaRedPerM, kG);
   std::printf("| coupling    | sigma_1/sigma_2 | wall radius mm | correlation | same event | mean values |\n");
   std::printf("|---|---|---|---|---|---|\n");
-  for (const double ratio : {1.3, 1.6, 2.3, 3.6}) report("scaled", ratio * kSigmaRedPerM, 0.029, Coupling::scaled, pairs);
+  for (const double ratio : {1.3, 1.6, 2.3, 3.6})
+    report("scaled", ratio * kSigmaRedPerM, 0.029, Coupling::scaled, pairs);
   report("scaled", 2.3 * kSigmaRedPerM, 1.0, Coupling::scaled, pairs);
   report("wall-frame", 2.3 * kSigmaRedPerM, 0.029, Coupling::wall_frame, pairs);
   report("wall-frame", 2.3 * kSigmaRedPerM, 1.0, Coupling::wall_frame, pairs);

@@ -91,7 +91,10 @@ void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_p
   last.centre = x;
   last.cap_m = cap_m;
   last.surface_m = v.scene.rays.distance_to_surfaces(x, cap_m, &last.nearest, &last.nearest_geometry);
-  if (last.surface_m > 0.0) last.away = (x - last.nearest) / last.surface_m;
+  // (|x − nearest|, not surface_m: an analytic shape's distance is a lower bound where it is
+  // stretched unevenly.)
+  const double apart_m = length(x - last.nearest);
+  if (last.surface_m > 0.0 && last.surface_m < cap_m && apart_m > 0.0) last.away = (x - last.nearest) / apart_m;
   last.radius_m = std::min(last.surface_m, point_lamp_distance_m(v.scene, x));
 }
 

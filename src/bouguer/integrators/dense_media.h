@@ -25,8 +25,9 @@ namespace bouguer {
 // reach of a surface (q = 1) or far below it (q = kNeeFloor) needs no query. Between, within
 // kNearMfp mean free paths of c, R is read from the plane through c's nearest point
 // (near_surface_m): not a bound, but q may be any function of the walk's own state, and a walk
-// near a glass wall took a query at nearly every collision there (a fifth of the whole-milk
-// glass's time). Media whose density varies keep q = 1 (their ρ along a ray has no lower bound).
+// near a glass wall took a query at nearly every collision there (point queries, most of them
+// these, took a fifth of the whole-milk glass's time). Media whose density varies keep q = 1
+// (their ρ along a ray has no lower bound).
 inline constexpr double kNeeFullDepth = 3.0;
 inline constexpr double kNeeFloor = 1.0 / 64.0;
 // A walk split into walks of one wavelength (below) scatters hundreds of times. With a forward
@@ -55,7 +56,7 @@ struct SurfaceDistance {
   double cap_m = 0.0;       // how far that query looked: a radius below it is exact
   double surface_m = -1.0;  // the same without the point lights
   Vec3 nearest;             // the nearest surface point, where surface_m is below the cap
-  Vec3 away;                // the unit direction from it to the centre, there too
+  Vec3 away;                // the unit direction from it to the centre, there too (surface_m > 0)
   std::uint32_t nearest_geometry = 0;  // its surface (RenderScene::surfaces), there too
   // σ_s·ρ of the medium at the walk's one wavelength (homogeneous_sigma_min_per_m), for the medium
   // and the wavelength it was read for: a spectral table read once a walk of one wavelength, not
@@ -75,10 +76,11 @@ inline double free_radius_m(const RayScene& rays, const SurfaceDistance& near, c
 }
 // Near the last query (within kNearMfp mean free paths of its centre, where it found the nearest
 // point), the distance to the surfaces estimated without a query: to the plane through that point
-// across `away` (exact below a flat face; a curved or faceted wall moves it by about the square of
-// the step over twice its radius). Negative where the last query cannot say. What
-// nee_probability_in_medium reads between queries. (The exit guide read it too, as the distance
-// and its plane's normal as the guide's: 20 % less time on the whole-milk glass, but 3 % more
+// across `away` (exact below a flat face; below a curved one off by about the step aside squared
+// over twice the distance to its centre of curvature; near an inner edge or corner, where another
+// face is nearer, up to twice the step). Negative where the last query cannot say. What
+// nee_probability_in_medium reads between queries. (The exit guide read it too, as its distance
+// and its refraction plane's normal: the same efficiency on the whole-milk glass, but 3 % more
 // ΔE00 between seeds, so the guide keeps its exact nearest point: docs/performance.md.)
 inline constexpr double kNearMfp = 2.0;
 inline double near_surface_m(const SurfaceDistance& last, const Vec3& x, double sigma_per_m) {
