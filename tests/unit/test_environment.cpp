@@ -258,9 +258,10 @@ TEST(Environment, DiffuseFloorUnderAUniformSky) {
 // (lights/environment.h), a different one for each, and a BSDF direction that meets the map is
 // weighted against that lobe's density (radiance.h). `spp` and `tolerance` as the material's noise
 // asks. rgb_t is the colour a texel emits: its RGB lifted to a spectrum (rgb_to_illuminant) and
-// back through 1 nm colorimetry, darker than the file's (its sums over this sky by 0.13–0.16 %). The integral goes texel by texel (integrate_over_texels, 48 × 48 cells a texel). With
-// the file's RGB and a grid uniform over the sphere (which cut the sun's edges), the diffuse floor
-// at 8192 spp read 0.1–0.6 % off: low under the sky alone, high with the sun; now within 0.1 %.
+// back through 1 nm colorimetry, darker than the file's (its sums over this sky by 0.13–0.16 %).
+// The integral goes texel by texel (integrate_over_texels, 48 × 48 cells a texel). With the
+// file's RGB and a grid uniform over the sphere (which cut the sun's edges), the diffuse floor at
+// 8192 spp read 0.1–0.6 % off: low under the sky alone, high with the sun; now within 0.1 %.
 void floor_under_a_random_sky(const std::string& material, int spp, double tolerance,
                               const std::function<double(const Vec3& n, const Vec3& wo, const Vec3& wi)>& f_cos) {
   std::mt19937_64 rng(11);

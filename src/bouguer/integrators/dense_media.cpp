@@ -67,9 +67,6 @@ namespace {
 // The distance beyond which the thinning of next-event estimation is at its floor.
 double nee_floor_m(double sigma_per_m) { return (kNeeFullDepth - std::log(kNeeFloor)) / sigma_per_m; }
 
-}  // namespace
-
-namespace {
 // The distance from x to the nearest point or spot lamp (infinite without one): next-event
 // estimation connects in full near one, as near a surface.
 double point_lamp_distance_m(const RenderScene& scene, const Vec3& x) {

@@ -115,8 +115,7 @@ SampledSpectrum<N> SpectralTables<N>::environment(const EnvironmentMap& map, int
     // transmittance() does: every other bin meets the zeros of its throughput. (A dense walk's
     // connections to the map took 96 sigmoids each: 7 % of the whole-milk glass.)
     const auto j = static_cast<std::size_t>(w.single);
-    l[j] = static_cast<float>(s.scale * s.poly(w.nm[j])) * env_white_[j];
-    return l;
+    return only_bin(w.single, static_cast<float>(s.scale * s.poly(w.nm[j])) * env_white_[j]);
   }
   for (std::size_t i = 0; i < N; ++i) {
     const float white = mode_ == SpectralMode::full ? env_white_[i] : static_cast<float>(d65_unit_luminance(w.nm[i]));
