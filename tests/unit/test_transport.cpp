@@ -157,6 +157,46 @@ TEST(NeeProbability, FollowsTheDistanceToTheSurfacesAndTheLights) {
   walk(vb, 0.0045, true, "below a flat face");
 }
 
+// The split's bins (integrators/dense_media.h: keep_split_wavelength, full mode). Walk i of a split
+// draws its bin from the basis's split_probability at offset i/4 of split_u, so bin j is drawn on
+// a set of split_u of measure P(j) for each i and must carry weight 1/(4·P(j)): then the walks'
+// weighted throughputs average to the path's own in every bin, which is what keeps the split
+// unbiased. Checked at points inside each bin's interval of split_u and at its two ends (the
+// inverse of the table's running sum lands every one of them in the bin), with the weight against
+// the interval's length; the kept bin alone carries throughput, every bin can be drawn, and the
+// probabilities sum to 1. A weight from another density than the draw's (the eye-sensitivity
+// density's mass, which the split used before) is 0.58 to 26 times off, bin by bin.
+TEST(SplitWavelengths, EachBinIsDrawnAsOftenAsItsWeightAssumes) {
+  const RenderScene scene =
+      ball_of_medium("[1000, 100]", "", R"({"type": "distant", "direction": [0, 0, -1], "spectrum": "D65"})");
+  const SpectralTables<kFullBins> tables(scene.spectra, SpectralMode::full);
+  const Camera camera(scene.camera);
+  const SceneView<kFullBins> v{scene, tables, camera, 8};
+  const SpectralBasis<kFullBins>& basis = tables.basis();
+  constexpr std::size_t kCount = kSplitCount<kFullBins>;
+  double total = 0.0;
+  for (std::size_t j = 0; j < kFullBins; ++j) {
+    const double p = basis.split_probability[j], lo = j == 0 ? 0.0 : basis.split_cdf[j - 1];
+    ASSERT_GT(p, 0.0) << "bin " << j << " can never be drawn";
+    EXPECT_NEAR(basis.split_cdf[j] - lo, p, 1e-12) << "bin " << j;
+    total += p;
+    for (std::size_t i = 0; i < kCount; ++i)
+      for (const double t : {1e-9, 0.25, 0.5, 0.75, 1.0 - 1e-9}) {
+        SampledWavelengths<kFullBins> w = tables.wavelengths(0.5);
+        w.split_u = lo + t * p - static_cast<double>(i) / kCount;
+        if (w.split_u < 0.0) w.split_u += 1.0;
+        SampledSpectrum<kFullBins> beta = SampledSpectrum<kFullBins>::constant(1.0f);
+        const double weight = keep_split_wavelength(v, w, beta, i, 0.5);
+        ASSERT_EQ(w.single, static_cast<int>(j)) << "walk " << i << " at " << t << " of bin " << j << "'s interval";
+        EXPECT_NEAR(weight * kCount * p, 1.0, 1e-9) << "bin " << j;
+        for (std::size_t k = 0; k < kFullBins; ++k)
+          ASSERT_EQ(beta[k], k == j ? static_cast<float>(weight) : 0.0f) << "bin " << k << " of a walk keeping " << j;
+      }
+  }
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  EXPECT_EQ(basis.split_cdf[kFullBins - 1], 1.0);
+}
+
 // The exit guide (integrators/events.h: ExitGuide) under a map that is bright in one patch and
 // dim elsewhere, η = 1.33 across a plane: a direction drawn from it refracts at the plane into the
 // map's own sample (Snell), and its reported density is the one it is drawn with: over its draws,

@@ -28,13 +28,14 @@ double keep_split_wavelength(const SceneView<N>& v, SampledWavelengths<N>& w, Sa
   constexpr std::size_t kCount = kSplitCount<N>;
   std::size_t j = i;
   double weight = 1.0;
-  if constexpr (N > kCount) {  // full mode: bins as hero mode draws its wavelengths (dense_media.h)
-    static_assert(kCount == kHeroCount);
-    const double width_nm = (kLambdaMaxNm - kLambdaMinNm) / static_cast<double>(N);
-    const double nm = sample_hero_wavelengths(w.split_u).nm[i];
-    j = std::min(static_cast<std::size_t>(std::max(0.0, (nm - kLambdaMinNm) / width_nm)), N - 1);
-    const double lo = kLambdaMinNm + static_cast<double>(j) * width_nm;
-    weight = 1.0 / (kCount * visible_wavelength_probability(lo, lo + width_nm));
+  if constexpr (N > kCount) {  // full mode: bins by the basis's split density (dense_media.h)
+    const SpectralBasis<N>& basis = v.tables.basis();
+    double u = w.split_u + static_cast<double>(i) / kCount;
+    if (u >= 1.0) u -= 1.0;
+    j = std::min(static_cast<std::size_t>(std::upper_bound(basis.split_cdf.begin(), basis.split_cdf.end(), u) -
+                                          basis.split_cdf.begin()),
+                 N - 1);
+    weight = 1.0 / (kCount * basis.split_probability[j]);
   }
   w.terminate_secondary(static_cast<int>(j), v.tables.kept_wavelength_nm(w, static_cast<int>(j), u_nm));
   const float kept = beta[j] * static_cast<float>(weight);

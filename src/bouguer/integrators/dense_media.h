@@ -124,12 +124,10 @@ void query_surface_distance(const SceneView<N>& v, const Vec3& x, double sigma_p
 // same event in the same direction: its wavelengths see the same light, and the noise left is in
 // brightness, not colour. Each walk is an ordinary single-wavelength path tracer's walk for its
 // wavelength, so the image's expectation does not change. Hero mode and rgb3 split into all the
-// carried wavelengths (weight 1); full mode into 4 bins drawn as hero mode draws its wavelengths
-// (the eye-sensitivity density at 4 equal offsets of w.split_u, a number stratified over the
-// pixel's samples and independent of the hero, whose majorant drew the path's distances so far),
-// each weighted 1/(4·P(j)), P(j) the density's mass over [360 + j·w, 360 + (j + 1)·w] nm, w =
-// 470/96 nm, which is how a drawn wavelength picks its index (close to the bin's own whole
-// nanometres; the weight has only to match the choice): the bins that matter to the colour are
+// carried wavelengths (weight 1); full mode into 4 bins drawn by the basis's split_probability
+// (a density per nm as sqrt(x̄ + ȳ + z̄/2), spectral_sampling.h) at 4 equal offsets of w.split_u,
+// a number stratified over the pixel's samples and independent of the hero, whose majorant drew
+// the path's distances so far, each weighted 1/(4·P(j)): the bins that matter to the colour are
 // drawn more often, so a pixel's colour does not hang on how often each of 96 bins came up.
 template <std::size_t N>
 inline constexpr std::size_t kSplitCount = N <= 4 ? N : 4;

@@ -94,11 +94,6 @@ double visible_wavelength_pdf(double wavelength_nm) {
   return 0.0039398042 / (c * c);
 }
 
-double visible_wavelength_probability(double lo_nm, double hi_nm) {
-  auto cdf = [](double nm) { return 0.0039398042 / 0.0072 * std::tanh(0.0072 * (std::clamp(nm, kLambdaMinNm, kLambdaMaxNm) - 538.0)); };
-  return cdf(hi_nm) - cdf(lo_nm);
-}
-
 HeroWavelengths sample_hero_wavelengths(double u) {
   HeroWavelengths w;
   for (std::size_t i = 0; i < kHeroCount; ++i) {
@@ -137,6 +132,23 @@ SpectralBasis<kFullBins> make_full_basis() {
   }
   for (std::size_t b = 0; b < kFullBins; ++b)
     basis.wavelength_nm[b] = 0.5 * (basis.bin_nm[b].front() + basis.bin_nm[b].back());
+  // The split's bins: n·sqrt(mean of x̄ + ȳ + z̄/2 over the bin's n nanometres), with a floor of a
+  // thousandth of the largest, so that every bin is drawn and no walk's weight 1/(4·P) runs past
+  // about 5500 (the bins beyond about 785 nm, which add next to nothing to the colour).
+  double largest = 0.0, total = 0.0;
+  for (std::size_t b = 0; b < kFullBins; ++b) {
+    const Vec3& c = basis.xyz_weight[b];
+    const double n = static_cast<double>(basis.bin_nm[b].size());
+    basis.split_probability[b] = std::sqrt(n * std::max(0.0, c.x + c.y + 0.5 * c.z));
+    largest = std::max(largest, basis.split_probability[b]);
+  }
+  for (double& p : basis.split_probability) total += (p += 1e-3 * largest);
+  double sum = 0.0;
+  for (std::size_t b = 0; b < kFullBins; ++b) {
+    basis.split_probability[b] /= total;
+    basis.split_cdf[b] = (sum += basis.split_probability[b]);
+  }
+  basis.split_cdf[kFullBins - 1] = 1.0;
   return basis;
 }
 

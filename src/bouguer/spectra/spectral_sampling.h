@@ -64,6 +64,14 @@ struct SpectralBasis {
   std::array<double, N> wavelength_nm{};  // bin centres (full) or the three lines (rgb3)
   std::array<Vec3, N> xyz_weight{};       // full: CMF sums over the bin divided by Σ ȳ
   std::array<std::vector<int>, N> bin_nm; // full: the integer wavelengths of each bin
+  // full: the probability with which a walk split at a dense chromatic medium draws each bin
+  // (dense_media.h: keep_split_wavelength), and its running sum (the last 1). Its density per nm
+  // goes as sqrt(x̄ + ȳ + z̄/2): the split's walks of different wavelengths are nearly independent, so
+  // the colour's noise (which CIEDE2000 weighs more than lightness near white) is least when the
+  // bins that decide x and z are drawn more often than the eye-sensitivity density draws them
+  // (docs/performance.md, "The split's wavelengths").
+  std::array<double, N> split_probability{};
+  std::array<double, N> split_cdf{};
 
   SampledSpectrum<N> emission(const Spectrum& s) const;  // radiance, reflectance: bin means / sRGB
   SampledSpectrum<N> at_wavelengths(const Spectrum& s) const;  // σ_a, IOR: point values
@@ -80,9 +88,6 @@ inline constexpr std::size_t kHeroCount = 4;
 
 double sample_visible_wavelength(double u);
 double visible_wavelength_pdf(double wavelength_nm);
-// The probability that sample_visible_wavelength lands in [lo_nm, hi_nm] (in closed form: its CDF
-// is a tanh).
-double visible_wavelength_probability(double lo_nm, double hi_nm);
 
 struct HeroWavelengths {
   std::array<double, kHeroCount> nm{};
