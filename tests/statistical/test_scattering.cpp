@@ -461,20 +461,20 @@ TEST(Scattering, ASealedMediumSkipsTheMapsShadowRaysAndNothingElse) {
 // brighter towards the zenith (tests/data/whole_milk_ball). The production walk (full: the camera
 // path splits at the milk into 4 walks of one wavelength each, their bins drawn by a density that
 // follows the colour-matching functions from a number stratified over the pixel's samples:
-// integrators/dense_media.h, kSplitCount), 16 × 16 at 128 spp, against reference.exr there: a brute-force render that tracks
-// every path at one wavelength alone at 16384 spp (make_reference.sh says how; README.md how long
-// it took). A pixel is too noisy for its ΔE00 to say much (mean 3.4 at 32 spp), so the images are
-// compared as 4 × 4 blocks of 4 × 4 pixels. The test's own spread, measured by rendering it at
-// seeds 1–8: blocks' mean ΔE00 to the reference 0.48–0.88, mean 0.65, standard deviation 0.14
-// (2026-12-07; with the bins drawn by the eye's sensitivity, 0.60–0.92, 0.71 and 0.11); the
-// tolerance is that mean plus 4 deviations. At 32 spp the spread was 1.10 ± 0.07 before the
-// thinned next-event estimation and the split walks' roulette (integrators/events.h, walk.h) and
-// is 1.29 ± 0.27 after: they make a sample cheaper (the test 1.1 s instead of 2.3 s at 32 spp)
-// with heavier tails, hence 128 spp. (Before the split, the spectral-MIS walk needed 128 spp for
-// 1.96 ± 0.15.) What it catches is a walk that converges to another colour: bins
-// drawn by the eye's sensitivity but weighted as if uniform give 11.8. Small errors of scale are
-// the furnaces' to catch: the split walks' weight 3 % too high gave 1.32 against 1.20 (seed 1, at
-// 32 spp before the thinning).
+// integrators/dense_media.h, kSplitCount), 16 × 16 at 128 spp, against reference.exr there: a
+// brute-force render that tracks every path at one wavelength alone at 16384 spp (make_reference.sh
+// says how; README.md how long it took). A pixel is too noisy for its ΔE00 to say much (mean 3.4 at
+// 32 spp), so the images are compared as 4 × 4 blocks of 4 × 4 pixels. The test's own spread,
+// measured by rendering it at seeds 1–8: blocks' mean ΔE00 to the reference 0.48–0.88, mean 0.65,
+// standard deviation 0.14 (2026-12-07; with the bins drawn by the eye's sensitivity, 0.60–0.92,
+// 0.71 and 0.11); the tolerance is that mean plus 4 deviations. At 32 spp the spread was
+// 1.10 ± 0.07 before the thinned next-event estimation and the split walks' roulette
+// (integrators/dense_media.h, walk.h) and is 1.29 ± 0.27 after: they make a sample cheaper (the
+// test 1.1 s instead of 2.3 s at 32 spp) with heavier tails, hence 128 spp. (Before the split, the
+// spectral-MIS walk needed 128 spp for 1.96 ± 0.15.) What it catches is a walk that converges to
+// another colour: bins drawn by the eye's sensitivity but weighted as if uniform give 11.8. Small
+// errors of scale are the furnaces' to catch: the split walks' weight 3 % too high gave 1.32
+// against 1.20 (seed 1, at 32 spp before the thinning).
 TEST(Scattering, WholeMilkBallMatchesItsReference) {
   // The blocks' mean ΔE00 over seeds 1–8 at 128 spp, where the path splits into walks of one
   // wavelength each (integrators/dense_media.h: kSplitCount).

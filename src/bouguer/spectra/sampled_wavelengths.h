@@ -25,7 +25,7 @@ struct SampledWavelengths {
   // (media/scattering.h), drawn per sample (integrators/events.h: draw_hero; the path tracer's
   // stratified over the pixel's samples).
   int hero = 0;
-  // Places the bins of full mode's split at a dense chromatic medium (integrators/events.h:
+  // Places the bins of full mode's split at a dense chromatic medium (integrators/dense_media.h:
   // keep_split_wavelength): uniform, independent of the hero; the path tracer's stratified.
   double split_u = 0.0;
 

@@ -132,9 +132,9 @@ SpectralBasis<kFullBins> make_full_basis() {
   }
   for (std::size_t b = 0; b < kFullBins; ++b)
     basis.wavelength_nm[b] = 0.5 * (basis.bin_nm[b].front() + basis.bin_nm[b].back());
-  // The split's bins: n·sqrt(mean of x̄ + ȳ + z̄/2 over the bin's n nanometres), with a floor of a
-  // thousandth of the largest, so that every bin is drawn and no walk's weight 1/(4·P) runs past
-  // about 5500 (the bins beyond about 785 nm, which add next to nothing to the colour).
+  // The split's bins: n·sqrt(mean of x̄ + ȳ + z̄/2 over the bin's n nanometres), plus a thousandth
+  // of the largest in every bin, so that no walk's weight 1/(4·P) runs past about 5500 (the bins
+  // beyond about 785 nm, which add next to nothing to the colour).
   double largest = 0.0, total = 0.0;
   for (std::size_t b = 0; b < kFullBins; ++b) {
     const Vec3& c = basis.xyz_weight[b];
