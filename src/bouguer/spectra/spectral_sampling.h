@@ -66,10 +66,10 @@ struct SpectralBasis {
   std::array<std::vector<int>, N> bin_nm; // full: the integer wavelengths of each bin
   // full: the probability with which a walk split at a dense chromatic medium draws each bin
   // (dense_media.h: keep_split_wavelength), and its running sum (the last 1). Its density per nm
-  // goes as sqrt(x̄ + ȳ + z̄/2): the split's walks of different wavelengths are nearly independent, so
-  // the colour's noise (which CIEDE2000 weighs more than lightness near white) is least when the
-  // bins that decide x and z are drawn more often than the eye-sensitivity density draws them
-  // (docs/performance.md, "The split's wavelengths").
+  // goes as sqrt(x̄ + ȳ + z̄/2): the split's walks of different wavelengths correlate only in part
+  // (a curved wall parts them), so the colour's noise (which CIEDE2000 weighs more than lightness
+  // near white) is least when the bins that decide x and z are drawn more often than the
+  // eye-sensitivity density draws them (docs/performance.md, "The split's wavelengths").
   std::array<double, N> split_probability{};
   std::array<double, N> split_cdf{};
 
