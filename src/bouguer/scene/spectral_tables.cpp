@@ -110,17 +110,16 @@ SampledSpectrum<N> SpectralTables<N>::environment(const EnvironmentMap& map, int
     return l;
   }
   const RgbIlluminantSpectrum& s = map.spectra[t];
-  if (mode_ == SpectralMode::full && w.secondary_terminated()) {
-    // A walk of one wavelength (a split, a dispersive interface) reads its own bin alone, as
-    // transmittance() does: every other bin meets the zeros of its throughput. (A dense walk's
-    // connections to the map took 96 sigmoids each: 7 % of the whole-milk glass.)
-    const auto j = static_cast<std::size_t>(w.single);
-    return only_bin(w.single, static_cast<float>(s.scale * s.poly(w.nm[j])) * env_white_[j]);
-  }
-  for (std::size_t i = 0; i < N; ++i) {
+  auto at = [&](std::size_t i) {
     const float white = mode_ == SpectralMode::full ? env_white_[i] : static_cast<float>(d65_unit_luminance(w.nm[i]));
-    l[i] = static_cast<float>(s.scale * s.poly(w.nm[i])) * white;
-  }
+    return static_cast<float>(s.scale * s.poly(w.nm[i])) * white;
+  };
+  // A walk of one wavelength in full mode (a split, a dispersive interface) reads its own bin
+  // alone, as transmittance() does: every other bin meets the zeros of its throughput. (A dense
+  // walk's connections to the map took 96 sigmoids each: 7 % of the whole-milk glass.)
+  if (mode_ == SpectralMode::full && w.secondary_terminated())
+    return only_bin(w.single, at(static_cast<std::size_t>(w.single)));
+  for (std::size_t i = 0; i < N; ++i) l[i] = at(i);
   return l;
 }
 
