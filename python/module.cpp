@@ -25,16 +25,19 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/limits.h"
+#include "bouguer/core/memory.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/integrators/choose.h"
 #include "bouguer/integrators/guiding.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/io/image_io.h"
+#include "bouguer/render/denoise.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/loader.h"
 #include "bouguer/scene/pbr_material.h"
 #include "bouguer/scene/update.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "python/module.h"
 
 namespace py = pybind11;
@@ -164,6 +167,7 @@ struct RenderArgs {
   int threads = 0;
   bool spectra = false;
   py::object progress, on_pass, should_stop;
+  bool denoise = false;  // the command line's --denoise (render/denoise.h)
 };
 
 // The scene's settings with the keyword arguments over them, each checked by the SceneBuilder's
@@ -362,6 +366,15 @@ py::object render(Scene& scene, const RenderArgs& a) {
   const RenderScene& compiled = *scene.compiled;
   const bool keep_spectra = a.spectra || a.spectral_exr;
   check_settings(compiled, settings, keep_spectra);
+  if (a.denoise && settings.integrator == IntegratorType::light)
+    fail_usage("denoise: the light tracer's image is all light-path splats, whose noise the half buffers do not see; "
+               "use path, bdpt or vcm");
+  if (a.denoise)  // before the render, not after it: the film and the denoising together
+    require_memory(FilmBuffer::bytes_needed(compiled.camera.width_px, compiled.camera.height_px,
+                                            keep_spectra ? kFullBins : 0) +
+                       denoise_bytes_needed(compiled.camera.width_px, compiled.camera.height_px),
+                   fmt::format("{}: a {}x{} image, denoised", scene.desc.file.string(), compiled.camera.width_px,
+                               compiled.camera.height_px));
   RenderStats stats;
   PassState st;
   // integrator "auto": the candidates' trials (integrators/choose.h) choose, without the GIL; the
@@ -374,16 +387,23 @@ py::object render(Scene& scene, const RenderArgs& a) {
     const bool seconds_only = a.time_s && !a.spp;  // as the command line's
     choice.emplace(choose_estimator(compiled, settings, auto_trial_spp(settings.spp, seconds_only),
                                     auto_render_spp(settings.spp, seconds_only), keep_spectra, &scene.desc.display,
-                                    control, stats));
+                                    control, stats, a.denoise));
   }
   RenderSettings chosen = settings;
   if (choice) chosen.integrator = choice->chosen, chosen.light_paths = chosen.light_paths || choice->light_paths;
   FilmBuffer buffer = choice && choice->film ? std::move(*choice->film) : make_film(compiled, keep_spectra);
   if (choice) st.complete = choice->trial_spp;
+  if (a.denoise) buffer.keep_halves();
   const bool stopped = render_waiting(scene, compiled, chosen, buffer, a, stats, st);
   note_stats(scene, stats, st, settings.spp, stopped);
   scene.stats.integrator = std::string(integrator_info(chosen.integrator).name);
-  const Film film = resolved(buffer, st);
+  Film film = resolved(buffer, st);
+  if (a.denoise) {  // the -o image only, as the command line's: the spectra stay as rendered
+    DenoiseSettings ds;
+    ds.threads = a.threads;
+    const py::gil_scoped_release release;
+    denoise(film, half_images(buffer, film), ds);
+  }
   if (const NonFinitePixels bad = find_non_finite(film); bad.count > 0)
     fail("{}: {} of {} pixels came out not finite (the first at ({}, {}))", scene.desc.file.string(), bad.count,
          static_cast<std::size_t>(film.width) * static_cast<std::size_t>(film.height), bad.first_x, bad.first_y);
@@ -536,7 +556,7 @@ PYBIND11_MODULE(bouguer, m) {
          std::optional<std::string> spectral, std::optional<std::int64_t> seed, int threads,
          std::optional<std::pair<std::int64_t, std::int64_t>> resolution, std::optional<std::int64_t> max_depth,
          bool spectra, py::object progress, std::optional<double> time_s, py::object on_pass, py::object should_stop,
-         std::optional<fs::path> spectral_exr) {
+         std::optional<fs::path> spectral_exr, bool denoise) {
         if (threads < 0 || threads > 1024) bouguer::fail_usage("threads: must be between 0 and 1024 (got {})", threads);
         if (time_s && !(std::isfinite(*time_s) && *time_s > 0.0))
           bouguer::fail_usage("time_s: must be a positive number of seconds (got {})", *time_s);
@@ -544,17 +564,19 @@ PYBIND11_MODULE(bouguer, m) {
                      resolution, time_s, {},      threads,               spectra,               std::move(progress),
                      std::move(on_pass), std::move(should_stop)};
         a.spectral_exr = std::move(spectral_exr);
+        a.denoise = denoise;
         return render(scene, a);
       },
       py::arg("scene"), py::kw_only(), py::arg("spp") = py::none(), py::arg("integrator") = py::none(),
       py::arg("spectral") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = 0,
       py::arg("resolution") = py::none(), py::arg("max_depth") = py::none(), py::arg("spectra") = false,
       py::arg("progress") = py::none(), py::arg("time_s") = py::none(), py::arg("on_pass") = py::none(),
-      py::arg("should_stop") = py::none(), py::arg("spectral_exr") = py::none(),
+      py::arg("should_stop") = py::none(), py::arg("spectral_exr") = py::none(), py::arg("denoise") = false,
       "Render: a float32 (H, W, 3) array, linear Rec.709, row 0 at the top; with spectra=True a tuple (rgb, "
       "spectra (H, W, N), wavelengths_nm (N,)). Keyword arguments override the scene's settings (the command "
       "line's names). progress(fraction) is called now and then; Ctrl-C stops the render (KeyboardInterrupt). "
       "time_s: a budget of seconds (the command line's --time). on_pass(rgb_so_far, samples_done, spp) after each "
       "pass; should_stop() polled every 50 ms: True ends the render and returns the image of the samples done. "
-      "spectral_exr: a path, the command line's --spectral-exr. Scene.stats describes the render (also during on_pass).");
+      "spectral_exr: a path, the command line's --spectral-exr. denoise=True: the rgb image filtered from its two half "
+      "buffers (the command line's --denoise; biased, deterministic; spectra stay as rendered). Scene.stats describes the render (also during on_pass).");
 }

@@ -23,10 +23,12 @@
 #include "bouguer/integrators/guiding.h"
 #include "bouguer/integrators/render_into.h"
 #include "bouguer/render/adaptive.h"
+#include "bouguer/render/denoise.h"
 #include "bouguer/scene/compile.h"
 #include "bouguer/scene/display_white.h"
 #include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
+#include "bouguer/spectra/spectral_sampling.h"
 #include "commands.h"
 
 namespace bouguer::cli {
@@ -34,11 +36,12 @@ namespace {
 
 struct RenderCli {
   std::vector<std::string> outputs = {"render.png"};
-  std::string scene, spectral_exr, stats_json, spp_map;
+  std::string scene, spectral_exr, stats_json, spp_map, noisy_output;
   SceneOverrides overrides;
   int threads = 0;
   double time_s = 0.0;  // --time: a budget of seconds (0: none)
   double noise = 0.0;   // --noise: adaptive sampling's target, ΔE00 (0: none)
+  bool denoise = false;  // --denoise: the image filtered from its two half buffers (render/denoise.h)
   bool quiet = false;
 };
 
@@ -150,6 +153,10 @@ OutputSet checked_outputs(const RenderCli& o) {
     if (o.noise <= 0.0) fail_usage("--spp-map: only with --noise (adaptive sampling)");
     outputs.add("--spp-map", o.spp_map, kFloatImages);
   }
+  if (!o.noisy_output.empty()) {
+    if (!o.denoise) fail_usage("--noisy-output: only with --denoise (it is the image before denoising)");
+    outputs.add("--noisy-output", o.noisy_output, kImageExtensions);
+  }
   return outputs;
 }
 
@@ -162,6 +169,9 @@ int run_render(const RenderCli& o) {
   RenderSettings settings = desc.render;
   if (o.noise > 0.0 && distributed::launched_by_mpirun())
     fail_usage("--noise: not under mpirun, whose pieces take every sample of their pixels");
+  // The pieces' films are merged without their halves (render/film.h).
+  if (o.denoise && distributed::launched_by_mpirun())
+    fail_usage("--denoise: not under mpirun, whose merged film keeps no half buffers");
   // A budget of seconds without --spp: as many samples as the budget allows; a noise target without
   // --spp: at most kNoiseSpp (Cycles' default cap with adaptive sampling).
   constexpr int kTimedSpp = 1 << 20, kNoiseSpp = 4096;
@@ -177,6 +187,10 @@ int run_render(const RenderCli& o) {
   if (o.noise > 0.0 && settings.integrator == IntegratorType::path && settings.light_paths)
     fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel; the path tracer's "
                "light paths (render.light_paths) add splats anywhere on the film");
+  // The light tracer's image is all splats, which the half buffers do not keep: nothing tells its noise.
+  if (o.denoise && settings.integrator == IntegratorType::light)
+    fail_usage("--denoise: the light tracer's image is all light-path splats, whose noise the half buffers do not "
+               "see; use path, bdpt or vcm");
   if (settings.light_paths && settings.integrator != IntegratorType::path &&
       settings.integrator != IntegratorType::automatic)
     fmt::print(stderr, "bouguer: warning: light_paths: only the path tracer traces them; {} renders without\n",
@@ -184,6 +198,13 @@ int run_render(const RenderCli& o) {
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
+  // Refused before the render, not after it: the film and the denoising together.
+  if (o.denoise)
+    require_memory(FilmBuffer::bytes_needed(scene.camera.width_px, scene.camera.height_px,
+                                            keep_spectra ? kFullBins : 0) +
+                       denoise_bytes_needed(scene.camera.width_px, scene.camera.height_px),
+                   fmt::format("{}: a {}x{} image{}, denoised", o.scene, scene.camera.width_px,
+                               scene.camera.height_px, keep_spectra ? " with spectra" : ""));
   Progress progress(o.quiet);
   RenderStats stats;
   // --integrator auto: the candidates' trials choose the estimator; its film, with the trial's
@@ -199,7 +220,7 @@ int run_render(const RenderCli& o) {
     const bool seconds_only = o.time_s > 0.0 && !o.overrides.spp;
     choice.emplace(choose_estimator(scene, settings, auto_trial_spp(settings.spp, seconds_only),
                                     auto_render_spp(settings.spp, seconds_only), keep_spectra, &desc.display, control,
-                                    stats));
+                                    stats, o.denoise));
     if (settings.light_paths && choice->chosen != IntegratorType::path)
       fmt::print(stderr, "bouguer: warning: light_paths: auto chose {}, which renders without them\n",
                  integrator_info(choice->chosen).name);
@@ -238,6 +259,7 @@ int run_render(const RenderCli& o) {
     passes.complete = settings.spp;
   } else {
     const InterruptGuard guard;
+    if (o.denoise) buffer.keep_halves();  // an automatic choice's trial kept them from its first sample
     if (o.noise > 0.0) {
       buffer.keep_halves();
       adaptive.emplace();
@@ -253,7 +275,22 @@ int run_render(const RenderCli& o) {
   const bool interrupted = g_interrupted && passes.complete < settings.spp;
   // Light paths splat anywhere: their scale is the light paths traced per pixel.
   const double splat_spp = passes.complete + passes.partial * passes.partial_fraction;
-  const Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
+  Film film = buffer.resolve(splat_spp > 0.0 ? 1.0 / splat_spp : 0.0);
+  // Denoised from the half buffers (render/denoise.h); the spectra stay as rendered. The noisy
+  // image's rgb is kept: --noisy-output writes it and the display is set on it, so that the noisy
+  // output is the render without --denoise. Ctrl-C while denoising leaves the noisy image.
+  std::optional<Film> noisy;
+  std::optional<DenoiseStats> denoised;
+  if (o.denoise) {
+    noisy.emplace(film.width, film.height);
+    noisy->rgb = film.rgb;
+    DenoiseSettings ds;
+    ds.threads = o.threads;
+    const InterruptGuard guard;
+    denoised = denoise(film, half_images(buffer, film), ds, &g_interrupted);
+    if (denoised->cancelled)
+      fmt::print(stderr, "bouguer: interrupted while denoising: the images are the noisy render's\n");
+  }
   // Finite out: an image with NaN or infinite pixels replaces no earlier output.
   if (const NonFinitePixels bad = find_non_finite(film); bad.count > 0)
     fail("{}: {} of {} pixels came out not finite (the first at ({}, {})), so no output was written; likely cause: "
@@ -265,7 +302,7 @@ int run_render(const RenderCli& o) {
     fmt::print(stderr, "bouguer: warning: {} light-path splats were not finite or beyond the film's range and were dropped\n",
                buffer.saturated_splats());
   // Exposure, white balance and the display curve, from the finished film (the film stays linear).
-  const DisplayTransform display = display_transform(scene, desc.display, film);
+  const DisplayTransform display = display_transform(scene, desc.display, noisy ? *noisy : film);
   const double rays_per_second = stats.seconds > 0 ? static_cast<double>(stats.rays) / stats.seconds : 0.0;
   const std::string_view mode = spectral_mode_name(settings.spectral);
   std::string stats_text;
@@ -281,6 +318,10 @@ int run_render(const RenderCli& o) {
                               {"exposure_scale", display.scale}};
     nlohmann::json jv = j;
     if (settings.integrator == IntegratorType::path) jv["path_light_paths"] = settings.light_paths;
+    if (denoised)
+      jv["denoise"] = {{"seconds", denoised->seconds},
+                       {"pixels_left_as_rendered", denoised->pixels_left},
+                       {"interrupted", denoised->cancelled}};
     if (o.noise > 0.0) {
       double samples = 0.0;
       for (int y = 0; y < buffer.height(); ++y)
@@ -326,7 +367,8 @@ int run_render(const RenderCli& o) {
                         else write_spectral_exr(p, exposed(film, display));
                       }},
                      {"--stats-json", [&](const Path& p) { write_bytes_atomically(p, stats_text); }},
-                     {"--spp-map", [&](const Path& p) { write_image(p, samples_map(buffer), DisplayTransform{}); }}});
+                     {"--spp-map", [&](const Path& p) { write_image(p, samples_map(buffer), DisplayTransform{}); }},
+                     {"--noisy-output", [&](const Path& p) { write_image(p, *noisy, display); }}});
   if (interrupted) {
     fmt::print(stderr, "bouguer: interrupted: wrote the image after {} of {} samples per pixel{} -> {}\n",
                passes.complete, settings.spp,
@@ -479,6 +521,11 @@ Command add_render_command(CLI::App& parent) {
                   "CIEDE2000 on the display colour; --spp (default 4096 with --noise) and --time cap it (path, whitted)")
       ->check(CLI::PositiveNumber);
   app->add_option("--spp-map", o->spp_map, "With --noise: write the samples each pixel took (.exr or .pfm)");
+  app->add_flag("--denoise", o->denoise,
+                "Filter the image from its two half buffers (non-local means, each half weighted by the other): "
+                "smooth noise goes, edges and converged regions stay; biased, deterministic; -o images only, not "
+                "--spectral-exr");
+  app->add_option("--noisy-output", o->noisy_output, "With --denoise: also write the image before denoising");
   app->add_option("--stats-json", o->stats_json, "Write seconds, rays, rays_per_second, spp, resolution as JSON");
   add_display_options(*app, over, true);
   app->add_flag("--quiet", o->quiet, "No progress and no summary line");

@@ -82,6 +82,8 @@ class BouguerRenderEngine(bpy.types.RenderEngine):
             kwargs["spp"] = settings.spp
         if settings.spectral_exr:
             kwargs["spectral_exr"] = bpy.path.abspath(settings.spectral_exr)
+        if settings.use_denoise:
+            kwargs["denoise"] = True  # the last image only; the passes before show the noisy image so far
         try:
             rgb = bouguer.render(loaded, threads=settings.threads, on_pass=on_pass, should_stop=self.stop_requested,
                                  progress=self.update_progress, **kwargs)

@@ -38,6 +38,10 @@ class BouguerRenderSettings(bpy.types.PropertyGroup):
                            description="Render for a number of seconds instead of a number of samples")
     spp: IntProperty(name="Samples", default=64, min=1, max=1 << 20, description="Samples per pixel")
     time_s: FloatProperty(name="Seconds", default=30.0, min=0.1, max=1e6, description="Seconds of rendering")
+    use_denoise: BoolProperty(name="Denoise", default=False,
+                              description="Filter the image from its two half buffers (non-local means): smooth "
+                                          "noise goes, edges stay; biased, so not for measurements "
+                                          "(docs/rendering.md)")
     seed: IntProperty(name="Seed", default=0, min=0, description="The same seed gives the same image")
     max_depth: IntProperty(name="Max Depth", default=32, min=1, max=100000,
                            description="Deepest path: surface vertices")

@@ -26,6 +26,7 @@ class BOUGUER_PT_render(BouguerPanel, bpy.types.Panel):
         layout.prop(s, "spectral")
         layout.prop(s, "use_time")
         layout.prop(s, "time_s" if s.use_time else "spp")
+        layout.prop(s, "use_denoise")
         layout.prop(s, "seed")
         layout.prop(s, "max_depth")
         layout.prop(s, "threads")

@@ -132,5 +132,31 @@ def test_the_spectral_exr_and_the_statistics_are_written():
     assert header.count(b"nm\0") == 96, "the spectral EXR has not the full mode's 96 bins"
 
 
-common.Checks().run([test_the_spectral_exr_and_the_statistics_are_written, test_the_zip_installs_with_blenders_installer_and_renders, test_esc_keeps_the_image_so_far, test_an_untranslatable_node_is_reported_once_and_rendered,
+def test_denoise_smooths_the_image_and_keeps_its_level():
+    # A diffuse plane under a white world with a ball above it, at 4 samples: the plane's shade
+    # about the ball is noise at 4 samples. Denoise takes most of the noise and keeps the level. A
+    # property that did not reach the render leaves the noise as it was; a filter that darkened or
+    # brightened moves the mean.
+    s = lit_scene()
+    common.add_mesh("uv_sphere", common.diffuse(), radius=0.25, location=(0, 0, 0.3))
+    s.bouguer.seed = 3
+    noisy, _ = common.render(s, "BOUGUER", "noisy", 4)
+    s.bouguer.use_denoise = True
+    denoised, _ = common.render(s, "BOUGUER", "denoised", 4)
+    # The noise is the difference from the image smoothed over 5 x 5 pixels (the shade's own
+    # gradient is gentle): it falls by half at least.
+    def noise(image):
+        grey = image.mean(axis=2)
+        k = np.ones(5) / 5
+        smooth = np.apply_along_axis(lambda r: np.convolve(r, k, "same"), 1, grey)
+        smooth = np.apply_along_axis(lambda c: np.convolve(c, k, "same"), 0, smooth)
+        return (grey - smooth)[2:-2, 2:-2].std()
+    print(f"  noise {noise(noisy):.4f} noisy, {noise(denoised):.4f} denoised; "
+          f"means {noisy.mean():.4f}, {denoised.mean():.4f}")
+    assert noise(noisy) > 0.01, "the scene has no noise to take"
+    assert noise(denoised) < noise(noisy) / 2
+    assert abs(denoised.mean() - noisy.mean()) < 0.01
+
+
+common.Checks().run([test_denoise_smooths_the_image_and_keeps_its_level, test_the_spectral_exr_and_the_statistics_are_written, test_the_zip_installs_with_blenders_installer_and_renders, test_esc_keeps_the_image_so_far, test_an_untranslatable_node_is_reported_once_and_rendered,
                      test_a_saved_file_renders_headless_from_an_installed_add_on])

@@ -17,6 +17,19 @@ def cli_render(scene_path, out, *args):
     return read_pfm(out)
 
 
+@pytest.mark.parametrize("integrator", ["path", "bdpt"])
+def test_denoised_image_is_the_cli_denoised_image_bit_for_bit(tmp_path, small_scene, integrator):
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(small_scene))
+    expected = cli_render(path, tmp_path / "cli.pfm", "--integrator", integrator, "--seed", "11", "--denoise")
+    noisy = bouguer.render(bouguer.load(path), integrator=integrator, seed=11)
+    image = bouguer.render(bouguer.load(path), integrator=integrator, seed=11, threads=1, denoise=True)
+    np.testing.assert_array_equal(image, expected)
+    assert not np.array_equal(image, noisy)  # it filtered something
+    with pytest.raises(ValueError, match="denoise: the light tracer"):
+        bouguer.render(bouguer.load(path), integrator="light", denoise=True)
+
+
 @pytest.mark.parametrize("integrator", ["whitted", "path", "light", "bdpt"])
 def test_module_image_is_the_cli_image_bit_for_bit(tmp_path, small_scene, integrator):
     path = tmp_path / "scene.json"

@@ -65,6 +65,12 @@ class FilmBuffer {
   double weight_at(int x, int y) const {
     return weight_sum_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x)];
   }
+  // The weight of its odd-numbered camera samples (keeps_halves; else 0).
+  double odd_weight_at(int x, int y) const {
+    return keeps_halves() ? odd_weight_sum_[static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
+                                            static_cast<std::size_t>(x)]
+                          : 0.0;
+  }
   // The means of the pixel's even- and odd-numbered samples (keeps_halves; zero where a half has
   // none).
   std::array<Vec3, 2> half_means(int x, int y) const;
