@@ -254,6 +254,24 @@ TEST(DenoiseCli, NearerItsReferenceTheSameAtAnyThreadCount) {
   EXPECT_EQ(stats["denoise"]["pixels_left_as_rendered"].get<int>(), 0);
 }
 
+// With an automatic exposure (measured on the film), the noisy PNG is still the plain render's PNG
+// byte for byte: the display is set on the noisy image, not on the denoised one, whose brightest
+// pixels are dimmer.
+TEST(DenoiseCli, TheNoisyImageIsThePlainRenderUnderAnAutomaticExposure) {
+  const auto dir = test::scratch_dir("denoise_exposure");
+  const std::string scene = test::test_data("whole_milk_ball/scene.json").string();
+  const std::vector<std::string> common = {"render", scene, "--quiet", "--seed", "4", "--auto-exposure", "on"};
+  auto with = common, plain = common;
+  for (const std::string& a : {std::string("--denoise"), std::string("-o"), (dir / "denoised.png").string(),
+                               std::string("--noisy-output"), (dir / "noisy.png").string()})
+    with.push_back(a);
+  for (const std::string& a : {std::string("-o"), (dir / "plain.png").string()}) plain.push_back(a);
+  ASSERT_EQ(test::run_bouguer(with).exit_code, 0);
+  ASSERT_EQ(test::run_bouguer(plain).exit_code, 0);
+  EXPECT_EQ(test::read_file(dir / "noisy.png"), test::read_file(dir / "plain.png"));
+  EXPECT_NE(test::read_file(dir / "denoised.png"), test::read_file(dir / "plain.png"));
+}
+
 // What --denoise cannot do is refused before anything is rendered, in one line.
 TEST(DenoiseCli, WhatCannotHoldIsRefused) {
   const auto dir = test::scratch_dir("denoise_refused");
