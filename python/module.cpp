@@ -25,7 +25,6 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/limits.h"
-#include "bouguer/core/memory.h"
 #include "bouguer/core/strings.h"
 #include "bouguer/integrators/choose.h"
 #include "bouguer/integrators/guiding.h"
@@ -37,7 +36,6 @@
 #include "bouguer/scene/pbr_material.h"
 #include "bouguer/scene/update.h"
 #include "bouguer/spectra/rgb_to_spectrum.h"
-#include "bouguer/spectra/spectral_sampling.h"
 #include "python/module.h"
 
 namespace py = pybind11;
@@ -366,15 +364,7 @@ py::object render(Scene& scene, const RenderArgs& a) {
   const RenderScene& compiled = *scene.compiled;
   const bool keep_spectra = a.spectra || a.spectral_exr;
   check_settings(compiled, settings, keep_spectra);
-  if (a.denoise && settings.integrator == IntegratorType::light)
-    fail_usage("denoise: the light tracer's image is all light-path splats, whose noise the half buffers do not see; "
-               "use path, bdpt or vcm");
-  if (a.denoise)  // before the render, not after it: the film and the denoising together
-    require_memory(FilmBuffer::bytes_needed(compiled.camera.width_px, compiled.camera.height_px,
-                                            keep_spectra ? kFullBins : 0) +
-                       denoise_bytes_needed(compiled.camera.width_px, compiled.camera.height_px),
-                   fmt::format("{}: a {}x{} image, denoised", scene.desc.file.string(), compiled.camera.width_px,
-                               compiled.camera.height_px));
+  if (a.denoise) check_denoisable(settings.integrator, "denoise");
   RenderStats stats;
   PassState st;
   // integrator "auto": the candidates' trials (integrators/choose.h) choose, without the GIL; the
@@ -391,9 +381,9 @@ py::object render(Scene& scene, const RenderArgs& a) {
   }
   RenderSettings chosen = settings;
   if (choice) chosen.integrator = choice->chosen, chosen.light_paths = chosen.light_paths || choice->light_paths;
-  FilmBuffer buffer = choice && choice->film ? std::move(*choice->film) : make_film(compiled, keep_spectra);
+  FilmBuffer buffer =
+      choice && choice->film ? std::move(*choice->film) : make_film(compiled, keep_spectra, a.denoise);
   if (choice) st.complete = choice->trial_spp;
-  if (a.denoise) buffer.keep_halves();
   const bool stopped = render_waiting(scene, compiled, chosen, buffer, a, stats, st);
   note_stats(scene, stats, st, settings.spp, stopped);
   scene.stats.integrator = std::string(integrator_info(chosen.integrator).name);

@@ -28,7 +28,6 @@
 #include "bouguer/scene/display_white.h"
 #include "bouguer/scene/gltf.h"
 #include "bouguer/scene/loader.h"
-#include "bouguer/spectra/spectral_sampling.h"
 #include "commands.h"
 
 namespace bouguer::cli {
@@ -187,10 +186,7 @@ int run_render(const RenderCli& o) {
   if (o.noise > 0.0 && settings.integrator == IntegratorType::path && settings.light_paths)
     fail_usage("--noise: adaptive sampling needs an estimator whose samples stay in their pixel; the path tracer's "
                "light paths (render.light_paths) add splats anywhere on the film");
-  // The light tracer's image is all splats, which the half buffers do not keep: nothing tells its noise.
-  if (o.denoise && settings.integrator == IntegratorType::light)
-    fail_usage("--denoise: the light tracer's image is all light-path splats, whose noise the half buffers do not "
-               "see; use path, bdpt or vcm");
+  if (o.denoise) check_denoisable(settings.integrator, "--denoise");
   if (settings.light_paths && settings.integrator != IntegratorType::path &&
       settings.integrator != IntegratorType::automatic)
     fmt::print(stderr, "bouguer: warning: light_paths: only the path tracer traces them; {} renders without\n",
@@ -198,13 +194,6 @@ int run_render(const RenderCli& o) {
   const RenderScene scene = compile(desc);
   const bool keep_spectra = !o.spectral_exr.empty();
   check_settings(scene, settings, keep_spectra);
-  // Refused before the render, not after it: the film and the denoising together.
-  if (o.denoise)
-    require_memory(FilmBuffer::bytes_needed(scene.camera.width_px, scene.camera.height_px,
-                                            keep_spectra ? kFullBins : 0) +
-                       denoise_bytes_needed(scene.camera.width_px, scene.camera.height_px),
-                   fmt::format("{}: a {}x{} image{}, denoised", o.scene, scene.camera.width_px,
-                               scene.camera.height_px, keep_spectra ? " with spectra" : ""));
   Progress progress(o.quiet);
   RenderStats stats;
   // --integrator auto: the candidates' trials choose the estimator; its film, with the trial's
@@ -228,7 +217,8 @@ int run_render(const RenderCli& o) {
     settings.light_paths = settings.light_paths || choice->light_paths;
   }
   const bool mpi = distributed::launched_by_mpirun();
-  FilmBuffer buffer = choice && choice->film && !mpi ? std::move(*choice->film) : make_film(scene, keep_spectra);
+  FilmBuffer buffer =
+      choice && choice->film && !mpi ? std::move(*choice->film) : make_film(scene, keep_spectra, o.denoise);
   if (choice) choice->film.reset();
   const int first = choice && !mpi ? choice->trial_spp : 0;
   // Path guiding (integrators/guiding.h): trained before the render, by every rank alike; with a
@@ -259,7 +249,6 @@ int run_render(const RenderCli& o) {
     passes.complete = settings.spp;
   } else {
     const InterruptGuard guard;
-    if (o.denoise) buffer.keep_halves();  // an automatic choice's trial kept them from its first sample
     if (o.noise > 0.0) {
       buffer.keep_halves();
       adaptive.emplace();

@@ -188,7 +188,7 @@ double cost_per_ray(IntegratorType type) {
 
 EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,
                                  int render_spp, bool keep_spectra, const DisplayDesc* display,
-                                 const RenderControl& control, RenderStats& stats, bool keep_halves) {
+                                 const RenderControl& control, RenderStats& stats, bool denoised) {
   EstimatorChoice choice;
   choice.trial_spp = std::min(trial_spp - trial_spp % 2, settings.spp);
   const std::vector<IntegratorType> candidates = auto_candidates(scene);
@@ -231,8 +231,7 @@ EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings&
     RenderSettings s = settings;
     s.integrator = type;
     s.light_paths = t.light_paths;
-    FilmBuffer& film = films[i].emplace(make_film(scene, keep_spectra));
-    if (keep_halves) film.keep_halves();  // the render that goes on from this film is denoised from its halves
+    FilmBuffer& film = films[i].emplace(make_film(scene, keep_spectra, denoised));
     RenderStats st;
     render_into(scene, s, film, PixelRegion::whole(scene.camera), {0, k}, trial_control, st);
     const Film a = film.resolve(1.0 / k);

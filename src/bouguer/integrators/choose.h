@@ -108,10 +108,10 @@ double cost_per_ray(IntegratorType type);
 // seconds and no number of samples: seconds_only) into films of the scene's size (with spectra if
 // `keep_spectra`) and chooses, their errors compared at what `render_spp` samples of the cheapest
 // cost (auto_render_spp); `display` (null: exposure 1, no white balance) sets the
-// colour the error is measured on. The stats get the trials' rays and seconds. `keep_halves`: the
-// trials' films keep their odd samples apart (FilmBuffer::keep_halves), for a render denoised later.
+// colour the error is measured on. The stats get the trials' rays and seconds. `denoised`: the
+// trials' films are made for a render denoised later (make_film: their halves kept).
 EstimatorChoice choose_estimator(const RenderScene& scene, const RenderSettings& settings, int trial_spp,
                                  int render_spp, bool keep_spectra, const DisplayDesc* display,
-                                 const RenderControl& control, RenderStats& stats, bool keep_halves = false);
+                                 const RenderControl& control, RenderStats& stats, bool denoised = false);
 
 }  // namespace bouguer

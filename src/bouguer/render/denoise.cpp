@@ -212,6 +212,13 @@ DenoiseStats denoise(Film& film, const HalfImages& halves, const DenoiseSettings
   return stats;
 }
 
+void check_denoisable(IntegratorType type, std::string_view option) {
+  if (type == IntegratorType::light)
+    fail_usage("{}: the light tracer's image is all light-path splats, whose noise the half buffers do not see; use "
+               "path, bdpt or vcm",
+               option);
+}
+
 std::uint64_t denoise_bytes_needed(int width_px, int height_px) {
   return static_cast<std::uint64_t>(width_px) * static_cast<std::uint64_t>(height_px) * kBytesPerPixel;
 }

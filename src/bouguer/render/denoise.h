@@ -14,10 +14,12 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "bouguer/io/image.h"
 #include "bouguer/render/film.h"
+#include "bouguer/scene/description.h"
 
 namespace bouguer {
 
@@ -50,9 +52,13 @@ struct DenoiseStats {
   bool cancelled = false;       // `cancel` was raised: the film is as it came
 };
 
+// Refuses (a usage error naming `option`) an estimator whose image the half buffers cannot tell
+// the noise of: the light tracer's, all light-path splats.
+void check_denoisable(IntegratorType type, std::string_view option);
+
 // The memory denoising takes for a film of this size beyond the film itself: the film's half
-// buffers, the half images, the filter's arrays and a copy of the noisy image's rgb. The caller
-// checks it (with the film's own) before the render, so that a render is not lost after it.
+// buffers, the half images, the filter's arrays and a copy of the noisy image's rgb; make_film
+// checks it with the film's own (render/render.h).
 std::uint64_t denoise_bytes_needed(int width_px, int height_px);
 
 // Replaces film.rgb by the denoised image of `halves` (same size as the film); the spectra stay.

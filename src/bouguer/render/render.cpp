@@ -11,6 +11,7 @@
 
 #include "bouguer/core/error.h"
 #include "bouguer/core/memory.h"
+#include "bouguer/render/denoise.h"
 
 namespace bouguer {
 namespace {
@@ -66,16 +67,19 @@ void check_settings(const RenderScene& scene, const RenderSettings& settings, bo
                scene.file.string(), surface.object, scene.media[static_cast<std::size_t>(m)].name, integrator.name);
 }
 
-FilmBuffer make_film(const RenderScene& scene, bool keep_spectra) {
+FilmBuffer make_film(const RenderScene& scene, bool keep_spectra, bool denoised) {
   std::vector<double> wavelengths;
   if (keep_spectra) {
     const auto basis = make_full_basis();
     wavelengths.assign(basis.wavelength_nm.begin(), basis.wavelength_nm.end());
   }
   const int w = scene.camera.width_px, h = scene.camera.height_px;
-  require_memory(FilmBuffer::bytes_needed(w, h, wavelengths.size()),
-                 fmt::format("{}: a {}x{} image{}", scene.file.string(), w, h, keep_spectra ? " with spectra" : ""));
-  return FilmBuffer(scene.camera.width_px, scene.camera.height_px, std::move(wavelengths));
+  require_memory(FilmBuffer::bytes_needed(w, h, wavelengths.size()) + (denoised ? denoise_bytes_needed(w, h) : 0),
+                 fmt::format("{}: a {}x{} image{}{}", scene.file.string(), w, h, keep_spectra ? " with spectra" : "",
+                             denoised ? ", denoised" : ""));
+  FilmBuffer film(scene.camera.width_px, scene.camera.height_px, std::move(wavelengths));
+  if (denoised) film.keep_halves();
+  return film;
 }
 
 Film resolve(const FilmBuffer& film, int samples_done) {

@@ -9,7 +9,10 @@
 namespace bouguer {
 
 // The film a render of this scene fills; spectra at the full mode's bin centres when asked.
-FilmBuffer make_film(const RenderScene& scene, bool keep_spectra);
+// `denoised`: the film keeps its half buffers from its first sample (render/denoise.h), and the
+// memory checked before it is allocated is the denoising's too, so that a render is not lost to
+// it afterwards.
+FilmBuffer make_film(const RenderScene& scene, bool keep_spectra, bool denoised = false);
 
 // Checks that the settings fit the scene (an Error naming the scene file otherwise).
 void check_settings(const RenderScene& scene, const RenderSettings& settings, bool keep_spectra);
